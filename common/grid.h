@@ -1,0 +1,50 @@
+#pragma once
+
+#include <optional>
+
+#include <Eigen/Core>
+
+namespace trav::common {
+
+/// Geometry of a regular 2-D grid in the world frame W. Cell (ix, iy) is centred at
+/// origin_W + resolution_m * (ix, iy); ix runs along +x, iy along +y. Layers on this grid are
+/// `Eigen::MatrixXf` of size (num_x, num_y), indexed (ix, iy); NaN marks an unknown cell.
+///
+/// Column-major storage puts (ix, iy) at ix + iy * num_x: row-major with rows along y, which is the
+/// layout of a MuJoCo height field and of an image with +y as its row direction.
+struct GridGeometry {
+  Eigen::Vector2d origin_W{Eigen::Vector2d::Zero()};  ///< centre of cell (0, 0) [m]
+  double resolution_m{0.1};                           ///< cell size [m]
+  int num_x{0};                                       ///< cells along x
+  int num_y{0};                                       ///< cells along y
+
+  /// Grid of `size_m` (x, y) [m] centred on `center_W` with cells of `resolution_m`; the cell centres
+  /// include both borders, so it has round(size / resolution) + 1 cells along each axis.
+  static GridGeometry Centered(const Eigen::Vector2d& center_W, const Eigen::Vector2d& size_m,
+                               double resolution_m);
+
+  /// Centre of cell (ix, iy) in W [m].
+  Eigen::Vector2d CellCenter(int ix, int iy) const {
+    return origin_W + resolution_m * Eigen::Vector2d(ix, iy);
+  }
+
+  /// Extent between the first and the last cell centre along x and y [m].
+  Eigen::Vector2d Extent() const {
+    return resolution_m * Eigen::Vector2d(num_x - 1, num_y - 1);
+  }
+
+  /// Centre of the grid in W [m].
+  Eigen::Vector2d Center() const { return origin_W + 0.5 * Extent(); }
+
+  /// The cell whose centre is nearest to p_W, or nothing if p_W lies outside the grid.
+  std::optional<Eigen::Vector2i> CellIndex(const Eigen::Vector2d& p_W) const;
+
+  /// True if (ix, iy) is a cell of the grid.
+  bool Contains(int ix, int iy) const { return ix >= 0 && iy >= 0 && ix < num_x && iy < num_y; }
+};
+
+/// Bilinear interpolation of `layer` (on `geometry`) at p_W, clamped to the grid's border.
+float InterpolateBilinear(const GridGeometry& geometry, const Eigen::MatrixXf& layer,
+                          const Eigen::Vector2d& p_W);
+
+}  // namespace trav::common

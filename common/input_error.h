@@ -1,0 +1,18 @@
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace trav::common {
+
+/// Bad input from the user: a malformed scenario, a missing file, an out-of-range value.
+/// The `trav` command maps it to exit code 2. The message names the file, the key path and the value.
+class InputError : public std::runtime_error {
+ public:
+  explicit InputError(const std::string& message);
+
+  /// Builds "<file>: <key_path>: <what>" (parts that are empty are left out).
+  InputError(const std::string& file, const std::string& key_path, const std::string& what);
+};
+
+}  // namespace trav::common

@@ -1,0 +1,23 @@
+#pragma once
+
+#include <string>
+
+#include <Eigen/Core>
+
+namespace trav::common {
+
+/// A point cloud as a structure of arrays: one point per column of `points` [m], expressed in the frame
+/// named by `frame_id` ("W", "L", ...). Optional per-point arrays are either empty or have one entry per
+/// point.
+struct PointCloud {
+  Eigen::Matrix3Xf points;       ///< [m], one point per column
+  Eigen::VectorXf time_offsets;  ///< per-point time after `stamp_s` [s]; empty if not measured
+  Eigen::VectorXi line_ids;      ///< per-point laser line; empty if not applicable
+  double stamp_s{0.0};           ///< time of the frame [s]
+  std::string frame_id{"W"};     ///< frame the points are expressed in
+
+  /// Number of points.
+  Eigen::Index size() const { return points.cols(); }
+};
+
+}  // namespace trav::common

@@ -1,0 +1,227 @@
+#include "common/yaml_reader.h"
+
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+namespace trav::common {
+namespace {
+
+std::string ScalarText(const YAML::Node& node) {
+  if (node.IsScalar()) return "'" + node.Scalar() + "'";
+  std::ostringstream out;
+  YAML::Emitter emitter;
+  emitter << YAML::Flow << node;
+  return emitter.c_str();
+}
+
+}  // namespace
+
+YamlDocument::YamlDocument(std::unique_ptr<YAML::Node> root, std::string source)
+    : root_(std::move(root)), source_(std::move(source)) {}
+YamlDocument::YamlDocument(YamlDocument&&) noexcept = default;
+YamlDocument& YamlDocument::operator=(YamlDocument&&) noexcept = default;
+YamlDocument::~YamlDocument() = default;
+
+YamlDocument YamlDocument::Load(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw InputError(path, "", "cannot open file");
+  } catch (const YAML::Exception& e) {
+    throw InputError(path, "", std::string("invalid YAML: ") + e.what());
+  }
+  if (!root.IsMap()) throw InputError(path, "", "expected a YAML map at the top level");
+  return YamlDocument(std::make_unique<YAML::Node>(root), path);
+}
+
+YamlDocument YamlDocument::Parse(const std::string& text, const std::string& source_name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source_name, "", std::string("invalid YAML: ") + e.what());
+  }
+  if (!root.IsMap()) throw InputError(source_name, "", "expected a YAML map at the top level");
+  return YamlDocument(std::make_unique<YAML::Node>(root), source_name);
+}
+
+void YamlDocument::Set(const std::string& key_path, const std::string& value_text) {
+  YAML::Node value;
+  try {
+    value = YAML::Load(value_text);
+  } catch (const YAML::Exception& e) {
+    throw InputError("--set", key_path, "invalid value '" + value_text + "': " + e.what());
+  }
+  // Walk (and create) the maps along the path; yaml-cpp nodes are handles, so assignment below
+  // writes into the tree.
+  std::vector<std::string> keys;
+  std::stringstream stream(key_path);
+  for (std::string key; std::getline(stream, key, '.');) {
+    if (key.empty()) throw InputError("--set", key_path, "empty element in key path");
+    keys.push_back(key);
+  }
+  if (keys.empty()) throw InputError("--set", key_path, "empty key path");
+  YAML::Node node = *root_;
+  for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
+    YAML::Node child = node[keys[i]];
+    if (!child.IsDefined() || child.IsNull()) child = YAML::Node(YAML::NodeType::Map);
+    if (!child.IsMap()) throw InputError("--set", key_path, "'" + keys[i] + "' is not a map");
+    node[keys[i]] = child;
+    node.reset(child);
+  }
+  node[keys.back()] = value;
+}
+
+std::string YamlDocument::Dump() const {
+  YAML::Emitter emitter;
+  emitter << *root_;
+  return std::string(emitter.c_str()) + "\n";
+}
+
+YamlReader YamlDocument::Root() const { return YamlReader(*root_, source_, ""); }
+
+YamlReader::YamlReader(const YAML::Node& map, std::string source, std::string key_path)
+    : map_(std::make_unique<YAML::Node>(map)),
+      source_(std::move(source)),
+      key_path_(std::move(key_path)) {}
+YamlReader::YamlReader(const YamlReader& other)
+    : map_(std::make_unique<YAML::Node>(*other.map_)),
+      source_(other.source_),
+      key_path_(other.key_path_),
+      read_keys_(other.read_keys_) {}
+YamlReader::YamlReader(YamlReader&&) noexcept = default;
+YamlReader::~YamlReader() = default;
+
+std::string YamlReader::PathOf(const std::string& key) const {
+  return key_path_.empty() ? key : key_path_ + "." + key;
+}
+
+void YamlReader::Fail(const std::string& key, const std::string& what) const {
+  throw InputError(source_, PathOf(key), what);
+}
+
+bool YamlReader::Has(const std::string& key) const {
+  return map_->IsMap() && (*map_)[key].IsDefined();
+}
+
+YAML::Node YamlReader::Get(const std::string& key) {
+  read_keys_.insert(key);
+  return (*map_)[key];
+}
+
+void YamlReader::Check(const std::string& key, bool condition,
+                       const std::string& expectation) const {
+  if (condition) return;
+  const YAML::Node value = (*map_)[key];
+  Fail(key, "value " + (value.IsDefined() ? ScalarText(value) : "(default)") + " " + expectation);
+}
+
+namespace {
+
+template <typename T>
+void ReadScalar(YamlReader* reader, const YAML::Node& node, const std::string& key,
+                const char* type_name, T* value) {
+  if (!node.IsScalar()) reader->Fail(key, "expected " + std::string(type_name) + ", got " + ScalarText(node));
+  try {
+    *value = node.as<T>();
+  } catch (const YAML::Exception&) {
+    reader->Fail(key, "expected " + std::string(type_name) + ", got " + ScalarText(node));
+  }
+}
+
+}  // namespace
+
+void YamlReader::Read(const std::string& key, double* value) {
+  if (!Has(key)) return;
+  ReadScalar(this, Get(key), key, "a number", value);
+}
+
+void YamlReader::Read(const std::string& key, int* value) {
+  if (!Has(key)) return;
+  ReadScalar(this, Get(key), key, "an integer", value);
+}
+
+void YamlReader::Read(const std::string& key, std::uint64_t* value) {
+  if (!Has(key)) return;
+  const YAML::Node& node = Get(key);
+  if (node.IsScalar() && !node.Scalar().empty() && node.Scalar()[0] == '-') {
+    Fail(key, "expected a non-negative integer, got " + ScalarText(node));
+  }
+  ReadScalar(this, node, key, "a non-negative integer", value);
+}
+
+void YamlReader::Read(const std::string& key, bool* value) {
+  if (!Has(key)) return;
+  ReadScalar(this, Get(key), key, "true or false", value);
+}
+
+void YamlReader::Read(const std::string& key, std::string* value) {
+  if (!Has(key)) return;
+  ReadScalar(this, Get(key), key, "a string", value);
+}
+
+namespace {
+
+template <int N>
+void ReadVector(YamlReader* reader, const YAML::Node& node, const std::string& key,
+                Eigen::Matrix<double, N, 1>* value) {
+  const std::string expected = "expected a sequence of " + std::to_string(N) + " numbers";
+  if (!node.IsSequence() || node.size() != static_cast<std::size_t>(N)) {
+    reader->Fail(key, expected + ", got " + ScalarText(node));
+  }
+  Eigen::Matrix<double, N, 1> result;
+  for (int i = 0; i < N; ++i) {
+    try {
+      result[i] = node[i].as<double>();
+    } catch (const YAML::Exception&) {
+      reader->Fail(key, expected + ", got " + ScalarText(node));
+    }
+  }
+  *value = result;
+}
+
+}  // namespace
+
+void YamlReader::Read(const std::string& key, Eigen::Vector2d* value) {
+  if (!Has(key)) return;
+  ReadVector<2>(this, Get(key), key, value);
+}
+
+void YamlReader::Read(const std::string& key, Eigen::Vector3d* value) {
+  if (!Has(key)) return;
+  ReadVector<3>(this, Get(key), key, value);
+}
+
+YamlReader YamlReader::Map(const std::string& key) {
+  if (!Has(key)) Fail(key, "required map is missing");
+  const YAML::Node node = Get(key);
+  if (!node.IsMap()) Fail(key, "expected a map, got " + ScalarText(node));
+  return YamlReader(node, source_, PathOf(key));
+}
+
+std::vector<YamlReader> YamlReader::MapSequence(const std::string& key) {
+  std::vector<YamlReader> items;
+  if (!Has(key)) return items;
+  const YAML::Node node = Get(key);
+  if (!node.IsSequence()) Fail(key, "expected a sequence, got " + ScalarText(node));
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const std::string item_path = PathOf(key) + "[" + std::to_string(i) + "]";
+    if (!node[i].IsMap()) {
+      throw InputError(source_, item_path, "expected a map, got " + ScalarText(node[i]));
+    }
+    items.emplace_back(node[i], source_, item_path);
+  }
+  return items;
+}
+
+void YamlReader::Finish() const {
+  if (!map_->IsMap()) return;
+  for (const auto& entry : *map_) {
+    const std::string key = entry.first.as<std::string>();
+    if (read_keys_.count(key) == 0) Fail(key, "unknown key");
+  }
+}
+
+}  // namespace trav::common

@@ -1,0 +1,216 @@
+#include "sim/simulation.h"
+
+#include <mujoco/mujoco.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <mutex>
+#include <stdexcept>
+
+#include "common/input_error.h"
+#include "common/logging.h"
+
+namespace trav::sim {
+namespace {
+
+static_assert(mjNWARNING == 8, "Simulation keeps one counter per MuJoCo warning kind");
+
+constexpr const char* kWheelJoints[4] = {"front_left_wheel", "rear_left_wheel", "front_right_wheel",
+                                         "rear_right_wheel"};
+constexpr const char* kWheelActuators[4] = {"front_left_motor", "rear_left_motor",
+                                            "front_right_motor", "rear_right_motor"};
+// Wheel contact points in B at rest (x, y) and the wheel radius [m]; must match scout_mini.xml.
+constexpr double kWheelX_m = 0.2255;
+constexpr double kWheelY_m = 0.245;
+constexpr double kWheelRadius_m = 0.0875;
+constexpr double kDropHeight_m = 0.01;
+
+const char* WarningName(int kind) {
+  switch (kind) {
+    case mjWARN_INERTIA:
+      return "near-singular inertia";
+    case mjWARN_CONTACTFULL:
+      return "contact list full";
+    case mjWARN_CNSTRFULL:
+      return "constraint list full";
+    case mjWARN_VGEOMFULL:
+      return "visual geom list full";
+    case mjWARN_BADQPOS:
+      return "bad number in qpos";
+    case mjWARN_BADQVEL:
+      return "bad number in qvel";
+    case mjWARN_BADQACC:
+      return "bad number in qacc";
+    case mjWARN_BADCTRL:
+      return "bad number in ctrl";
+    default:
+      return "unknown warning";
+  }
+}
+
+void ThrowMujocoError(const char* message) {
+  throw std::runtime_error(std::string("MuJoCo error: ") + message);
+}
+
+void LogMujocoWarning(const char* message) {
+  common::Log(common::LogLevel::kDebug, std::string("MuJoCo warning: ") + message);
+}
+
+int RequireId(const mjModel* model, mjtObj type, const char* name) {
+  const int id = mj_name2id(model, type, name);
+  if (id < 0) {
+    throw std::runtime_error(std::string("robot model has no ") + mju_type2Str(type) + " named '" +
+                             name + "'");
+  }
+  return id;
+}
+
+}  // namespace
+
+void InstallMujocoHandlers() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    mju_user_error = ThrowMujocoError;
+    mju_user_warning = LogMujocoWarning;
+  });
+}
+
+void Simulation::ModelDeleter::operator()(mjModel* model) const { mj_deleteModel(model); }
+void Simulation::DataDeleter::operator()(mjData* data) const { mj_deleteData(data); }
+
+Simulation::Simulation(const TerrainWorld& terrain, const common::Pose2& start_W,
+                       const WorldOptions& options) {
+  InstallMujocoHandlers();
+  if (!std::ifstream(options.robot_model_path).good()) {
+    throw common::InputError(options.robot_model_path, "", "cannot open robot model");
+  }
+  // load the generated world from a virtual file; the robot file is included from disk
+  const std::string xml = BuildWorldXml(terrain, options);
+  mjVFS vfs;
+  mj_defaultVFS(&vfs);
+  constexpr const char* kWorldFile = "trav_world.xml";
+  if (mj_makeEmptyFileVFS(&vfs, kWorldFile, static_cast<int>(xml.size())) != 0) {
+    throw std::runtime_error("MuJoCo VFS: cannot allocate the world file");
+  }
+  std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, kWorldFile)], xml.data(), xml.size());
+  char error[1024] = "";
+  model_.reset(mj_loadXML(kWorldFile, &vfs, error, sizeof(error)));
+  mj_deleteVFS(&vfs);
+  if (!model_) throw std::runtime_error(std::string("cannot build the MuJoCo world: ") + error);
+
+  // height samples from memory (the asset declares only the size)
+  const int hfield = RequireId(model_.get(), mjOBJ_HFIELD, "terrain");
+  FillHeightField(terrain, ComputeHeightFieldLayout(terrain),
+                  model_->hfield_data + model_->hfield_adr[hfield]);
+
+  data_.reset(mj_makeData(model_.get()));
+  if (!data_) throw std::runtime_error("MuJoCo: cannot allocate mjData");
+
+  base_body_id_ = RequireId(model_.get(), mjOBJ_BODY, "base");
+  lidar_site_id_ = RequireId(model_.get(), mjOBJ_SITE, "lidar");
+  const int root = RequireId(model_.get(), mjOBJ_JOINT, "root");
+  root_qpos_address_ = model_->jnt_qposadr[root];
+  root_qvel_address_ = model_->jnt_dofadr[root];
+  for (int w = 0; w < 4; ++w) {
+    wheel_qvel_address_[w] = model_->jnt_dofadr[RequireId(model_.get(), mjOBJ_JOINT, kWheelJoints[w])];
+    if (RequireId(model_.get(), mjOBJ_ACTUATOR, kWheelActuators[w]) != w) {
+      throw std::runtime_error(std::string("robot model: actuator ") + kWheelActuators[w] +
+                               " must be number " + std::to_string(w));
+    }
+  }
+  PlaceRobot(terrain, start_W);
+}
+
+Simulation::~Simulation() = default;
+
+void Simulation::PlaceRobot(const TerrainWorld& terrain, const common::Pose2& start_W) {
+  // fit the ground plane under the four wheels: height, pitch and roll
+  const Eigen::Rotation2Dd yaw(start_W.yaw);
+  double heights[4];
+  const double signs_x[4] = {1, -1, 1, -1};
+  const double signs_y[4] = {1, 1, -1, -1};
+  for (int w = 0; w < 4; ++w) {
+    const Eigen::Vector2d p_W =
+        start_W.position + yaw * Eigen::Vector2d(signs_x[w] * kWheelX_m, signs_y[w] * kWheelY_m);
+    heights[w] = terrain.GroundHeight(p_W);
+  }
+  const double front = 0.5 * (heights[0] + heights[2]);
+  const double rear = 0.5 * (heights[1] + heights[3]);
+  const double left = 0.5 * (heights[0] + heights[1]);
+  const double right = 0.5 * (heights[2] + heights[3]);
+  const double pitch = -std::atan2(front - rear, 2.0 * kWheelX_m);
+  const double roll = std::atan2(left - right, 2.0 * kWheelY_m);
+  const double highest = std::max({heights[0], heights[1], heights[2], heights[3]});
+
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(start_W.yaw, Eigen::Vector3d::UnitZ()) *
+                             Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                             Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()));
+  mjtNum* qpos = data_->qpos + root_qpos_address_;
+  qpos[0] = start_W.position.x();
+  qpos[1] = start_W.position.y();
+  qpos[2] = highest + kWheelRadius_m + kDropHeight_m;
+  qpos[3] = q.w();
+  qpos[4] = q.x();
+  qpos[5] = q.y();
+  qpos[6] = q.z();
+  mj_forward(model_.get(), data_.get());
+}
+
+void Simulation::SetWheelSpeedCommands(const common::WheelSpeeds& speeds_rad_s) {
+  for (int w = 0; w < 4; ++w) data_->ctrl[w] = speeds_rad_s[w];
+}
+
+StepStatus Simulation::Step() {
+  mj_step(model_.get(), data_.get());
+  CollectWarnings();
+  const bool bad_state = data_->warning[mjWARN_BADQPOS].number > 0 ||
+                         data_->warning[mjWARN_BADQVEL].number > 0 ||
+                         data_->warning[mjWARN_BADQACC].number > 0 ||
+                         !std::isfinite(data_->qpos[root_qpos_address_ + 2]);
+  return bad_state ? StepStatus::kDiverged : StepStatus::kOk;
+}
+
+void Simulation::CollectWarnings() {
+  for (int kind = 0; kind < mjNWARNING; ++kind) {
+    const int number = data_->warning[kind].number;
+    if (number == last_warning_numbers_[kind]) continue;
+    if (last_warning_numbers_[kind] == 0) {
+      warning_messages_.push_back(std::string(WarningName(kind)) + " at t = " +
+                                  std::to_string(data_->time) + " s (info " +
+                                  std::to_string(data_->warning[kind].lastinfo) + ")");
+    }
+    warning_count_ += number - last_warning_numbers_[kind];
+    last_warning_numbers_[kind] = number;
+  }
+}
+
+common::RobotState Simulation::State() const {
+  common::RobotState state;
+  state.time_s = data_->time;
+  const mjtNum* p = data_->xpos + 3 * base_body_id_;
+  const mjtNum* R = data_->xmat + 9 * base_body_id_;
+  state.X_WB.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
+  state.X_WB.linear() = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(R);
+  // free joint velocity: linear in W, angular in B
+  const mjtNum* qvel = data_->qvel + root_qvel_address_;
+  state.v_WB_B = state.X_WB.linear().transpose() * Eigen::Vector3d(qvel[0], qvel[1], qvel[2]);
+  state.w_WB_B = Eigen::Vector3d(qvel[3], qvel[4], qvel[5]);
+  for (int w = 0; w < 4; ++w) state.wheel_speeds[w] = data_->qvel[wheel_qvel_address_[w]];
+  return state;
+}
+
+Eigen::Isometry3d Simulation::LidarPose() const {
+  Eigen::Isometry3d X_WL = Eigen::Isometry3d::Identity();
+  const mjtNum* p = data_->site_xpos + 3 * lidar_site_id_;
+  X_WL.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
+  X_WL.linear() =
+      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(data_->site_xmat + 9 * lidar_site_id_);
+  return X_WL;
+}
+
+double Simulation::time() const { return data_->time; }
+
+double Simulation::timestep() const { return model_->opt.timestep; }
+
+}  // namespace trav::sim

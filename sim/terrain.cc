@@ -1,0 +1,340 @@
+#include "sim/terrain.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/input_error.h"
+#include "sim/terrain_internal.h"
+
+namespace trav::sim {
+namespace {
+
+using common::InputError;
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+void Require(bool condition, const std::string& field, double value, const std::string& what) {
+  if (!condition) {
+    throw InputError("", "terrain." + field,
+                     "value " + std::to_string(value) + " " + what);
+  }
+}
+
+// Slope magnitude |grad h| at every interior sample, by central differences.
+std::vector<double> SlopeMagnitudes(const TerrainWorld& world) {
+  std::vector<double> slopes;
+  const Eigen::MatrixXf& h = world.height_m;
+  const double two_res = 2.0 * world.geometry.resolution_m;
+  slopes.reserve(static_cast<std::size_t>(std::max<Eigen::Index>(0, (h.rows() - 2) * (h.cols() - 2))));
+  for (Eigen::Index iy = 1; iy + 1 < h.cols(); ++iy) {
+    for (Eigen::Index ix = 1; ix + 1 < h.rows(); ++ix) {
+      const double gx = (h(ix + 1, iy) - h(ix - 1, iy)) / two_res;
+      const double gy = (h(ix, iy + 1) - h(ix, iy - 1)) / two_res;
+      slopes.push_back(std::hypot(gx, gy));
+    }
+  }
+  return slopes;
+}
+
+double Percentile(std::vector<double> values, double fraction) {
+  if (values.empty()) return 0.0;
+  const auto k = static_cast<std::size_t>(fraction * static_cast<double>(values.size() - 1));
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+  return values[k];
+}
+
+// Test terrains: analytic height profiles along x.
+void FillProfile(const TerrainConfig& config, TerrainWorld* world) {
+  for (int ix = 0; ix < world->geometry.num_x; ++ix) {
+    const double x = world->geometry.CellCenter(ix, 0).x();
+    double h = 0.0;
+    switch (config.type) {
+      case TerrainType::kSlope:
+        h = std::max(0.0, x - config.slope.start_x_m) * std::tan(config.slope.angle_deg * kDegToRad);
+        break;
+      case TerrainType::kStep:
+        h = x > config.step.x_m ? config.step.height_m : 0.0;
+        break;
+      case TerrainType::kStairs: {
+        const double steps = std::floor((x - config.stairs.start_x_m) / config.stairs.step_depth_m) + 1.0;
+        h = config.stairs.step_height_m * std::clamp(steps, 0.0, double(config.stairs.num_steps));
+        break;
+      }
+      default:
+        break;
+    }
+    world->height_m.row(ix).setConstant(static_cast<float>(h));
+  }
+}
+
+}  // namespace
+
+const char* TerrainTypeName(TerrainType type) {
+  switch (type) {
+    case TerrainType::kFlat:
+      return "flat";
+    case TerrainType::kSlope:
+      return "slope";
+    case TerrainType::kStep:
+      return "step";
+    case TerrainType::kStairs:
+      return "stairs";
+    case TerrainType::kHilly:
+      return "hilly";
+    case TerrainType::kForest:
+      return "forest";
+    case TerrainType::kRuin:
+      return "ruin";
+    case TerrainType::kRoad:
+      return "road";
+    case TerrainType::kIndoor:
+      return "indoor";
+  }
+  return "?";
+}
+
+double TerrainWorld::GroundHeight(const Eigen::Vector2d& p_W) const {
+  return common::InterpolateBilinear(geometry, height_m, p_W);
+}
+
+void ValidateTerrainConfig(const TerrainConfig& c) {
+  Require(c.resolution_m > 0.0, "resolution", c.resolution_m, "must be > 0");
+  Require(c.size_m.x() >= 2.0 * c.resolution_m, "size[0]", c.size_m.x(),
+          "must be at least two cells");
+  Require(c.size_m.y() >= 2.0 * c.resolution_m, "size[1]", c.size_m.y(),
+          "must be at least two cells");
+  Require(c.size_m.x() / c.resolution_m <= 8192 && c.size_m.y() / c.resolution_m <= 8192,
+          "resolution", c.resolution_m, "gives more than 8192 samples along an axis");
+  const HillyParams& h = c.hilly;
+  Require(h.fractal.octaves >= 1 && h.fractal.octaves <= 12, "parameters.octaves", h.fractal.octaves,
+          "must be in [1, 12]");
+  Require(h.fractal.lacunarity > 1.0, "parameters.lacunarity", h.fractal.lacunarity, "must be > 1");
+  Require(h.fractal.gain > 0.0 && h.fractal.gain < 1.0, "parameters.gain", h.fractal.gain,
+          "must be in (0, 1)");
+  Require(h.fractal.warp >= 0.0, "parameters.warp", h.fractal.warp, "must be >= 0");
+  Require(h.wavelength_m > 0.0, "parameters.wavelength", h.wavelength_m, "must be > 0");
+  Require(h.slope_p95_deg >= 0.0 && h.slope_p95_deg < 45.0, "parameters.slope_p95_deg",
+          h.slope_p95_deg, "must be in [0, 45)");
+  Require(h.roughness_m >= 0.0, "parameters.roughness", h.roughness_m, "must be >= 0");
+  Require(h.roughness_cell_m >= c.resolution_m, "parameters.roughness_cell", h.roughness_cell_m,
+          "must be >= the resolution");
+  const ForestParams& f = c.forest;
+  Require(f.tree_density_per_m2 > 0.0 && f.tree_density_per_m2 <= 1.0, "parameters.tree_density",
+          f.tree_density_per_m2, "must be in (0, 1]");
+  Require(f.trunk_radius_m[0] > 0.0 && f.trunk_radius_m[0] <= f.trunk_radius_m[1],
+          "parameters.trunk_radius", f.trunk_radius_m[0], "must be a range [min, max] with min > 0");
+  Require(f.trunk_height_m[0] > 0.0 && f.trunk_height_m[0] <= f.trunk_height_m[1],
+          "parameters.trunk_height", f.trunk_height_m[0], "must be a range [min, max] with min > 0");
+  const RuinParams& r = c.ruin;
+  Require(r.num_boxes >= 0 && r.num_columns >= 0 && r.num_walls >= 0 && r.num_rubble >= 0,
+          "parameters", std::min({r.num_boxes, r.num_columns, r.num_walls, r.num_rubble}),
+          "obstacle counts must be >= 0");
+  Require(r.burial_fraction_max >= 0.0 && r.burial_fraction_max <= 0.9,
+          "parameters.burial_fraction_max", r.burial_fraction_max, "must be in [0, 0.9]");
+  const RoadParams& road = c.road;
+  Require(road.street_width_m > 0.0, "parameters.street_width", road.street_width_m, "must be > 0");
+  Require(road.block_size_m > road.street_width_m + 2.0 * road.sidewalk_width_m + 1.0,
+          "parameters.block_size", road.block_size_m,
+          "must exceed street_width + 2 sidewalk_width + 1 m");
+  Require(road.curb_height_m >= 0.0, "parameters.curb_height", road.curb_height_m, "must be >= 0");
+  const IndoorParams& in = c.indoor;
+  Require(in.door_width_m >= 0.8, "parameters.door_width", in.door_width_m,
+          "must be >= 0.8 m (the robot is 0.58 m wide)");
+  Require(in.min_room_size_m >= 2.0 * in.door_width_m, "parameters.min_room_size",
+          in.min_room_size_m, "must be >= twice the door width");
+  Require(in.wall_height_m > 0.5, "parameters.wall_height", in.wall_height_m, "must be > 0.5 m");
+  Require(in.wall_thickness_m > 0.0, "parameters.wall_thickness", in.wall_thickness_m, "must be > 0");
+  Require(c.slope.angle_deg >= 0.0 && c.slope.angle_deg <= 60.0, "parameters.angle_deg",
+          c.slope.angle_deg, "must be in [0, 60]");
+  Require(c.stairs.step_depth_m > 0.0, "parameters.step_depth", c.stairs.step_depth_m, "must be > 0");
+  Require(c.stairs.num_steps >= 1, "parameters.num_steps", c.stairs.num_steps, "must be >= 1");
+}
+
+TerrainWorld GenerateTerrain(const TerrainConfig& config,
+                             const std::vector<Eigen::Vector2d>& keep_clear_W,
+                             double keep_clear_radius_m) {
+  ValidateTerrainConfig(config);
+  TerrainWorld world;
+  world.config = config;
+  world.geometry = common::GridGeometry::Centered(Eigen::Vector2d::Zero(), config.size_m,
+                                                  config.resolution_m);
+  world.height_m = Eigen::MatrixXf::Zero(world.geometry.num_x, world.geometry.num_y);
+
+  common::Random random(config.seed);
+  internal::ObstaclePlacer placer(&world, keep_clear_W, keep_clear_radius_m);
+  switch (config.type) {
+    case TerrainType::kFlat:
+      break;
+    case TerrainType::kSlope:
+    case TerrainType::kStep:
+    case TerrainType::kStairs:
+      FillProfile(config, &world);
+      break;
+    case TerrainType::kHilly:
+      internal::FillHillyGround(config, &random, &world);
+      break;
+    case TerrainType::kForest:
+      internal::GenerateForest(config, &random, &placer);
+      break;
+    case TerrainType::kRuin:
+      internal::GenerateRuin(config, &random, &placer);
+      break;
+    case TerrainType::kRoad:
+      internal::GenerateRoad(config, &random, &placer);
+      break;
+    case TerrainType::kIndoor:
+      internal::GenerateIndoor(config, &random, &placer);
+      break;
+  }
+  return world;
+}
+
+namespace internal {
+
+void FillHillyGround(const TerrainConfig& config, common::Random* random, TerrainWorld* world) {
+  const HillyParams& params = config.hilly;
+  const FractalNoise noise(random->Next(), params.fractal);
+  Eigen::MatrixXf& h = world->height_m;
+  for (int iy = 0; iy < world->geometry.num_y; ++iy) {
+    for (int ix = 0; ix < world->geometry.num_x; ++ix) {
+      const Eigen::Vector2d p = world->geometry.CellCenter(ix, iy) / params.wavelength_m;
+      h(ix, iy) = static_cast<float>(noise.Evaluate(p));
+    }
+  }
+  // rescale so that the 95th percentile of the slope is the target angle
+  h.array() -= h.mean();
+  const double p95 = Percentile(SlopeMagnitudes(*world), 0.95);
+  const double target = std::tan(params.slope_p95_deg * kDegToRad);
+  if (p95 > 0.0) h *= static_cast<float>(target / p95);
+
+  // fine roughness: uniform bumps on a coarser lattice, interpolated bilinearly
+  if (params.roughness_m > 0.0) {
+    common::GridGeometry coarse = common::GridGeometry::Centered(
+        world->geometry.Center(), world->geometry.Extent(), params.roughness_cell_m);
+    Eigen::MatrixXf bumps(coarse.num_x, coarse.num_y);
+    for (int iy = 0; iy < coarse.num_y; ++iy) {
+      for (int ix = 0; ix < coarse.num_x; ++ix) {
+        bumps(ix, iy) = static_cast<float>(random->Uniform(-params.roughness_m, params.roughness_m));
+      }
+    }
+    for (int iy = 0; iy < world->geometry.num_y; ++iy) {
+      for (int ix = 0; ix < world->geometry.num_x; ++ix) {
+        h(ix, iy) += common::InterpolateBilinear(coarse, bumps, world->geometry.CellCenter(ix, iy));
+      }
+    }
+  }
+}
+
+Eigen::Isometry3d PoseAt(const Eigen::Vector3d& p_W, double yaw, double tilt) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.translation() = p_W;
+  X.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  return X;
+}
+
+ObstaclePlacer::ObstaclePlacer(TerrainWorld* world, std::vector<Eigen::Vector2d> keep_clear_W,
+                               double keep_clear_radius_m)
+    : world_(world),
+      keep_clear_W_(std::move(keep_clear_W)),
+      keep_clear_radius_m_(keep_clear_radius_m) {}
+
+bool ObstaclePlacer::IsFree(const Eigen::Vector2d& p_W, double radius_m) const {
+  const Eigen::Vector2d low = world_->geometry.origin_W;
+  const Eigen::Vector2d high = low + world_->geometry.Extent();
+  if ((p_W.array() - radius_m < low.array()).any() || (p_W.array() + radius_m > high.array()).any()) {
+    return false;
+  }
+  for (const Eigen::Vector2d& c : keep_clear_W_) {
+    if ((p_W - c).norm() < radius_m + keep_clear_radius_m_) return false;
+  }
+  return true;
+}
+
+Eigen::Vector2d ObstaclePlacer::RandomPosition(common::Random* random, double margin_m) const {
+  const Eigen::Vector2d low = world_->geometry.origin_W.array() + margin_m;
+  const Eigen::Vector2d high = (world_->geometry.origin_W + world_->geometry.Extent()).array() - margin_m;
+  return Eigen::Vector2d(random->Uniform(low.x(), high.x()), random->Uniform(low.y(), high.y()));
+}
+
+double ObstaclePlacer::MinGroundHeight(const Eigen::Vector2d& p_W, double radius_m) const {
+  double lowest = world_->GroundHeight(p_W);
+  for (int k = 0; k < 8; ++k) {
+    const double angle = k * M_PI / 4.0;
+    const Eigen::Vector2d rim = p_W + radius_m * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    lowest = std::min(lowest, world_->GroundHeight(rim));
+  }
+  return lowest;
+}
+
+void ObstaclePlacer::Add(const std::string& kind, Obstacle obstacle) {
+  auto it = std::find_if(counts_.begin(), counts_.end(),
+                         [&](const auto& entry) { return entry.first == kind; });
+  if (it == counts_.end()) it = counts_.insert(counts_.end(), {kind, 0});
+  obstacle.name = kind + "_" + std::to_string(it->second++);
+  world_->obstacles.push_back(std::move(obstacle));
+}
+
+void ObstaclePlacer::AddWall(const Eigen::Vector2d& a_W, const Eigen::Vector2d& b_W,
+                             double height_m, double thickness_m,
+                             std::vector<std::array<double, 2>> openings,
+                             const Eigen::Vector4f& rgba) {
+  const double length = (b_W - a_W).norm();
+  if (length <= 0.0) return;
+  const Eigen::Vector2d direction = (b_W - a_W) / length;
+  // keep-clear discs that the wall passes through become openings
+  for (const Eigen::Vector2d& c : keep_clear_W_) {
+    const double along = (c - a_W).dot(direction);
+    const double across = std::abs(direction.x() * (c - a_W).y() - direction.y() * (c - a_W).x());
+    const double reach = keep_clear_radius_m_ + thickness_m;
+    if (across < reach) {
+      const double half = std::sqrt(reach * reach - across * across);
+      openings.push_back({along - half, along + half});
+    }
+  }
+  std::sort(openings.begin(), openings.end());
+  // the solid pieces are the complement of the openings on [0, length]
+  double begin = 0.0;
+  auto add_piece = [&](double from, double to) {
+    if (to - from < 0.05) return;
+    const Eigen::Vector2d mid = a_W + 0.5 * (from + to) * direction;
+    const double ground = MinGroundHeight(mid, 0.5 * (to - from));
+    Obstacle wall;
+    wall.shape = ShapeType::kBox;
+    wall.size = Eigen::Vector3d(0.5 * (to - from), 0.5 * thickness_m, 0.5 * height_m + 0.1);
+    wall.X_WO = PoseAt(Eigen::Vector3d(mid.x(), mid.y(), ground - 0.2 + wall.size.z()),
+                       std::atan2(direction.y(), direction.x()));
+    wall.rgba = rgba;
+    Add("wall", wall);
+  };
+  for (const auto& opening : openings) {
+    add_piece(begin, std::clamp(opening[0], 0.0, length));
+    begin = std::max(begin, std::clamp(opening[1], 0.0, length));
+  }
+  add_piece(begin, length);
+}
+
+}  // namespace internal
+
+TerrainStatistics ComputeStatistics(const TerrainWorld& world) {
+  TerrainStatistics stats;
+  std::vector<double> slopes = SlopeMagnitudes(world);
+  auto to_deg = [](double slope) { return std::atan(slope) / kDegToRad; };
+  stats.slope_p50_deg = to_deg(Percentile(slopes, 0.5));
+  stats.slope_p95_deg = to_deg(Percentile(slopes, 0.95));
+  stats.slope_max_deg = to_deg(slopes.empty() ? 0.0 : *std::max_element(slopes.begin(), slopes.end()));
+  stats.height_min_m = world.height_m.minCoeff();
+  stats.height_max_m = world.height_m.maxCoeff();
+  for (const Obstacle& obstacle : world.obstacles) {
+    if (obstacle.role == ObstacleRole::kSolid) ++stats.num_obstacles;
+    if (obstacle.name.rfind("tree", 0) == 0 && obstacle.role == ObstacleRole::kSolid) {
+      ++stats.num_trees;
+    }
+  }
+  const Eigen::Vector2d extent = world.geometry.Extent();
+  stats.tree_density_per_m2 = stats.num_trees / (extent.x() * extent.y());
+  return stats;
+}
+
+}  // namespace trav::sim

@@ -1,0 +1,165 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "common/grid.h"
+#include "common/point_cloud.h"
+#include "sim/noise.h"
+
+namespace trav::sim {
+
+/// Terrain families: the paper's five scene types plus test terrains.
+enum class TerrainType { kFlat, kSlope, kStep, kStairs, kHilly, kForest, kRuin, kRoad, kIndoor };
+
+/// Name of a terrain type as written in scenario files ("hilly", ...).
+const char* TerrainTypeName(TerrainType type);
+
+/// Hilly ground (also the base of forest and ruin): fractal noise rescaled so that a chosen
+/// percentile of the slope reaches a target angle.
+struct HillyParams {
+  FractalParams fractal{};        ///< noise family and octaves
+  double wavelength_m{20.0};      ///< wavelength of the base octave [m], > 0
+  double slope_p95_deg{14.0};     ///< 95th percentile of the ground slope after rescaling [deg], in [0, 45)
+  double roughness_m{0.02};       ///< amplitude of the fine uniform bumps added on top [m], >= 0
+  double roughness_cell_m{0.2};   ///< size of a roughness bump [m], >= resolution
+};
+
+/// Forest: trees (trunk cylinders that collide, canopies that only the LiDAR and the camera see) on
+/// hilly ground, placed by Poisson-disk sampling.
+struct ForestParams {
+  double tree_density_per_m2{0.08};                  ///< trees per m^2, in (0, 1]
+  std::array<double, 2> trunk_radius_m{0.08, 0.3};   ///< [min, max] [m]
+  std::array<double, 2> trunk_height_m{3.0, 8.0};    ///< [min, max] above ground [m]
+  bool canopy{true};                                 ///< add canopy spheres
+};
+
+/// Ruin: boxes (random yaw, tilted, partly buried), standing and fallen columns, low walls with
+/// gaps and small rubble on hilly ground.
+struct RuinParams {
+  int num_boxes{40};
+  int num_columns{20};
+  int num_walls{10};
+  int num_rubble{60};
+  double burial_fraction_max{0.4};  ///< largest buried fraction of a box's height, in [0, 0.9]
+};
+
+/// Road: a street grid with raised sidewalks behind curbs, building blocks and poles.
+struct RoadParams {
+  double block_size_m{20.0};   ///< spacing of the streets [m]
+  double street_width_m{7.0};  ///< road surface width between the curbs [m]
+  double sidewalk_width_m{2.5};
+  double curb_height_m{0.12};  ///< sidewalk height above the road [m]
+  double camber{0.02};         ///< cross slope of the road surface (rise over run)
+  int poles_per_block{4};
+};
+
+/// Indoor: rooms split by binary space partitioning, walls with doorways, furniture and a ceiling.
+struct IndoorParams {
+  double min_room_size_m{4.0};
+  double wall_height_m{2.7};
+  double wall_thickness_m{0.1};
+  double door_width_m{1.0};    ///< >= 0.8 so the robot fits
+  int furniture_per_room{2};
+};
+
+/// Test terrains.
+struct SlopeParams {
+  double angle_deg{20.0};  ///< incline of the ramp rising along +x [deg], in [0, 60]
+  double start_x_m{2.0};   ///< x where the ramp starts [m]; flat before it
+};
+struct StepParams {
+  double height_m{0.2};  ///< height of the step [m]
+  double x_m{2.0};       ///< x of the step edge [m]; the ground is higher for x > x_m
+};
+struct StairsParams {
+  double step_height_m{0.05};
+  double step_depth_m{0.6};
+  int num_steps{5};
+  double start_x_m{2.0};
+};
+
+/// Everything that defines a procedural world; the same config and seed give a bit-identical world.
+struct TerrainConfig {
+  TerrainType type{TerrainType::kHilly};
+  std::uint64_t seed{1};
+  Eigen::Vector2d size_m{50.0, 50.0};  ///< extent along x and y [m], centred on the world origin
+  double resolution_m{0.1};            ///< height sample spacing [m], > 0
+  HillyParams hilly{};
+  ForestParams forest{};
+  RuinParams ruin{};
+  RoadParams road{};
+  IndoorParams indoor{};
+  SlopeParams slope{};
+  StepParams step{};
+  StairsParams stairs{};
+};
+
+/// Primitive shapes of obstacles.
+enum class ShapeType { kBox, kCylinder, kSphere, kCapsule };
+
+/// How an obstacle takes part in the simulation.
+enum class ObstacleRole {
+  kSolid,    ///< collides, seen by the LiDAR, rendered
+  kCanopy,   ///< seen by the LiDAR and rendered; no collision (tree crowns)
+  kCeiling,  ///< collides and seen by the LiDAR; hidden in videos so the camera can look in
+};
+
+/// A static obstacle primitive. Sizes follow MuJoCo's conventions: box half-extents (x, y, z);
+/// cylinder and capsule (radius, half-length, unused) along the local z axis; sphere (radius, -, -).
+struct Obstacle {
+  std::string name;  ///< unique in the world; its prefix names the kind ("tree", "box", "wall", ...)
+  ShapeType shape{ShapeType::kBox};
+  ObstacleRole role{ObstacleRole::kSolid};
+  Eigen::Isometry3d X_WO{Eigen::Isometry3d::Identity()};  ///< pose of the shape's frame in W
+  Eigen::Vector3d size{Eigen::Vector3d::Zero()};          ///< [m], see above
+  Eigen::Vector4f rgba{0.6f, 0.6f, 0.6f, 1.0f};
+};
+
+/// A triangle mesh in the world frame.
+struct TriangleMesh {
+  Eigen::Matrix3Xf vertices_W;  ///< [m], one vertex per column
+  Eigen::Matrix3Xi triangles;   ///< vertex indices, counter-clockwise seen from outside
+};
+
+/// A generated world: a height field (the ground) and obstacle primitives.
+struct TerrainWorld {
+  TerrainConfig config{};
+  common::GridGeometry geometry{};  ///< height samples; cell (ix, iy) is one sample
+  Eigen::MatrixXf height_m;         ///< ground height at each sample [m], (num_x, num_y)
+  std::vector<Obstacle> obstacles;
+
+  /// Ground height at p_W by bilinear interpolation [m] (obstacles not included).
+  double GroundHeight(const Eigen::Vector2d& p_W) const;
+};
+
+/// Generates the world of `config`. Obstacles are kept at least `keep_clear_radius_m` away from
+/// every point of `keep_clear_W` (robot start, goal).
+/// @throws common::InputError if the config is inconsistent (names the field and value).
+TerrainWorld GenerateTerrain(const TerrainConfig& config,
+                             const std::vector<Eigen::Vector2d>& keep_clear_W = {},
+                             double keep_clear_radius_m = 2.0);
+
+/// Checks ranges of a terrain config. @throws common::InputError naming the field and value.
+void ValidateTerrainConfig(const TerrainConfig& config);
+
+/// Statistics of a generated world, used to document and test each type's ranges.
+struct TerrainStatistics {
+  double slope_p50_deg{0.0};  ///< median ground slope [deg]
+  double slope_p95_deg{0.0};  ///< 95th percentile ground slope [deg]
+  double slope_max_deg{0.0};
+  double height_min_m{0.0};
+  double height_max_m{0.0};
+  int num_obstacles{0};          ///< solid obstacles (ceiling excluded)
+  int num_trees{0};                 ///< obstacles named "tree..._trunk"
+  double tree_density_per_m2{0.0};  ///< trees per m^2 of the world's area
+};
+
+/// Computes the statistics of a world (slopes from central differences of the height samples).
+TerrainStatistics ComputeStatistics(const TerrainWorld& world);
+
+}  // namespace trav::sim

@@ -1,0 +1,121 @@
+#include "sim/world_builder.h"
+
+#include <algorithm>
+#include <iomanip>
+#include <sstream>
+
+namespace trav::sim {
+namespace {
+
+const char* MjcfShape(ShapeType shape) {
+  switch (shape) {
+    case ShapeType::kBox:
+      return "box";
+    case ShapeType::kCylinder:
+      return "cylinder";
+    case ShapeType::kSphere:
+      return "sphere";
+    case ShapeType::kCapsule:
+      return "capsule";
+  }
+  return "box";
+}
+
+std::string MjcfSize(const Obstacle& obstacle) {
+  std::ostringstream out;
+  out << std::setprecision(9);
+  switch (obstacle.shape) {
+    case ShapeType::kBox:
+      out << obstacle.size.x() << " " << obstacle.size.y() << " " << obstacle.size.z();
+      break;
+    case ShapeType::kCylinder:
+    case ShapeType::kCapsule:
+      out << obstacle.size.x() << " " << obstacle.size.y();
+      break;
+    case ShapeType::kSphere:
+      out << obstacle.size.x();
+      break;
+  }
+  return out.str();
+}
+
+}  // namespace
+
+HeightFieldLayout ComputeHeightFieldLayout(const TerrainWorld& world) {
+  HeightFieldLayout layout;
+  layout.z_offset_m = world.height_m.minCoeff();
+  layout.z_top_m = std::max(1e-3, static_cast<double>(world.height_m.maxCoeff()) - layout.z_offset_m);
+  return layout;
+}
+
+void FillHeightField(const TerrainWorld& world, const HeightFieldLayout& layout, float* data) {
+  // Eigen's column-major (num_x, num_y) storage is row-major with rows along y: MuJoCo's layout.
+  const Eigen::Index n = world.height_m.size();
+  const float offset = static_cast<float>(layout.z_offset_m);
+  const float scale = static_cast<float>(1.0 / layout.z_top_m);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    data[i] = std::clamp((world.height_m.data()[i] - offset) * scale, 0.0f, 1.0f);
+  }
+}
+
+std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options) {
+  const HeightFieldLayout layout = ComputeHeightFieldLayout(world);
+  const Eigen::Vector2d half = 0.5 * world.geometry.Extent();
+  const Eigen::Vector2d centre = world.geometry.Center();
+  const double far = 2.0 * world.geometry.Extent().norm() + 50.0;
+
+  std::ostringstream xml;
+  xml << std::setprecision(9);
+  xml << "<mujoco model=\"trav_world\">\n"
+      << "  <include file=\"" << options.robot_model_path << "\"/>\n"
+      << "  <option timestep=\"" << options.timestep_s << "\"/>\n"
+      << "  <visual>\n"
+      << "    <quality shadowsize=\"1024\" offsamples=\"0\"/>\n"
+      << "    <map znear=\"0.01\" zfar=\"" << far << "\" haze=\"0.2\"/>\n"
+      << "    <headlight ambient=\"0.35 0.35 0.35\" diffuse=\"0.5 0.5 0.5\"/>\n"
+      << "    <rgba haze=\"0.75 0.82 0.9 1\"/>\n"
+      << "  </visual>\n"
+      << "  <asset>\n"
+      << "    <texture name=\"sky\" type=\"skybox\" builtin=\"gradient\" rgb1=\"0.55 0.7 0.9\""
+      << " rgb2=\"0.9 0.93 0.97\" width=\"64\" height=\"64\"/>\n"
+      << "    <texture name=\"ground_checker\" type=\"2d\" builtin=\"checker\" rgb1=\"0.42 0.5 0.3\""
+      << " rgb2=\"0.46 0.54 0.34\" width=\"64\" height=\"64\"/>\n"
+      << "    <material name=\"ground\" texture=\"ground_checker\" texrepeat=\""
+      << world.geometry.Extent().x() / 2.0 << " " << world.geometry.Extent().y() / 2.0
+      << "\" texuniform=\"false\" specular=\"0.05\"/>\n"
+      << "    <hfield name=\"terrain\" nrow=\"" << world.geometry.num_y << "\" ncol=\""
+      << world.geometry.num_x << "\" size=\"" << half.x() << " " << half.y() << " "
+      << layout.z_top_m << " 1\"/>\n"
+      << "  </asset>\n"
+      << "  <worldbody>\n"
+      << "    <light name=\"sun\" directional=\"true\" pos=\"0 0 50\" dir=\"-0.3 0.2 -1\""
+      << " diffuse=\"0.6 0.6 0.6\" castshadow=\"true\"/>\n"
+      << "    <geom name=\"ground\" type=\"hfield\" hfield=\"terrain\" pos=\"" << centre.x() << " "
+      << centre.y() << " " << layout.z_offset_m << "\" friction=\"" << options.ground_friction
+      << " 0.005 0.0001\" material=\"ground\" group=\"0\"/>\n";
+  for (const Obstacle& obstacle : world.obstacles) {
+    const Eigen::Quaterniond q(obstacle.X_WO.linear());
+    const Eigen::Vector3d p = obstacle.X_WO.translation();
+    xml << "    <geom name=\"" << obstacle.name << "\" type=\"" << MjcfShape(obstacle.shape)
+        << "\" size=\"" << MjcfSize(obstacle) << "\" pos=\"" << p.x() << " " << p.y() << " " << p.z()
+        << "\" quat=\"" << q.w() << " " << q.x() << " " << q.y() << " " << q.z() << "\" rgba=\""
+        << obstacle.rgba[0] << " " << obstacle.rgba[1] << " " << obstacle.rgba[2] << " "
+        << obstacle.rgba[3] << "\" friction=\"" << options.ground_friction << " 0.005 0.0001\"";
+    switch (obstacle.role) {
+      case ObstacleRole::kSolid:
+        xml << " group=\"0\"";
+        break;
+      case ObstacleRole::kCanopy:
+        xml << " group=\"2\" contype=\"0\" conaffinity=\"0\"";
+        break;
+      case ObstacleRole::kCeiling:
+        xml << " group=\"4\"";
+        break;
+    }
+    xml << "/>\n";
+  }
+  xml << "  </worldbody>\n</mujoco>\n";
+  return xml.str();
+}
+
+}  // namespace trav::sim

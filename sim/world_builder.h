@@ -1,0 +1,35 @@
+#pragma once
+
+#include <string>
+
+#include "sim/terrain.h"
+
+namespace trav::sim {
+
+/// Settings of the MuJoCo world that are not part of the terrain.
+struct WorldOptions {
+  std::string robot_model_path;  ///< absolute path of the robot MJCF (models/scout_mini.xml)
+  double ground_friction{0.9};   ///< sliding friction of the ground; it wins MuJoCo's max rule
+  double timestep_s{0.002};      ///< physics step [s], > 0
+};
+
+/// The MJCF text of a world: the robot included from its file, the ground as a height field named
+/// "terrain" (its samples are filled from memory after loading, see FillHeightField), obstacles as
+/// geoms named after them (canopies visual-only, the ceiling in geom group 4 so videos can hide it).
+std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options);
+
+/// Height-field layout in MuJoCo: samples normalised to [0, 1], scaled by `z_top_m`, placed at
+/// `z_offset_m` (the geom's z). See reference/simulation.md section 4.2.
+struct HeightFieldLayout {
+  double z_offset_m{0.0};  ///< ground height of a sample with value 0 [m]
+  double z_top_m{1.0};     ///< height of a sample with value 1 above z_offset [m], > 0
+};
+
+/// The normalisation used for `world` (minimum height and range, at least 1 mm).
+HeightFieldLayout ComputeHeightFieldLayout(const TerrainWorld& world);
+
+/// Writes the normalised samples of `world` into `data` (row-major, rows along y, num_x * num_y),
+/// MuJoCo's hfield_data layout.
+void FillHeightField(const TerrainWorld& world, const HeightFieldLayout& layout, float* data);
+
+}  // namespace trav::sim
