@@ -100,9 +100,12 @@ Simulation::Simulation(const TerrainWorld& terrain, const common::Pose2& start_W
   if (!model_) throw std::runtime_error(std::string("cannot build the MuJoCo world: ") + error);
 
   // height samples from memory (the asset declares only the size)
+  const HeightFieldLayout layout = ComputeHeightFieldLayout(terrain);
   const int hfield = RequireId(model_.get(), mjOBJ_HFIELD, "terrain");
-  FillHeightField(terrain, ComputeHeightFieldLayout(terrain),
-                  model_->hfield_data + model_->hfield_adr[hfield]);
+  FillHeightField(terrain.height_m, layout, model_->hfield_data + model_->hfield_adr[hfield]);
+  const Eigen::MatrixXf visual_height_m = ResampleGround(terrain, options.visual_max_samples);
+  const int visual_hfield = RequireId(model_.get(), mjOBJ_HFIELD, "terrain_visual");
+  FillHeightField(visual_height_m, layout, model_->hfield_data + model_->hfield_adr[visual_hfield]);
 
   data_.reset(mj_makeData(model_.get()));
   if (!data_) throw std::runtime_error("MuJoCo: cannot allocate mjData");

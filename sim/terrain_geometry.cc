@@ -90,6 +90,14 @@ std::vector<Eigen::Vector2d> SphereProfile(double radius, double z_offset, doubl
   return profile;
 }
 
+common::PointCloud ToPointCloud(const std::vector<Eigen::Vector3f>& points) {
+  common::PointCloud cloud;
+  cloud.frame_id = "W";
+  cloud.points.resize(3, static_cast<Eigen::Index>(points.size()));
+  for (std::size_t i = 0; i < points.size(); ++i) cloud.points.col(static_cast<Eigen::Index>(i)) = points[i];
+  return cloud;
+}
+
 }  // namespace
 
 TriangleMesh GroundMesh(const TerrainWorld& world) {
@@ -157,6 +165,25 @@ void AppendMesh(const TriangleMesh& mesh, TriangleMesh* into) {
       mesh.triangles.array() + static_cast<int>(vertex_offset);
 }
 
+common::PointCloud SampleSurface(const TriangleMesh& mesh, double spacing_m) {
+  std::vector<Eigen::Vector3f> points;
+  for (Eigen::Index t = 0; t < mesh.triangles.cols(); ++t) {
+    const Eigen::Vector3f a = mesh.vertices_W.col(mesh.triangles(0, t));
+    const Eigen::Vector3f b = mesh.vertices_W.col(mesh.triangles(1, t));
+    const Eigen::Vector3f c = mesh.vertices_W.col(mesh.triangles(2, t));
+    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const int n = std::max(1, static_cast<int>(std::ceil(longest / spacing_m)));
+    for (int i = 0; i <= n; ++i) {
+      for (int j = 0; i + j <= n; ++j) {
+        const float u = static_cast<float>(i) / static_cast<float>(n);
+        const float v = static_cast<float>(j) / static_cast<float>(n);
+        points.push_back(a + u * (b - a) + v * (c - a));
+      }
+    }
+  }
+  return ToPointCloud(points);
+}
+
 common::PointCloud DenseCloud(const TerrainWorld& world, double spacing_m) {
   std::vector<Eigen::Vector3f> points;
   const common::GridGeometry& g = world.geometry;
@@ -167,28 +194,13 @@ common::PointCloud DenseCloud(const TerrainWorld& world, double spacing_m) {
       points.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), world.height_m(ix, iy));
     }
   }
-  // obstacle surfaces: every triangle sampled on a barycentric lattice fine enough for `spacing_m`
-  const TriangleMesh mesh = ObstacleMesh(world.obstacles, 32);
-  for (Eigen::Index t = 0; t < mesh.triangles.cols(); ++t) {
-    const Eigen::Vector3f a = mesh.vertices_W.col(mesh.triangles(0, t));
-    const Eigen::Vector3f b = mesh.vertices_W.col(mesh.triangles(1, t));
-    const Eigen::Vector3f c = mesh.vertices_W.col(mesh.triangles(2, t));
-    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-    const int n = std::max(1, static_cast<int>(std::ceil(longest / spacing_m)));
-    for (int i = 0; i <= n; ++i) {
-      for (int j = 0; i + j <= n; ++j) {
-        const float u = static_cast<float>(i) / n;
-        const float v = static_cast<float>(j) / n;
-        const Eigen::Vector3f p = a + u * (b - a) + v * (c - a);
-        if (p.z() >= world.GroundHeight(p.head<2>().cast<double>()) - 1e-3) points.push_back(p);
-      }
-    }
+  // obstacle surfaces above the ground
+  const common::PointCloud surface = SampleSurface(ObstacleMesh(world.obstacles, 32), spacing_m);
+  for (Eigen::Index i = 0; i < surface.size(); ++i) {
+    const Eigen::Vector3f p = surface.points.col(i);
+    if (p.z() >= world.GroundHeight(p.head<2>().cast<double>()) - 1e-3) points.push_back(p);
   }
-  common::PointCloud cloud;
-  cloud.frame_id = "W";
-  cloud.points.resize(3, static_cast<Eigen::Index>(points.size()));
-  for (std::size_t i = 0; i < points.size(); ++i) cloud.points.col(static_cast<Eigen::Index>(i)) = points[i];
-  return cloud;
+  return ToPointCloud(points);
 }
 
 }  // namespace trav::sim

@@ -17,6 +17,10 @@ TriangleMesh ObstacleMesh(const std::vector<Obstacle>& obstacles, int segments =
 /// Appends `mesh` to `into`.
 void AppendMesh(const TriangleMesh& mesh, TriangleMesh* into);
 
+/// Points on the surface of `mesh` in W, on a barycentric lattice of every triangle with at most
+/// `spacing_m` between neighbours.
+common::PointCloud SampleSurface(const TriangleMesh& mesh, double spacing_m);
+
 /// A dense noise-free point cloud of the world in W: the ground at every height sample and the
 /// obstacle surfaces sampled every `spacing_m` or closer (parts below the ground are dropped).
 /// Used for ground truth and export.

@@ -48,13 +48,30 @@ HeightFieldLayout ComputeHeightFieldLayout(const TerrainWorld& world) {
   return layout;
 }
 
-void FillHeightField(const TerrainWorld& world, const HeightFieldLayout& layout, float* data) {
+Eigen::MatrixXf ResampleGround(const TerrainWorld& world, int max_samples) {
+  const common::GridGeometry& full = world.geometry;
+  const int num_x = std::min(full.num_x, max_samples);
+  const int num_y = std::min(full.num_y, max_samples);
+  if (num_x == full.num_x && num_y == full.num_y) return world.height_m;
+  Eigen::MatrixXf height_m(num_x, num_y);
+  const Eigen::Vector2d extent = full.Extent();
+  for (int iy = 0; iy < num_y; ++iy) {
+    for (int ix = 0; ix < num_x; ++ix) {
+      const Eigen::Vector2d p = full.origin_W + Eigen::Vector2d(extent.x() * ix / (num_x - 1),
+                                                                extent.y() * iy / (num_y - 1));
+      height_m(ix, iy) = static_cast<float>(world.GroundHeight(p));
+    }
+  }
+  return height_m;
+}
+
+void FillHeightField(const Eigen::MatrixXf& height_m, const HeightFieldLayout& layout, float* data) {
   // Eigen's column-major (num_x, num_y) storage is row-major with rows along y: MuJoCo's layout.
-  const Eigen::Index n = world.height_m.size();
+  const Eigen::Index n = height_m.size();
   const float offset = static_cast<float>(layout.z_offset_m);
   const float scale = static_cast<float>(1.0 / layout.z_top_m);
   for (Eigen::Index i = 0; i < n; ++i) {
-    data[i] = std::clamp((world.height_m.data()[i] - offset) * scale, 0.0f, 1.0f);
+    data[i] = std::clamp((height_m.data()[i] - offset) * scale, 0.0f, 1.0f);
   }
 }
 
@@ -63,6 +80,8 @@ std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options
   const Eigen::Vector2d half = 0.5 * world.geometry.Extent();
   const Eigen::Vector2d centre = world.geometry.Center();
   const double far = 2.0 * world.geometry.Extent().norm() + 50.0;
+  const int visual_num_x = std::min(world.geometry.num_x, options.visual_max_samples);
+  const int visual_num_y = std::min(world.geometry.num_y, options.visual_max_samples);
 
   std::ostringstream xml;
   xml << std::setprecision(9);
@@ -72,27 +91,32 @@ std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options
       << "  <visual>\n"
       << "    <quality shadowsize=\"1024\" offsamples=\"0\"/>\n"
       << "    <map znear=\"0.01\" zfar=\"" << far << "\" haze=\"0.2\"/>\n"
-      << "    <headlight ambient=\"0.35 0.35 0.35\" diffuse=\"0.5 0.5 0.5\"/>\n"
+      << "    <headlight ambient=\"0.25 0.25 0.25\" diffuse=\"0.25 0.25 0.25\"/>\n"
       << "    <rgba haze=\"0.75 0.82 0.9 1\"/>\n"
       << "  </visual>\n"
       << "  <asset>\n"
       << "    <texture name=\"sky\" type=\"skybox\" builtin=\"gradient\" rgb1=\"0.55 0.7 0.9\""
       << " rgb2=\"0.9 0.93 0.97\" width=\"64\" height=\"64\"/>\n"
-      << "    <texture name=\"ground_checker\" type=\"2d\" builtin=\"checker\" rgb1=\"0.42 0.5 0.3\""
-      << " rgb2=\"0.46 0.54 0.34\" width=\"64\" height=\"64\"/>\n"
+      << "    <texture name=\"ground_checker\" type=\"2d\" builtin=\"checker\" rgb1=\"0.45 0.55 0.33\""
+      << " rgb2=\"0.49 0.58 0.36\" width=\"64\" height=\"64\"/>\n"
       << "    <material name=\"ground\" texture=\"ground_checker\" texrepeat=\""
       << world.geometry.Extent().x() / 2.0 << " " << world.geometry.Extent().y() / 2.0
       << "\" texuniform=\"false\" specular=\"0.05\"/>\n"
       << "    <hfield name=\"terrain\" nrow=\"" << world.geometry.num_y << "\" ncol=\""
       << world.geometry.num_x << "\" size=\"" << half.x() << " " << half.y() << " "
       << layout.z_top_m << " 1\"/>\n"
+      << "    <hfield name=\"terrain_visual\" nrow=\"" << visual_num_y << "\" ncol=\"" << visual_num_x
+      << "\" size=\"" << half.x() << " " << half.y() << " " << layout.z_top_m << " 1\"/>\n"
       << "  </asset>\n"
       << "  <worldbody>\n"
-      << "    <light name=\"sun\" directional=\"true\" pos=\"0 0 50\" dir=\"-0.3 0.2 -1\""
-      << " diffuse=\"0.6 0.6 0.6\" castshadow=\"true\"/>\n"
+      << "    <light name=\"sun\" directional=\"true\" pos=\"0 0 50\" dir=\"-0.5 0.35 -0.6\""
+      << " diffuse=\"0.75 0.75 0.72\" castshadow=\"true\"/>\n"
       << "    <geom name=\"ground\" type=\"hfield\" hfield=\"terrain\" pos=\"" << centre.x() << " "
       << centre.y() << " " << layout.z_offset_m << "\" friction=\"" << options.ground_friction
-      << " 0.005 0.0001\" material=\"ground\" group=\"0\"/>\n";
+      << " 0.005 0.0001\" group=\"3\"/>\n"
+      << "    <geom name=\"ground_visual\" type=\"hfield\" hfield=\"terrain_visual\" pos=\"" << centre.x()
+      << " " << centre.y() << " " << layout.z_offset_m
+      << "\" contype=\"0\" conaffinity=\"0\" material=\"ground\" group=\"0\"/>\n";
   for (const Obstacle& obstacle : world.obstacles) {
     const Eigen::Quaterniond q(obstacle.X_WO.linear());
     const Eigen::Vector3d p = obstacle.X_WO.translation();

@@ -11,11 +11,17 @@ struct WorldOptions {
   std::string robot_model_path;  ///< absolute path of the robot MJCF (models/scout_mini.xml)
   double ground_friction{0.9};   ///< sliding friction of the ground; it wins MuJoCo's max rule
   double timestep_s{0.002};      ///< physics step [s], > 0
+  /// Samples per axis of the rendered ground, at most. The ground collides with the full height
+  /// field but is drawn from a bilinear resampling of it: llvmpipe's frame time grows with the
+  /// triangle count, and 501 x 501 samples cost about 4x a 126 x 126 copy (README, performance).
+  int visual_max_samples{126};
 };
 
-/// The MJCF text of a world: the robot included from its file, the ground as a height field named
-/// "terrain" (its samples are filled from memory after loading, see FillHeightField), obstacles as
-/// geoms named after them (canopies visual-only, the ceiling in geom group 4 so videos can hide it).
+/// The MJCF text of a world: the robot included from its file; the ground as a height field named
+/// "terrain" that collides (geom group 3, not drawn) and a coarser copy "terrain_visual" that is
+/// drawn and does not collide (their samples are filled from memory after loading, see
+/// FillHeightField); obstacles as geoms named after them (canopies visual-only, the ceiling in geom
+/// group 4 so videos can hide it).
 std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options);
 
 /// Height-field layout in MuJoCo: samples normalised to [0, 1], scaled by `z_top_m`, placed at
@@ -28,8 +34,12 @@ struct HeightFieldLayout {
 /// The normalisation used for `world` (minimum height and range, at least 1 mm).
 HeightFieldLayout ComputeHeightFieldLayout(const TerrainWorld& world);
 
-/// Writes the normalised samples of `world` into `data` (row-major, rows along y, num_x * num_y),
+/// The ground heights resampled (bilinearly) to at most `max_samples` per axis, evenly over the
+/// same extent, as a (num_x, num_y) matrix; the world's own heights if they are not larger.
+Eigen::MatrixXf ResampleGround(const TerrainWorld& world, int max_samples);
+
+/// Writes the normalised samples of `height_m` (num_x, num_y) into `data` (row-major, rows along y, num_x * num_y),
 /// MuJoCo's hfield_data layout.
-void FillHeightField(const TerrainWorld& world, const HeightFieldLayout& layout, float* data);
+void FillHeightField(const Eigen::MatrixXf& height_m, const HeightFieldLayout& layout, float* data);
 
 }  // namespace trav::sim

@@ -1,0 +1,51 @@
+#pragma once
+
+#include <Eigen/Geometry>
+
+namespace trav::renders {
+
+/// A free camera looking at a point: MuJoCo's mjvCamera parameters, in W.
+struct CameraView {
+  Eigen::Vector3d lookat_W{Eigen::Vector3d::Zero()};  ///< [m]
+  double distance_m{4.0};                             ///< from the camera to lookat [m]
+  double azimuth_deg{0.0};    ///< direction the camera looks, about +z from +x [deg]
+  double elevation_deg{-30};  ///< negative looks down [deg]
+};
+
+/// Which camera a video uses.
+enum class CameraMode {
+  kChase,     ///< behind and above the robot, following its heading smoothly
+  kOverview,  ///< the whole world from high above at an angle
+  kTopDown,   ///< straight down onto the robot
+};
+
+/// Parameters of the chase camera.
+struct ChaseCameraParams {
+  double distance_m{3.5};
+  double elevation_deg{-22.0};
+  double height_offset_m{0.3};     ///< lookat above the robot base [m]
+  double heading_time_constant_s{0.6};  ///< smoothing of the heading [s], >= 0
+};
+
+/// A camera that follows the robot from behind; its heading lags the robot's with a first-order
+/// filter so turns and bumps do not shake the video.
+class ChaseCamera {
+ public:
+  explicit ChaseCamera(const ChaseCameraParams& params = {}) : params_(params) {}
+
+  /// Moves the camera to follow X_WB after `dt_s` seconds and returns the view.
+  CameraView Update(const Eigen::Isometry3d& X_WB, double dt_s);
+
+ private:
+  ChaseCameraParams params_;
+  bool initialised_{false};
+  double heading_rad_{0.0};
+};
+
+/// A view of a world of `extent_m` (x, y) centred on `center_W` from high above at an angle.
+CameraView OverviewView(const Eigen::Vector3d& center_W, const Eigen::Vector2d& extent_m);
+
+/// A view straight down onto `p_W` from `height_m` above it.
+CameraView TopDownView(const Eigen::Vector3d& p_W, double height_m);
+
+}  // namespace trav::renders

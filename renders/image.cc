@@ -1,0 +1,64 @@
+#include "renders/image.h"
+
+#include <png.h>
+
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+
+namespace trav::renders {
+namespace {
+
+struct FileCloser {
+  void operator()(std::FILE* file) const { std::fclose(file); }
+};
+
+// Writes rows with libpng; `bit_depth` 8 (RGB) or 16 (gray, big-endian rows prepared by the caller).
+void WriteRows(const std::string& path, int width, int height, int bit_depth, int color_type,
+               const std::vector<png_bytep>& rows) {
+  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
+  if (!file) throw std::runtime_error("cannot write " + path);
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (png == nullptr || info == nullptr) {
+    png_destroy_write_struct(&png, &info);
+    throw std::runtime_error("libpng: out of memory writing " + path);
+  }
+  // libpng reports errors by longjmp
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw std::runtime_error("libpng: cannot write " + path);
+  }
+  png_init_io(png, file.get());
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), bit_depth,
+               color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  png_write_image(png, const_cast<png_bytepp>(rows.data()));
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+}
+
+}  // namespace
+
+void WritePng(const std::string& path, const Image& image) {
+  std::vector<png_bytep> rows(static_cast<std::size_t>(image.height));
+  for (int y = 0; y < image.height; ++y) {
+    rows[static_cast<std::size_t>(y)] = const_cast<png_bytep>(image.Pixel(0, y));
+  }
+  WriteRows(path, image.width, image.height, 8, PNG_COLOR_TYPE_RGB, rows);
+}
+
+void WritePng16(const std::string& path, int width, int height,
+                const std::vector<std::uint16_t>& values) {
+  // PNG stores 16-bit samples big-endian
+  std::vector<png_byte> bytes(values.size() * 2);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    bytes[2 * i] = static_cast<png_byte>(values[i] >> 8);
+    bytes[2 * i + 1] = static_cast<png_byte>(values[i] & 0xff);
+  }
+  std::vector<png_bytep> rows(static_cast<std::size_t>(height));
+  for (int y = 0; y < height; ++y) rows[static_cast<std::size_t>(y)] = bytes.data() + 2 * y * width;
+  WriteRows(path, width, height, 16, PNG_COLOR_TYPE_GRAY, rows);
+}
+
+}  // namespace trav::renders

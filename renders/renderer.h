@@ -1,0 +1,57 @@
+#pragma once
+
+#include <memory>
+
+#include "renders/camera.h"
+#include "renders/gl_context.h"
+#include "renders/image.h"
+#include "renders/overlay.h"
+
+namespace trav::sim {
+class Simulation;
+}  // namespace trav::sim
+
+namespace trav::renders {
+
+/// Quality and size of rendered frames. The defaults keep a 640 x 480 frame near 20 ms on one CPU
+/// core with Mesa's llvmpipe (no shadows, no multisampling): see the README's performance section.
+struct RenderConfig {
+  int width{640};    ///< [pixels], 16..4096
+  int height{480};   ///< [pixels], 16..4096
+  GlBackend backend{GlBackend::kOsmesa};
+  bool shadows{false};     ///< shadow mapping (about 2x the cost on llvmpipe)
+  bool reflections{false};
+  int msaa_samples{0};     ///< multisampling, 0 = off
+  int max_geoms{30000};    ///< capacity for scene plus overlay geoms
+};
+
+/// Checks the ranges of a render config. @throws common::InputError naming the field and value.
+void ValidateRenderConfig(const RenderConfig& config);
+
+/// Off-screen renderer of a Simulation with MuJoCo's renderer: owns the GL context, the MuJoCo
+/// scene and the render context. Not thread-safe; one per process (see GlContext).
+class Renderer {
+ public:
+  /// Creates the GL context and uploads the model (sets the simulation model's off-screen size and
+  /// quality settings first, as MuJoCo 2.2 reads them when the context is made).
+  /// @throws std::runtime_error if GL is unavailable.
+  Renderer(sim::Simulation* simulation, const RenderConfig& config);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  /// Renders the current state of the simulation seen from `view`, with `overlay` drawn on top,
+  /// into `image` (resized to the configured size; no allocation once it has that size).
+  void Render(const sim::Simulation& simulation, const CameraView& view, const Overlay& overlay,
+              Image* image);
+
+  const RenderConfig& config() const { return config_; }
+
+ private:
+  struct MujocoState;
+  RenderConfig config_;
+  std::unique_ptr<GlContext> gl_;
+  std::unique_ptr<MujocoState> mujoco_;
+};
+
+}  // namespace trav::renders

@@ -1,0 +1,164 @@
+// The trav command line: `trav run`, `trav terrain`.
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "common/input_error.h"
+#include "common/logging.h"
+#include "common/yaml_reader.h"
+#include "scenarios/open_loop_run.h"
+#include "scenarios/output_folder.h"
+#include "scenarios/scenario.h"
+#include "scenarios/terrain_export.h"
+#include "sim/terrain.h"
+
+namespace trav::scenarios {
+namespace {
+
+// Exit codes of DESIGN.md section 6.
+constexpr int kExitExpected = 0;
+constexpr int kExitOtherOutcome = 1;
+constexpr int kExitBadInput = 2;
+constexpr int kExitInternalError = 3;
+
+std::string ModelsDirectory() {
+  const char* from_environment = std::getenv("TRAV_MODELS_DIR");
+  return from_environment != nullptr ? from_environment : TRAV_MODELS_DIR;
+}
+
+// Options shared by the commands that read a scenario.
+struct ScenarioOptions {
+  std::string path;  // empty: the built-in default
+  std::vector<std::string> sets;
+  std::optional<std::uint64_t> seed;
+  std::optional<std::string> out;
+};
+
+void AddScenarioOptions(CLI::App* command, ScenarioOptions* options) {
+  command->add_option("scenario", options->path,
+                      "Scenario YAML file (default: the built-in hilly-terrain scenario)");
+  command->add_option("--out", options->out, "Output folder (default: output.dir of the scenario)");
+  command->add_option("--seed", options->seed, "Terrain seed (overrides terrain.seed)");
+  command->add_option("--set", options->sets,
+                      "Override a scenario value: --set key.path=value (repeatable)")
+      ->type_name("KEY=VALUE");
+}
+
+Scenario ResolveScenario(const ScenarioOptions& options, std::optional<bool> video) {
+  common::YamlDocument document =
+      options.path.empty() ? common::YamlDocument::Parse(DefaultScenarioYaml(), "<built-in default>")
+                           : common::YamlDocument::Load(options.path);
+  for (const std::string& assignment : options.sets) {
+    const std::size_t equals = assignment.find('=');
+    if (equals == std::string::npos || equals == 0) {
+      throw common::InputError("--set", assignment, "expected key.path=value");
+    }
+    document.Set(assignment.substr(0, equals), assignment.substr(equals + 1));
+  }
+  if (options.seed) document.Set("terrain.seed", std::to_string(*options.seed));
+  if (video) document.Set("video.enabled", *video ? "true" : "false");
+  if (options.out) document.Set("output.dir", "'" + *options.out + "'");
+  return LoadScenario(document);
+}
+
+// A progress bar on a terminal; nothing when stderr is a file or pipe.
+ProgressCallback TerminalProgress() {
+  if (!isatty(STDERR_FILENO)) return {};
+  return [](double fraction) {
+    const int width = 40;
+    const int filled = static_cast<int>(fraction * width);
+    std::fprintf(stderr, "\r[%s%s] %3d%%", std::string(filled, '#').c_str(),
+                 std::string(width - filled, ' ').c_str(), static_cast<int>(fraction * 100));
+    if (fraction >= 1.0) std::fprintf(stderr, "\n");
+  };
+}
+
+int Run(const ScenarioOptions& options, std::optional<bool> video) {
+  const Scenario scenario = ResolveScenario(options, video);
+  const std::string model = RobotModelPath(scenario, ModelsDirectory());
+  if (access(model.c_str(), R_OK) != 0) {
+    throw common::InputError(model, "robot.model", "cannot open robot model '" + scenario.robot_model + "'");
+  }
+  OutputFolder folder(scenario.output_dir);
+  WriteTextFile(folder.File("scenario.yaml"), ResolvedScenarioYaml(scenario));
+  const RunSummary summary = RunOpenLoop(scenario, ModelsDirectory(), folder.File(""), TerminalProgress());
+  WriteTextFile(folder.File("summary.json"), SummaryJson(scenario, summary));
+  folder.Commit();
+
+  std::printf("outcome: %s (expected %s)\n", OutcomeName(summary.outcome),
+              OutcomeName(scenario.expected_outcome));
+  std::printf("simulated %.1f s in %.1f s wall time (%.1fx real time), drove %.1f m\n",
+              summary.sim_time_s, summary.wall_time_s, summary.real_time_factor, summary.distance_m);
+  std::printf("summary: %s/summary.json\n", folder.final_path().c_str());
+  if (summary.video_frames > 0) {
+    std::printf("video:   %s/video.mp4 (%d frames)\n", folder.final_path().c_str(), summary.video_frames);
+  }
+  return summary.outcome == scenario.expected_outcome ? kExitExpected : kExitOtherOutcome;
+}
+
+int Terrain(const ScenarioOptions& options) {
+  ScenarioOptions terrain_options = options;
+  if (!terrain_options.out) throw common::InputError("--out", "", "trav terrain needs --out DIR");
+  const Scenario scenario = ResolveScenario(terrain_options, std::nullopt);
+  OutputFolder folder(scenario.output_dir);
+  const sim::TerrainWorld world =
+      sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W});
+  ExportTerrain(world, folder);
+  folder.Commit();
+  std::printf("terrain %s (seed %llu): %d x %d samples, %zu obstacles\n",
+              sim::TerrainTypeName(scenario.terrain.type),
+              static_cast<unsigned long long>(scenario.terrain.seed), world.geometry.num_x,
+              world.geometry.num_y, world.obstacles.size());
+  std::printf("written to %s (heightmap.png, heightmap.raw, cloud.pcd, preview.png, terrain.json)\n",
+              folder.final_path().c_str());
+  return kExitExpected;
+}
+
+int Main(int argc, char** argv) {
+  CLI::App app{"trav: physics-simulated navigation testbed for the Scout Mini on uneven terrain"};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "Help for every command");
+
+  ScenarioOptions run_options;
+  std::optional<bool> video;
+  CLI::App* run = app.add_subcommand("run", "Run a scenario and write summary.json, trajectory.csv "
+                                            "and video.mp4 into its output folder");
+  AddScenarioOptions(run, &run_options);
+  run->add_flag_callback("--video", [&] { video = true; }, "Record video.mp4 (overrides video.enabled)");
+  run->add_flag_callback("--no-video", [&] { video = false; }, "Do not record a video");
+
+  ScenarioOptions terrain_options;
+  CLI::App* terrain = app.add_subcommand(
+      "terrain", "Generate a scenario's terrain and export heightmap, point cloud and preview");
+  AddScenarioOptions(terrain, &terrain_options);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kExitExpected : kExitBadInput;
+  }
+
+  try {
+    if (run->parsed()) return Run(run_options, video);
+    return Terrain(terrain_options);
+  } catch (const common::InputError& e) {
+    std::fprintf(stderr, "trav: error: %s\n", e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "trav: internal error: %s\n", e.what());
+    return kExitInternalError;
+  }
+}
+
+}  // namespace
+}  // namespace trav::scenarios
+
+int main(int argc, char** argv) { return trav::scenarios::Main(argc, argv); }

@@ -1,0 +1,57 @@
+#include "scenarios/output_folder.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <system_error>
+
+namespace trav::scenarios {
+
+namespace fs = std::filesystem;
+
+OutputFolder::OutputFolder(const std::string& final_path) {
+  fs::path path = fs::path(final_path).lexically_normal();
+  if (path.filename().empty()) path = path.parent_path();
+  final_path_ = path.string();
+  partial_path_ = final_path_ + ".partial-" + std::to_string(getpid());
+  std::error_code error;
+  fs::remove_all(partial_path_, error);
+  fs::create_directories(partial_path_, error);
+  if (error) {
+    throw std::runtime_error("cannot create output folder " + partial_path_ + ": " + error.message());
+  }
+}
+
+OutputFolder::~OutputFolder() {
+  if (committed_) return;
+  std::error_code error;
+  fs::remove_all(partial_path_, error);
+}
+
+std::string OutputFolder::File(const std::string& name) const {
+  return (fs::path(partial_path_) / name).string();
+}
+
+void OutputFolder::Commit() {
+  std::error_code error;
+  const std::string old_path = final_path_ + ".old-" + std::to_string(getpid());
+  const bool replacing = fs::exists(final_path_, error);
+  if (replacing) {
+    fs::rename(final_path_, old_path, error);
+    if (error) throw std::runtime_error("cannot replace " + final_path_ + ": " + error.message());
+  }
+  fs::rename(partial_path_, final_path_, error);
+  if (error) throw std::runtime_error("cannot create " + final_path_ + ": " + error.message());
+  committed_ = true;
+  if (replacing) fs::remove_all(old_path, error);
+}
+
+void WriteTextFile(const std::string& path, const std::string& text) {
+  std::ofstream file(path, std::ios::binary);
+  file << text;
+  if (!file) throw std::runtime_error("cannot write " + path);
+}
+
+}  // namespace trav::scenarios

@@ -1,0 +1,346 @@
+#include "scenarios/scenario.h"
+
+#include <cmath>
+#include <functional>
+#include <utility>
+
+#include <yaml-cpp/yaml.h>
+
+#include "common/input_error.h"
+
+namespace trav::scenarios {
+namespace {
+
+template <typename Enum>
+using Names = std::vector<std::pair<std::string, Enum>>;
+
+const Names<sim::TerrainType> kTerrainTypes = {
+    {"flat", sim::TerrainType::kFlat},     {"slope", sim::TerrainType::kSlope},
+    {"step", sim::TerrainType::kStep},     {"stairs", sim::TerrainType::kStairs},
+    {"hilly", sim::TerrainType::kHilly},   {"forest", sim::TerrainType::kForest},
+    {"ruin", sim::TerrainType::kRuin},     {"road", sim::TerrainType::kRoad},
+    {"indoor", sim::TerrainType::kIndoor}};
+const Names<sim::FractalFamily> kFamilies = {{"fbm", sim::FractalFamily::kFbm},
+                                             {"ridged", sim::FractalFamily::kRidged},
+                                             {"billowy", sim::FractalFamily::kBillowy},
+                                             {"swiss", sim::FractalFamily::kSwiss}};
+const Names<renders::CameraMode> kCameras = {{"chase", renders::CameraMode::kChase},
+                                             {"overview", renders::CameraMode::kOverview},
+                                             {"top_down", renders::CameraMode::kTopDown}};
+const Names<renders::GlBackend> kBackends = {{"osmesa", renders::GlBackend::kOsmesa},
+                                             {"egl", renders::GlBackend::kEgl}};
+const Names<Outcome> kOutcomes = {{"completed", Outcome::kCompleted},
+                                  {"rolled_over", Outcome::kRolledOver},
+                                  {"diverged", Outcome::kDiverged}};
+
+template <typename Enum>
+const std::string& NameOf(const Names<Enum>& names, Enum value) {
+  for (const auto& [name, option] : names) {
+    if (option == value) return name;
+  }
+  static const std::string kUnknown = "?";
+  return kUnknown;
+}
+
+// One list of keys drives both loading and writing a scenario (as Drake's Serialize visitors), so
+// the loader and the resolved file cannot drift apart.
+class ReadArchive {
+ public:
+  explicit ReadArchive(common::YamlReader reader) : reader_(std::move(reader)) {}
+
+  template <typename T>
+  void Field(const std::string& key, T* value) {
+    reader_.Read(key, value);
+  }
+  template <typename T, typename Predicate>
+  void Field(const std::string& key, T* value, Predicate valid, const std::string& expectation) {
+    reader_.Read(key, value);
+    reader_.Check(key, valid(*value), expectation);
+  }
+  void Field(const std::string& key, std::array<double, 2>* range) {
+    Eigen::Vector2d value(range->at(0), range->at(1));
+    reader_.Read(key, &value);
+    reader_.Check(key, value[0] <= value[1], "must be a range [min, max] with min <= max");
+    *range = {value[0], value[1]};
+  }
+  void Field(const std::string& key, common::Pose2* pose) {
+    Eigen::Vector3d value(pose->position.x(), pose->position.y(), pose->yaw);
+    reader_.Read(key, &value);
+    pose->position = value.head<2>();
+    pose->yaw = value.z();
+  }
+  template <typename E>
+  void Enum(const std::string& key, E* value, const Names<E>& names) {
+    reader_.ReadEnum(key, value, names);
+  }
+  void Map(const std::string& key, const std::function<void(ReadArchive&)>& visit) {
+    if (!reader_.Has(key)) return;
+    ReadArchive child(reader_.Map(key));
+    visit(child);
+    child.reader_.Finish();
+  }
+  template <typename T>
+  void Sequence(const std::string& key, std::vector<T>* items,
+                const std::function<void(ReadArchive&, T&)>& visit) {
+    if (!reader_.Has(key)) return;
+    items->clear();
+    for (common::YamlReader& item_reader : reader_.MapSequence(key)) {
+      ReadArchive item(item_reader);
+      items->emplace_back();
+      visit(item, items->back());
+      item.reader_.Finish();
+    }
+  }
+  void Finish() const { reader_.Finish(); }
+  static constexpr bool kReading = true;
+
+ private:
+  common::YamlReader reader_;
+};
+
+class WriteArchive {
+ public:
+  template <typename T>
+  void Field(const std::string& key, T* value) {
+    node_[key] = *value;
+  }
+  template <typename T, typename Predicate>
+  void Field(const std::string& key, T* value, Predicate, const std::string&) {
+    Field(key, value);
+  }
+  void Field(const std::string& key, Eigen::Vector2d* value) { WriteFlow(key, {value->x(), value->y()}); }
+  void Field(const std::string& key, std::array<double, 2>* range) {
+    WriteFlow(key, {range->at(0), range->at(1)});
+  }
+  void Field(const std::string& key, common::Pose2* pose) {
+    WriteFlow(key, {pose->position.x(), pose->position.y(), pose->yaw});
+  }
+  template <typename E>
+  void Enum(const std::string& key, E* value, const Names<E>& names) {
+    node_[key] = NameOf(names, *value);
+  }
+  void Map(const std::string& key, const std::function<void(WriteArchive&)>& visit) {
+    WriteArchive child;
+    visit(child);
+    node_[key] = child.node_;
+  }
+  template <typename T>
+  void Sequence(const std::string& key, std::vector<T>* items,
+                const std::function<void(WriteArchive&, T&)>& visit) {
+    YAML::Node sequence(YAML::NodeType::Sequence);
+    for (T& item : *items) {
+      WriteArchive child;
+      visit(child, item);
+      child.node_.SetStyle(YAML::EmitterStyle::Flow);
+      sequence.push_back(child.node_);
+    }
+    node_[key] = sequence;
+  }
+  const YAML::Node& node() const { return node_; }
+  static constexpr bool kReading = false;
+
+ private:
+  void WriteFlow(const std::string& key, const std::vector<double>& values) {
+    YAML::Node sequence(YAML::NodeType::Sequence);
+    for (double v : values) sequence.push_back(v);
+    sequence.SetStyle(YAML::EmitterStyle::Flow);
+    node_[key] = sequence;
+  }
+  YAML::Node node_{YAML::NodeType::Map};
+};
+
+auto Positive = [](double v) { return v > 0.0; };
+const char* kPositive = "must be > 0";
+
+template <typename Archive>
+void VisitTerrainParameters(Archive& a, sim::TerrainConfig& t) {
+  switch (t.type) {
+    case sim::TerrainType::kFlat:
+      break;
+    case sim::TerrainType::kSlope:
+      a.Field("angle_deg", &t.slope.angle_deg);
+      a.Field("start_x", &t.slope.start_x_m);
+      break;
+    case sim::TerrainType::kStep:
+      a.Field("height", &t.step.height_m);
+      a.Field("x", &t.step.x_m);
+      break;
+    case sim::TerrainType::kStairs:
+      a.Field("step_height", &t.stairs.step_height_m);
+      a.Field("step_depth", &t.stairs.step_depth_m);
+      a.Field("num_steps", &t.stairs.num_steps);
+      a.Field("start_x", &t.stairs.start_x_m);
+      break;
+    case sim::TerrainType::kRoad:
+      a.Field("block_size", &t.road.block_size_m);
+      a.Field("street_width", &t.road.street_width_m);
+      a.Field("sidewalk_width", &t.road.sidewalk_width_m);
+      a.Field("curb_height", &t.road.curb_height_m);
+      a.Field("camber", &t.road.camber);
+      a.Field("poles_per_block", &t.road.poles_per_block);
+      break;
+    case sim::TerrainType::kIndoor:
+      a.Field("min_room_size", &t.indoor.min_room_size_m);
+      a.Field("wall_height", &t.indoor.wall_height_m);
+      a.Field("wall_thickness", &t.indoor.wall_thickness_m);
+      a.Field("door_width", &t.indoor.door_width_m);
+      a.Field("furniture_per_room", &t.indoor.furniture_per_room);
+      break;
+    case sim::TerrainType::kHilly:
+    case sim::TerrainType::kForest:
+    case sim::TerrainType::kRuin:
+      a.Enum("family", &t.hilly.fractal.family, kFamilies);
+      a.Field("octaves", &t.hilly.fractal.octaves);
+      a.Field("lacunarity", &t.hilly.fractal.lacunarity);
+      a.Field("gain", &t.hilly.fractal.gain);
+      a.Field("warp", &t.hilly.fractal.warp);
+      a.Field("wavelength", &t.hilly.wavelength_m);
+      a.Field("slope_p95_deg", &t.hilly.slope_p95_deg);
+      a.Field("roughness", &t.hilly.roughness_m);
+      a.Field("roughness_cell", &t.hilly.roughness_cell_m);
+      if (t.type == sim::TerrainType::kForest) {
+        a.Field("tree_density", &t.forest.tree_density_per_m2);
+        a.Field("trunk_radius", &t.forest.trunk_radius_m);
+        a.Field("trunk_height", &t.forest.trunk_height_m);
+        a.Field("canopy", &t.forest.canopy);
+      }
+      if (t.type == sim::TerrainType::kRuin) {
+        a.Field("num_boxes", &t.ruin.num_boxes);
+        a.Field("num_columns", &t.ruin.num_columns);
+        a.Field("num_walls", &t.ruin.num_walls);
+        a.Field("num_rubble", &t.ruin.num_rubble);
+        a.Field("burial_fraction_max", &t.ruin.burial_fraction_max);
+      }
+      break;
+  }
+}
+
+template <typename Archive>
+void VisitScenario(Archive& a, Scenario& s) {
+  int schema_version = 1;
+  a.Field("schema_version", &schema_version, [](int v) { return v == 1; },
+          "is not supported (this trav reads schema version 1)");
+  a.Field("name", &s.name);
+  a.Map("terrain", [&](Archive& t) {
+    t.Enum("type", &s.terrain.type, kTerrainTypes);
+    t.Field("seed", &s.terrain.seed);
+    t.Field("size", &s.terrain.size_m);
+    t.Field("resolution", &s.terrain.resolution_m, Positive, kPositive);
+    t.Map("parameters", [&](Archive& p) { VisitTerrainParameters(p, s.terrain); });
+  });
+  a.Map("robot", [&](Archive& r) {
+    r.Field("model", &s.robot_model);
+    r.Field("start", &s.start_W);
+    r.Map("skid_steer", [&](Archive& k) {
+      k.Field("wheel_radius", &s.skid_steer.wheel_radius_m, Positive, kPositive);
+      k.Field("track", &s.skid_steer.track_m, Positive, kPositive);
+      k.Field("effective_track_factor", &s.skid_steer.effective_track_factor,
+              [](double v) { return v >= 1.0; }, "must be >= 1");
+      k.Field("max_speed", &s.skid_steer.max_speed_m_s, Positive, kPositive);
+      k.Field("max_yaw_rate", &s.skid_steer.max_yaw_rate_rad_s, Positive, kPositive);
+      k.Field("max_wheel_speed", &s.skid_steer.max_wheel_speed_rad_s, Positive, kPositive);
+    });
+    r.Field("rollover_limit_deg", &s.rollover_limit_deg,
+            [](double v) { return v > 0.0 && v <= 180.0; }, "must be in (0, 180]");
+  });
+  a.Map("physics", [&](Archive& p) {
+    p.Field("timestep", &s.physics_timestep_s, [](double v) { return v > 0.0 && v <= 0.01; },
+            "must be in (0, 0.01]");
+    p.Field("ground_friction", &s.ground_friction, [](double v) { return v > 0.0 && v <= 5.0; },
+            "must be in (0, 5]");
+  });
+  a.Field("goal", &s.goal_W);
+  a.Field("duration", &s.duration_s, Positive, kPositive);
+  a.template Sequence<DriveSegment>("drive", &s.drive, [](Archive& d, DriveSegment& segment) {
+    d.Field("v", &segment.v_m_s);
+    d.Field("omega", &segment.omega_rad_s);
+    d.Field("duration", &segment.duration_s, Positive, kPositive);
+  });
+  a.Map("video", [&](Archive& v) {
+    v.Field("enabled", &s.video.enabled);
+    v.Field("width", &s.video.render.width);
+    v.Field("height", &s.video.render.height);
+    v.Field("fps", &s.video.fps, [](double f) { return f > 0.0 && f <= 120.0; },
+            "must be in (0, 120]");
+    v.Enum("camera", &s.video.camera, kCameras);
+    v.Enum("backend", &s.video.render.backend, kBackends);
+    v.Field("shadows", &s.video.render.shadows);
+    v.Field("msaa", &s.video.render.msaa_samples);
+  });
+  a.Map("output", [&](Archive& o) { o.Field("dir", &s.output_dir); });
+  a.Enum("expect", &s.expected_outcome, kOutcomes);
+}
+
+}  // namespace
+
+const char* OutcomeName(Outcome outcome) { return NameOf(kOutcomes, outcome).c_str(); }
+
+Scenario LoadScenario(const common::YamlDocument& document) {
+  Scenario scenario;
+  ReadArchive archive(document.Root());
+  VisitScenario(archive, scenario);
+  archive.Finish();
+  // checks across fields, reported with the source file
+  try {
+    sim::ValidateTerrainConfig(scenario.terrain);
+    renders::ValidateRenderConfig(scenario.video.render);
+  } catch (const common::InputError& e) {
+    throw common::InputError(document.source() + ": " + e.what());
+  }
+  return scenario;
+}
+
+std::string ResolvedScenarioYaml(const Scenario& scenario) {
+  Scenario copy = scenario;
+  WriteArchive archive;
+  VisitScenario(archive, copy);
+  YAML::Emitter emitter;
+  emitter << archive.node();
+  return std::string(emitter.c_str()) + "\n";
+}
+
+common::Twist2 DriveCommandAt(const std::vector<DriveSegment>& drive, double t_s) {
+  double segment_start = 0.0;
+  for (const DriveSegment& segment : drive) {
+    if (t_s < segment_start + segment.duration_s) return {segment.v_m_s, segment.omega_rad_s};
+    segment_start += segment.duration_s;
+  }
+  return {};
+}
+
+const std::string& DefaultScenarioYaml() {
+  static const std::string kYaml = R"(# trav's built-in default scenario: the Scout Mini drives over hilly terrain for 30 s.
+schema_version: 1
+name: default
+terrain:
+  type: hilly
+  seed: 7
+  size: [50, 50]
+  resolution: 0.1
+  parameters:
+    family: fbm
+    wavelength: 18
+    slope_p95_deg: 12
+robot:
+  start: [-12, -6, 0.3]
+goal: [12, 6]
+duration: 30
+drive:
+  - {v: 1.0, omega: 0.0, duration: 6}
+  - {v: 1.2, omega: 0.35, duration: 5}
+  - {v: 1.5, omega: 0.0, duration: 6}
+  - {v: 1.0, omega: -0.5, duration: 5}
+  - {v: 1.2, omega: 0.0, duration: 8}
+video:
+  enabled: true
+  width: 640
+  height: 480
+  fps: 30
+  camera: chase
+output:
+  dir: out/default
+)";
+  return kYaml;
+}
+
+}  // namespace trav::scenarios

@@ -1,0 +1,74 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "common/pose.h"
+#include "common/yaml_reader.h"
+#include "controller/skid_steer.h"
+#include "renders/camera.h"
+#include "renders/renderer.h"
+#include "sim/terrain.h"
+
+namespace trav::scenarios {
+
+/// How a run ended.
+enum class Outcome {
+  kCompleted,   ///< ran for the whole duration
+  kRolledOver,  ///< the robot tilted beyond the rollover limit
+  kDiverged,    ///< the physics produced a bad state
+};
+
+/// Name as written in summaries and scenario files ("completed", "rolled_over", "diverged").
+const char* OutcomeName(Outcome outcome);
+
+/// One segment of an open-loop drive script: a constant body twist held for a duration.
+struct DriveSegment {
+  double v_m_s{0.0};        ///< forward speed [m/s]
+  double omega_rad_s{0.0};  ///< yaw rate [rad/s]
+  double duration_s{1.0};   ///< [s], > 0
+};
+
+/// Video settings of a run.
+struct VideoSettings {
+  bool enabled{true};
+  renders::RenderConfig render{};
+  double fps{30.0};  ///< frames per second of simulation time, in (0, 120]
+  renders::CameraMode camera{renders::CameraMode::kChase};
+};
+
+/// A scenario file, schema version 1 (docs/scenario-format.md lists every key).
+struct Scenario {
+  std::string name{"default"};
+  sim::TerrainConfig terrain{};
+  std::string robot_model{"scout_mini.xml"};  ///< file in the models folder, or an absolute path
+  common::Pose2 start_W{};                    ///< robot.start: [x, y, yaw] [m, m, rad]
+  Eigen::Vector2d goal_W{10.0, 0.0};          ///< [m]; kept clear of obstacles
+  controller::SkidSteerConfig skid_steer{};   ///< robot.skid_steer
+  double physics_timestep_s{0.002};           ///< [s], in (0, 0.01]
+  double ground_friction{0.9};                ///< in (0, 5]
+  double duration_s{30.0};                    ///< [s], > 0
+  std::vector<DriveSegment> drive;            ///< open-loop script; zero twist after its end
+  double rollover_limit_deg{60.0};            ///< tilt that ends the run as rolled over [deg]
+  VideoSettings video{};
+  std::string output_dir{"out/default"};
+  Outcome expected_outcome{Outcome::kCompleted};  ///< exit code 0 iff the run ends this way
+};
+
+/// Loads a scenario strictly: unknown keys, wrong types and out-of-range values throw
+/// common::InputError naming the source, the key path and the value.
+Scenario LoadScenario(const common::YamlDocument& document);
+
+/// The YAML text of the built-in default scenario (hilly terrain, a 30 s drive with video).
+const std::string& DefaultScenarioYaml();
+
+/// The scenario as YAML text, every field resolved (written next to a run's outputs so it can be
+/// replayed).
+std::string ResolvedScenarioYaml(const Scenario& scenario);
+
+/// The drive command at time t: the segment covering t, or zero after the script ends.
+common::Twist2 DriveCommandAt(const std::vector<DriveSegment>& drive, double t_s);
+
+}  // namespace trav::scenarios
