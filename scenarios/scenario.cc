@@ -317,10 +317,6 @@ terrain:
   seed: 7
   size: [50, 50]
   resolution: 0.1
-  parameters:
-    family: fbm
-    wavelength: 18
-    slope_p95_deg: 12
 robot:
   start: [-12, -6, 0.3]
 goal: [12, 6]

@@ -23,8 +23,8 @@ const char* TerrainTypeName(TerrainType type);
 /// percentile of the slope reaches a target angle.
 struct HillyParams {
   FractalParams fractal{};        ///< noise family and octaves
-  double wavelength_m{20.0};      ///< wavelength of the base octave [m], > 0
-  double slope_p95_deg{14.0};     ///< 95th percentile of the ground slope after rescaling [deg], in [0, 45)
+  double wavelength_m{18.0};      ///< wavelength of the base octave [m], > 0
+  double slope_p95_deg{12.0};     ///< 95th percentile of the ground slope after rescaling [deg], in [0, 45)
   double roughness_m{0.02};       ///< amplitude of the fine uniform bumps added on top [m], >= 0
   double roughness_cell_m{0.2};   ///< size of a roughness bump [m], >= resolution
 };
