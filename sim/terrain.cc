@@ -43,10 +43,14 @@ double Percentile(std::vector<double> values, double fraction) {
   return values[k];
 }
 
-// Test terrains: analytic height profiles along x.
-void FillProfile(const TerrainConfig& config, TerrainWorld* world) {
-  for (int ix = 0; ix < world->geometry.num_x; ++ix) {
-    const double x = world->geometry.CellCenter(ix, 0).x();
+// Test terrains: analytic height profiles along x. A height field can only ramp between two
+// samples, so every step edge also gets a riser box over that ramp: its face is vertical, as a real
+// curb or stair.
+void FillProfile(const TerrainConfig& config, internal::ObstaclePlacer* placer) {
+  TerrainWorld& world = placer->world();
+  const common::GridGeometry& g = world.geometry;
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    const double x = g.CellCenter(ix, 0).x();
     double h = 0.0;
     switch (config.type) {
       case TerrainType::kSlope:
@@ -63,7 +67,23 @@ void FillProfile(const TerrainConfig& config, TerrainWorld* world) {
       default:
         break;
     }
-    world->height_m.row(ix).setConstant(static_cast<float>(h));
+    world.height_m.row(ix).setConstant(static_cast<float>(h));
+  }
+  auto add_riser = [&](double edge_x, double top_z) {
+    // from the edge to the first sample beyond it, across the whole world
+    const double next_sample = g.origin_W.x() + g.resolution_m * (std::floor((edge_x - g.origin_W.x()) / g.resolution_m) + 1.0);
+    Obstacle riser;
+    riser.shape = ShapeType::kBox;
+    riser.size = Eigen::Vector3d(0.5 * (next_sample - edge_x), 0.5 * g.Extent().y(), 0.5 * top_z + 0.05);
+    riser.X_WO.translation() = Eigen::Vector3d(0.5 * (edge_x + next_sample), g.Center().y(), 0.5 * top_z - 0.05);
+    riser.rgba = Eigen::Vector4f(0.6f, 0.6f, 0.6f, 1.0f);
+    if (riser.size.x() > 1e-6 && top_z > 0.0) placer->Add("riser", riser);
+  };
+  if (config.type == TerrainType::kStep) add_riser(config.step.x_m, config.step.height_m);
+  if (config.type == TerrainType::kStairs) {
+    for (int k = 0; k < config.stairs.num_steps; ++k) {
+      add_riser(config.stairs.start_x_m + k * config.stairs.step_depth_m, (k + 1) * config.stairs.step_height_m);
+    }
   }
 }
 
@@ -97,14 +117,9 @@ double TerrainWorld::GroundHeight(const Eigen::Vector2d& p_W) const {
   return common::InterpolateBilinear(geometry, height_m, p_W);
 }
 
-void ValidateTerrainConfig(const TerrainConfig& c) {
-  Require(c.resolution_m > 0.0, "resolution", c.resolution_m, "must be > 0");
-  Require(c.size_m.x() >= 2.0 * c.resolution_m, "size[0]", c.size_m.x(),
-          "must be at least two cells");
-  Require(c.size_m.y() >= 2.0 * c.resolution_m, "size[1]", c.size_m.y(),
-          "must be at least two cells");
-  Require(c.size_m.x() / c.resolution_m <= 8192 && c.size_m.y() / c.resolution_m <= 8192,
-          "resolution", c.resolution_m, "gives more than 8192 samples along an axis");
+namespace {
+
+void ValidateHilly(const TerrainConfig& c) {
   const HillyParams& h = c.hilly;
   Require(h.fractal.octaves >= 1 && h.fractal.octaves <= 12, "parameters.octaves", h.fractal.octaves,
           "must be in [1, 12]");
@@ -118,36 +133,69 @@ void ValidateTerrainConfig(const TerrainConfig& c) {
   Require(h.roughness_m >= 0.0, "parameters.roughness", h.roughness_m, "must be >= 0");
   Require(h.roughness_cell_m >= c.resolution_m, "parameters.roughness_cell", h.roughness_cell_m,
           "must be >= the resolution");
-  const ForestParams& f = c.forest;
+}
+
+void ValidateForest(const ForestParams& f) {
   Require(f.tree_density_per_m2 > 0.0 && f.tree_density_per_m2 <= 1.0, "parameters.tree_density",
           f.tree_density_per_m2, "must be in (0, 1]");
   Require(f.trunk_radius_m[0] > 0.0 && f.trunk_radius_m[0] <= f.trunk_radius_m[1],
           "parameters.trunk_radius", f.trunk_radius_m[0], "must be a range [min, max] with min > 0");
   Require(f.trunk_height_m[0] > 0.0 && f.trunk_height_m[0] <= f.trunk_height_m[1],
           "parameters.trunk_height", f.trunk_height_m[0], "must be a range [min, max] with min > 0");
-  const RuinParams& r = c.ruin;
+}
+
+void ValidateRuin(const RuinParams& r) {
   Require(r.num_boxes >= 0 && r.num_columns >= 0 && r.num_walls >= 0 && r.num_rubble >= 0,
           "parameters", std::min({r.num_boxes, r.num_columns, r.num_walls, r.num_rubble}),
           "obstacle counts must be >= 0");
   Require(r.burial_fraction_max >= 0.0 && r.burial_fraction_max <= 0.9,
           "parameters.burial_fraction_max", r.burial_fraction_max, "must be in [0, 0.9]");
-  const RoadParams& road = c.road;
+}
+
+void ValidateRoad(const RoadParams& road) {
   Require(road.street_width_m > 0.0, "parameters.street_width", road.street_width_m, "must be > 0");
   Require(road.block_size_m > road.street_width_m + 2.0 * road.sidewalk_width_m + 1.0,
           "parameters.block_size", road.block_size_m,
           "must exceed street_width + 2 sidewalk_width + 1 m");
   Require(road.curb_height_m >= 0.0, "parameters.curb_height", road.curb_height_m, "must be >= 0");
-  const IndoorParams& in = c.indoor;
+}
+
+void ValidateIndoor(const IndoorParams& in) {
   Require(in.door_width_m >= 0.8, "parameters.door_width", in.door_width_m,
           "must be >= 0.8 m (the robot is 0.58 m wide)");
   Require(in.min_room_size_m >= 2.0 * in.door_width_m, "parameters.min_room_size",
           in.min_room_size_m, "must be >= twice the door width");
   Require(in.wall_height_m > 0.5, "parameters.wall_height", in.wall_height_m, "must be > 0.5 m");
   Require(in.wall_thickness_m > 0.0, "parameters.wall_thickness", in.wall_thickness_m, "must be > 0");
-  Require(c.slope.angle_deg >= 0.0 && c.slope.angle_deg <= 60.0, "parameters.angle_deg",
-          c.slope.angle_deg, "must be in [0, 60]");
-  Require(c.stairs.step_depth_m > 0.0, "parameters.step_depth", c.stairs.step_depth_m, "must be > 0");
-  Require(c.stairs.num_steps >= 1, "parameters.num_steps", c.stairs.num_steps, "must be >= 1");
+}
+
+}  // namespace
+
+void ValidateTerrainConfig(const TerrainConfig& c) {
+  Require(c.resolution_m > 0.0, "resolution", c.resolution_m, "must be > 0");
+  Require(c.size_m.x() >= c.resolution_m, "size[0]", c.size_m.x(), "must be at least one cell");
+  Require(c.size_m.y() >= c.resolution_m, "size[1]", c.size_m.y(), "must be at least one cell");
+  Require(c.size_m.x() / c.resolution_m <= 8192 && c.size_m.y() / c.resolution_m <= 8192,
+          "resolution", c.resolution_m, "gives more than 8192 samples along an axis");
+  const bool hilly = c.type == TerrainType::kHilly || c.type == TerrainType::kForest ||
+                     c.type == TerrainType::kRuin;
+  if (hilly) ValidateHilly(c);
+  if (c.type == TerrainType::kForest) ValidateForest(c.forest);
+  if (c.type == TerrainType::kRuin) ValidateRuin(c.ruin);
+  if (c.type == TerrainType::kRoad) ValidateRoad(c.road);
+  if (c.type == TerrainType::kIndoor) ValidateIndoor(c.indoor);
+  if (c.type == TerrainType::kSlope) {
+    Require(c.slope.angle_deg >= 0.0 && c.slope.angle_deg <= 60.0, "parameters.angle_deg",
+            c.slope.angle_deg, "must be in [0, 60]");
+  }
+  if (c.type == TerrainType::kStep) {
+    Require(c.step.height_m >= 0.0, "parameters.height", c.step.height_m, "must be >= 0");
+  }
+  if (c.type == TerrainType::kStairs) {
+    Require(c.stairs.step_depth_m > 0.0, "parameters.step_depth", c.stairs.step_depth_m, "must be > 0");
+    Require(c.stairs.num_steps >= 1, "parameters.num_steps", c.stairs.num_steps, "must be >= 1");
+    Require(c.stairs.step_height_m >= 0.0, "parameters.step_height", c.stairs.step_height_m, "must be >= 0");
+  }
 }
 
 TerrainWorld GenerateTerrain(const TerrainConfig& config,
@@ -168,7 +216,7 @@ TerrainWorld GenerateTerrain(const TerrainConfig& config,
     case TerrainType::kSlope:
     case TerrainType::kStep:
     case TerrainType::kStairs:
-      FillProfile(config, &world);
+      FillProfile(config, &placer);
       break;
     case TerrainType::kHilly:
       internal::FillHillyGround(config, &random, &world);
@@ -248,6 +296,22 @@ bool ObstaclePlacer::IsFree(const Eigen::Vector2d& p_W, double radius_m) const {
   }
   for (const Eigen::Vector2d& c : keep_clear_W_) {
     if ((p_W - c).norm() < radius_m + keep_clear_radius_m_) return false;
+  }
+  return true;
+}
+
+bool ObstaclePlacer::IsRectangleFree(const Eigen::Vector2d& centre_W,
+                                     const Eigen::Vector2d& half_m) const {
+  const Eigen::Vector2d low = world_->geometry.origin_W;
+  const Eigen::Vector2d high = low + world_->geometry.Extent();
+  if (((centre_W - half_m).array() < low.array()).any() ||
+      ((centre_W + half_m).array() > high.array()).any()) {
+    return false;
+  }
+  for (const Eigen::Vector2d& c : keep_clear_W_) {
+    // distance from the disc centre to the nearest point of the rectangle
+    const Eigen::Vector2d nearest = c.cwiseMax(centre_W - half_m).cwiseMin(centre_W + half_m);
+    if ((c - nearest).norm() < keep_clear_radius_m_) return false;
   }
   return true;
 }

@@ -17,6 +17,10 @@ class ObstaclePlacer {
   /// True if a disc of `radius_m` at p_W lies inside the world and clear of the keep-clear discs.
   bool IsFree(const Eigen::Vector2d& p_W, double radius_m) const;
 
+  /// True if the axis-aligned rectangle (centre, half extents) lies inside the world and clear of
+  /// the keep-clear discs.
+  bool IsRectangleFree(const Eigen::Vector2d& centre_W, const Eigen::Vector2d& half_m) const;
+
   /// Uniform random position inside the world, `margin_m` from its border.
   Eigen::Vector2d RandomPosition(common::Random* random, double margin_m) const;
 

@@ -86,7 +86,8 @@ void GenerateRuin(const TerrainConfig& config, common::Random* random, ObstacleP
     const Eigen::Vector3d half(random->Uniform(0.1, 1.0), random->Uniform(0.1, 1.0),
                                random->Uniform(0.1, 1.0));
     const Eigen::Vector2d p = placer->RandomPosition(random, 1.0);
-    if (!placer->IsFree(p, half.head<2>().norm())) continue;
+    // the 3-D half diagonal bounds the footprint of the tilted box
+    if (!placer->IsFree(p, half.norm())) continue;
     const double burial = random->Uniform(0.0, params.burial_fraction_max);
     const double z = world.GroundHeight(p) + half.z() * (1.0 - 2.0 * burial);
     const double tilt = random->Uniform(-20.0, 20.0) * kDegToRad;
@@ -132,7 +133,7 @@ void GenerateRuin(const TerrainConfig& config, common::Random* random, ObstacleP
     const Eigen::Vector3d half(random->Uniform(0.05, 0.2), random->Uniform(0.05, 0.2),
                                random->Uniform(0.025, 0.075));
     const Eigen::Vector2d p = placer->RandomPosition(random, 0.5);
-    if (!placer->IsFree(p, half.head<2>().norm())) continue;
+    if (!placer->IsFree(p, half.norm())) continue;
     placer->Add("rubble", MakeObstacle(ShapeType::kBox,
                                        PoseAt(Eigen::Vector3d(p.x(), p.y(), world.GroundHeight(p) + 0.5 * half.z()),
                                               random->Uniform(0, 2 * M_PI),
@@ -183,11 +184,7 @@ void GenerateRoad(const TerrainConfig& config, common::Random* random, ObstacleP
         const double y1 = block_high.y() - random->Uniform(0.3, 1.5);
         const Eigen::Vector2d centre(0.5 * (x0 + x1), 0.5 * (y0 + y1));
         const Eigen::Vector2d half(0.5 * (x1 - x0), 0.5 * (y1 - y0));
-        if (half.minCoeff() < 0.5 || !placer->IsFree(centre, 0.0)) continue;
-        if ((centre - half).x() < low.x() || (centre + half).x() > high.x() ||
-            (centre - half).y() < low.y() || (centre + half).y() > high.y()) {
-          continue;
-        }
+        if (half.minCoeff() < 0.5 || !placer->IsRectangleFree(centre, half)) continue;
         const double height = random->Uniform(5.0, 20.0);
         placer->Add("building",
                     MakeObstacle(ShapeType::kBox,
@@ -275,7 +272,7 @@ void GenerateIndoor(const TerrainConfig& config, common::Random* random, Obstacl
     for (int k = 0; k < params.furniture_per_room; ++k) {
       const Eigen::Vector2d p(random->Uniform(room.low.x() + inset, room.high.x() - inset),
                               random->Uniform(room.low.y() + inset, room.high.y() - inset));
-      if (!placer->IsFree(p, 0.8)) continue;
+      if (!placer->IsFree(p, 0.9)) continue;
       const double yaw = random->Uniform(0, M_PI);
       if (random->Bernoulli(0.5)) {
         const Eigen::Vector3d box(random->Uniform(0.2, 0.6), random->Uniform(0.2, 0.6),

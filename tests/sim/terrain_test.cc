@@ -1,0 +1,273 @@
+#include "sim/terrain.h"
+
+#include <cmath>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "common/input_error.h"
+#include "sim/terrain_geometry.h"
+#include "sim/world_builder.h"
+
+namespace trav::sim {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::ThrowsMessage;
+
+TerrainConfig Config(TerrainType type, std::uint64_t seed = 1) {
+  TerrainConfig config;
+  config.type = type;
+  config.seed = seed;
+  return config;
+}
+
+bool SameWorld(const TerrainWorld& a, const TerrainWorld& b) {
+  if (!(a.height_m.array() == b.height_m.array()).all()) return false;
+  if (a.obstacles.size() != b.obstacles.size()) return false;
+  for (std::size_t i = 0; i < a.obstacles.size(); ++i) {
+    if (a.obstacles[i].name != b.obstacles[i].name) return false;
+    if (!(a.obstacles[i].X_WO.matrix().array() == b.obstacles[i].X_WO.matrix().array()).all()) return false;
+    if (!(a.obstacles[i].size.array() == b.obstacles[i].size.array()).all()) return false;
+  }
+  return true;
+}
+
+class GeneratorTest : public ::testing::TestWithParam<TerrainType> {};
+
+TEST_P(GeneratorTest, SameSeedGivesBitIdenticalWorldAndAnotherSeedADifferentOne) {
+  const TerrainWorld a = GenerateTerrain(Config(GetParam(), 4));
+  const TerrainWorld b = GenerateTerrain(Config(GetParam(), 4));
+  const TerrainWorld c = GenerateTerrain(Config(GetParam(), 5));
+  EXPECT_TRUE(SameWorld(a, b));
+  EXPECT_FALSE(SameWorld(a, c));
+}
+
+TEST_P(GeneratorTest, KeepsTheStartAndGoalClear) {
+  const Eigen::Vector2d start(-10, 3);
+  const Eigen::Vector2d goal(12, -4);
+  const TerrainWorld world = GenerateTerrain(Config(GetParam(), 2), {start, goal}, 2.0);
+  for (const Obstacle& obstacle : world.obstacles) {
+    if (obstacle.role != ObstacleRole::kSolid) continue;
+    // no solid surface point within 2 m of the start or goal (horizontally)
+    const common::PointCloud surface = SampleSurface(ObstacleMesh({obstacle}), 0.2);
+    for (Eigen::Index i = 0; i < surface.size(); ++i) {
+      const Eigen::Vector2d p = surface.points.col(i).head<2>().cast<double>();
+      ASSERT_GT((p - start).norm(), 1.99) << obstacle.name;
+      ASSERT_GT((p - goal).norm(), 1.99) << obstacle.name;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllSceneTypes, GeneratorTest,
+                         ::testing::Values(TerrainType::kHilly, TerrainType::kForest, TerrainType::kRuin,
+                                           TerrainType::kRoad, TerrainType::kIndoor),
+                         [](const ::testing::TestParamInfo<TerrainType>& param_info) {
+                           return std::string(TerrainTypeName(param_info.param));
+                         });
+
+// Documented ranges (docs/terrains.md) over several seeds.
+TEST(TerrainStatisticsTest, HillySlopeMatchesItsTargetPercentile) {
+  for (std::uint64_t seed : {1, 2, 3}) {
+    TerrainConfig config = Config(TerrainType::kHilly, seed);
+    config.hilly.roughness_m = 0.0;
+    const TerrainStatistics stats = ComputeStatistics(GenerateTerrain(config));
+    EXPECT_NEAR(stats.slope_p95_deg, 12.0, 0.05);
+    EXPECT_GT(stats.slope_p50_deg, 3.0);
+    EXPECT_LT(stats.slope_p50_deg, 9.0);
+    EXPECT_GT(stats.height_max_m - stats.height_min_m, 1.0);
+    EXPECT_EQ(stats.num_obstacles, 0);
+  }
+  // fine roughness raises the slopes a little
+  const TerrainStatistics rough = ComputeStatistics(GenerateTerrain(Config(TerrainType::kHilly)));
+  EXPECT_GT(rough.slope_p95_deg, 12.0);
+  EXPECT_LT(rough.slope_p95_deg, 20.0);
+}
+
+TEST(TerrainStatisticsTest, ForestDensityIsNearItsTarget) {
+  for (std::uint64_t seed : {1, 2, 3}) {
+    const TerrainStatistics stats = ComputeStatistics(GenerateTerrain(Config(TerrainType::kForest, seed)));
+    EXPECT_GT(stats.tree_density_per_m2, 0.07);
+    EXPECT_LE(stats.tree_density_per_m2, 0.0801);
+  }
+}
+
+TEST(TerrainStatisticsTest, ForestTreesKeepAGapForTheRobot) {
+  const TerrainWorld world = GenerateTerrain(Config(TerrainType::kForest));
+  std::vector<const Obstacle*> trunks;
+  for (const Obstacle& obstacle : world.obstacles) {
+    if (obstacle.name.rfind("tree", 0) == 0) trunks.push_back(&obstacle);
+  }
+  ASSERT_GT(trunks.size(), 100u);
+  for (std::size_t i = 0; i < trunks.size(); ++i) {
+    for (std::size_t j = i + 1; j < trunks.size(); ++j) {
+      const double gap = (trunks[i]->X_WO.translation() - trunks[j]->X_WO.translation()).head<2>().norm() -
+                         trunks[i]->size.x() - trunks[j]->size.x();
+      ASSERT_GE(gap, 1.0 - 1e-9);
+    }
+  }
+}
+
+TEST(TerrainStatisticsTest, RuinPlacesTheConfiguredObstacles) {
+  for (std::uint64_t seed : {1, 2}) {
+    const TerrainWorld world = GenerateTerrain(Config(TerrainType::kRuin, seed));
+    int boxes = 0, columns = 0, rubble = 0, walls = 0;
+    for (const Obstacle& obstacle : world.obstacles) {
+      boxes += obstacle.name.rfind("box", 0) == 0;
+      columns += obstacle.name.rfind("column", 0) == 0;
+      rubble += obstacle.name.rfind("rubble", 0) == 0;
+      walls += obstacle.name.rfind("wall", 0) == 0;
+    }
+    EXPECT_EQ(boxes, 40);
+    EXPECT_EQ(columns, 20);
+    EXPECT_EQ(rubble, 60);
+    EXPECT_GE(walls, 10);  // a wall with a gap is two pieces
+    EXPECT_LE(walls, 20);
+  }
+}
+
+TEST(TerrainStatisticsTest, RoadHasCurbsAndACrownedRoad) {
+  TerrainConfig config = Config(TerrainType::kRoad);
+  const TerrainWorld world = GenerateTerrain(config);
+  // the street centre lines are at multiples of the 20 m block; sidewalks sit at curb height
+  EXPECT_NEAR(world.GroundHeight({0.0, 5.0}), 0.02 * 3.5, 1e-6);
+  EXPECT_NEAR(world.GroundHeight({3.0, 10.0}), 0.02 * 0.5, 1e-6);
+  EXPECT_NEAR(world.GroundHeight({4.5, 10.0}), 0.12, 1e-6);
+  int buildings = 0;
+  for (const Obstacle& obstacle : world.obstacles) buildings += obstacle.name.rfind("building", 0) == 0;
+  EXPECT_GE(buildings, 4);
+}
+
+TEST(TerrainStatisticsTest, IndoorHasRoomsACeilingAndADoorInEveryInnerWall) {
+  const TerrainWorld world = GenerateTerrain(Config(TerrainType::kIndoor));
+  int ceilings = 0, walls = 0;
+  for (const Obstacle& obstacle : world.obstacles) {
+    if (obstacle.role == ObstacleRole::kCeiling) {
+      ++ceilings;
+      EXPECT_NEAR(obstacle.X_WO.translation().z() - obstacle.size.z(), 2.7, 1e-9);
+    }
+    if (obstacle.name.rfind("wall", 0) == 0) {
+      ++walls;
+      EXPECT_NEAR(obstacle.X_WO.translation().z() + obstacle.size.z(), 2.7, 1e-9);
+    }
+  }
+  EXPECT_EQ(ceilings, 1);
+  EXPECT_GT(walls, 20);
+  EXPECT_EQ(world.height_m.cwiseAbs().maxCoeff(), 0.0f);
+}
+
+TEST(TestTerrainsTest, SlopeStepAndStairsHaveExactProfiles) {
+  TerrainConfig slope = Config(TerrainType::kSlope);
+  slope.size_m = {20, 10};
+  slope.slope.angle_deg = 20.0;
+  slope.slope.start_x_m = 2.0;
+  const TerrainWorld slope_world = GenerateTerrain(slope);
+  EXPECT_NEAR(slope_world.GroundHeight({7.0, 1.0}), 5.0 * std::tan(20.0 * M_PI / 180.0), 1e-5);
+  EXPECT_EQ(slope_world.GroundHeight({1.0, -3.0}), 0.0);
+
+  TerrainConfig step = Config(TerrainType::kStep);
+  step.size_m = {10, 10};
+  step.step.height_m = 0.2;
+  step.step.x_m = 2.05;
+  const TerrainWorld step_world = GenerateTerrain(step);
+  EXPECT_FLOAT_EQ(step_world.GroundHeight({2.0, 0.0}), 0.0f);
+  EXPECT_FLOAT_EQ(step_world.GroundHeight({2.1, 0.0}), 0.2f);
+
+  TerrainConfig stairs = Config(TerrainType::kStairs);
+  stairs.size_m = {20, 10};
+  stairs.stairs = {0.05, 0.6, 5, 2.0};
+  const TerrainWorld stairs_world = GenerateTerrain(stairs);
+  EXPECT_FLOAT_EQ(stairs_world.GroundHeight({2.3, 0.0}), 0.05f);
+  EXPECT_FLOAT_EQ(stairs_world.GroundHeight({3.5, 0.0}), 0.15f);
+  EXPECT_FLOAT_EQ(stairs_world.GroundHeight({9.0, 0.0}), 0.25f);
+}
+
+TEST(TerrainConfigTest, RejectsBadValuesNamingTheField) {
+  TerrainConfig config;
+  config.resolution_m = -0.1;
+  EXPECT_THAT([&] { GenerateTerrain(config); },
+              ThrowsMessage<common::InputError>(HasSubstr("terrain.resolution: value -0.1")));
+  config = TerrainConfig();
+  config.type = TerrainType::kIndoor;
+  config.indoor.door_width_m = 0.5;
+  EXPECT_THAT([&] { GenerateTerrain(config); },
+              ThrowsMessage<common::InputError>(HasSubstr("terrain.parameters.door_width")));
+}
+
+TEST(TerrainGeometryTest, GroundMeshHasTwoTrianglesPerCellAtTheSampleHeights) {
+  TerrainConfig config = Config(TerrainType::kSlope);
+  config.size_m = {4, 2};
+  config.resolution_m = 1.0;
+  const TerrainWorld world = GenerateTerrain(config);
+  const TriangleMesh mesh = GroundMesh(world);
+  EXPECT_EQ(mesh.vertices_W.cols(), 15);
+  EXPECT_EQ(mesh.triangles.cols(), 16);
+  EXPECT_FLOAT_EQ(mesh.vertices_W(0, 4), 2.0f);
+  EXPECT_FLOAT_EQ(mesh.vertices_W(2, 4), world.height_m(4, 0));
+}
+
+TEST(TerrainGeometryTest, BoxMeshHasTwelveOutwardTrianglesOnItsCorners) {
+  Obstacle box;
+  box.shape = ShapeType::kBox;
+  box.size = Eigen::Vector3d(1.0, 2.0, 0.5);
+  box.X_WO.translation() = Eigen::Vector3d(10, 0, 1);
+  const TriangleMesh mesh = ObstacleMesh({box});
+  ASSERT_EQ(mesh.triangles.cols(), 12);
+  const Eigen::Vector3f centre(10, 0, 1);
+  for (Eigen::Index t = 0; t < 12; ++t) {
+    const Eigen::Vector3f a = mesh.vertices_W.col(mesh.triangles(0, t));
+    const Eigen::Vector3f b = mesh.vertices_W.col(mesh.triangles(1, t));
+    const Eigen::Vector3f c = mesh.vertices_W.col(mesh.triangles(2, t));
+    EXPECT_GT((b - a).cross(c - a).dot(a - centre), 0.0f) << "triangle " << t << " faces inward";
+  }
+  EXPECT_EQ(mesh.vertices_W.rowwise().maxCoeff(), Eigen::Vector3f(11, 2, 1.5));
+}
+
+TEST(TerrainGeometryTest, DenseCloudCoversGroundAndObstacleTopsButNotBuriedParts) {
+  TerrainConfig config = Config(TerrainType::kFlat);
+  config.size_m = {4, 4};
+  config.resolution_m = 0.5;
+  TerrainWorld world = GenerateTerrain(config);
+  Obstacle box;
+  box.size = Eigen::Vector3d(0.5, 0.5, 0.5);  // half buried: from z = -0.25 to 0.75
+  box.X_WO.translation() = Eigen::Vector3d(0, 0, 0.25);
+  world.obstacles.push_back(box);
+  const common::PointCloud cloud = DenseCloud(world, 0.1);
+  EXPECT_EQ(cloud.frame_id, "W");
+  EXPECT_FLOAT_EQ(cloud.points.row(2).maxCoeff(), 0.75f);
+  EXPECT_GE(cloud.points.row(2).minCoeff(), -1e-3f);
+  int top_points = 0;
+  for (Eigen::Index i = 0; i < cloud.size(); ++i) top_points += cloud.points(2, i) == 0.75f;
+  EXPECT_GE(top_points, 100);  // a 1 m x 1 m top at 0.1 m spacing
+}
+
+TEST(WorldBuilderTest, HeightFieldIsNormalisedRowMajorAlongY) {
+  TerrainConfig config = Config(TerrainType::kFlat);
+  config.size_m = {2, 1};
+  config.resolution_m = 1.0;
+  TerrainWorld world = GenerateTerrain(config);
+  // heights grow with y only: row r of MuJoCo's data (y index) must be constant
+  for (int ix = 0; ix < 3; ++ix) {
+    world.height_m(ix, 0) = 1.0f;
+    world.height_m(ix, 1) = 3.0f;
+  }
+  const HeightFieldLayout layout = ComputeHeightFieldLayout(world);
+  EXPECT_EQ(layout.z_offset_m, 1.0);
+  EXPECT_EQ(layout.z_top_m, 2.0);
+  float data[6];
+  FillHeightField(world.height_m, layout, data);
+  EXPECT_EQ(std::vector<float>(data, data + 6), (std::vector<float>{0, 0, 0, 1, 1, 1}));
+}
+
+TEST(WorldBuilderTest, VisualGroundIsResampledOverTheSameExtent) {
+  const TerrainWorld world = GenerateTerrain(Config(TerrainType::kHilly));
+  const Eigen::MatrixXf coarse = ResampleGround(world, 126);
+  ASSERT_EQ(coarse.rows(), 126);
+  ASSERT_EQ(coarse.cols(), 126);
+  EXPECT_EQ(coarse(0, 0), world.height_m(0, 0));
+  EXPECT_EQ(coarse(125, 125), world.height_m(500, 500));
+  EXPECT_FLOAT_EQ(coarse(25, 50), world.height_m(100, 200));
+}
+
+}  // namespace
+}  // namespace trav::sim
