@@ -218,8 +218,11 @@ std::vector<YamlReader> YamlReader::MapSequence(const std::string& key) {
 
 void YamlReader::Finish() const {
   if (!map_->IsMap()) return;
+  // yaml-cpp keeps repeated keys (and lookups see the first): reject them
+  std::set<std::string> seen;
   for (const auto& entry : *map_) {
     const std::string key = entry.first.as<std::string>();
+    if (!seen.insert(key).second) Fail(key, "duplicate key");
     if (read_keys_.count(key) == 0) Fail(key, "unknown key");
   }
 }

@@ -110,7 +110,7 @@ class YamlReader {
   /// Throws InputError naming `key`, its value and `expectation` unless `condition` holds.
   void Check(const std::string& key, bool condition, const std::string& expectation) const;
 
-  /// @throws InputError if the map has a key that was not read.
+  /// @throws InputError if the map has a key that was not read, or a key twice.
   void Finish() const;
 
   /// Throws InputError "<source>: <path>.<key>: <what>".

@@ -78,7 +78,7 @@ RunSummary RunOpenLoop(const Scenario& scenario, const std::string& models_dir,
   }
   const double frame_period_s = 1.0 / scenario.video.fps;
   double next_frame_s = 0.0;
-  double next_sample_s = 0.0;
+  const int steps_per_sample = std::max(1, static_cast<int>(std::lround(kTrajectoryPeriod_s / simulation.timestep())));
 
   std::ofstream trajectory(output_dir + "/trajectory.csv");
   trajectory << "t,x,y,z,roll,pitch,yaw,v_forward,yaw_rate,cmd_v,cmd_omega,"
@@ -120,7 +120,7 @@ RunSummary RunOpenLoop(const Scenario& scenario, const std::string& models_dir,
     summary.distance_m += (xy - last_xy).norm();
     last_xy = xy;
 
-    if (state.time_s >= next_sample_s - 1e-9) {
+    if ((step + 1) % steps_per_sample == 0) {
       const Eigen::Vector3d p = state.X_WB.translation();
       char line[512];
       std::snprintf(line, sizeof(line),
@@ -129,7 +129,6 @@ RunSummary RunOpenLoop(const Scenario& scenario, const std::string& models_dir,
                     state.w_WB_B.z(), command.v, command.omega, state.wheel_speeds[0],
                     state.wheel_speeds[1], state.wheel_speeds[2], state.wheel_speeds[3]);
       trajectory << line;
-      next_sample_s += kTrajectoryPeriod_s;
     }
     if (common::TiltAngle(state.X_WB.linear()) > tilt_limit) {
       summary.outcome = Outcome::kRolledOver;

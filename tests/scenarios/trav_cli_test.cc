@@ -1,0 +1,204 @@
+// End-to-end tests of the trav command: exit codes, outputs, error messages, determinism.
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace trav::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+struct CommandResult {
+  int exit_code{-1};
+  std::string output;  // stdout and stderr
+};
+
+CommandResult RunTrav(const std::string& arguments) {
+  const std::string command = std::string(TRAV_BINARY) + " " + arguments + " 2>&1";
+  CommandResult result;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return result;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) result.output += buffer;
+  const int status = pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+std::string ReadFile(const fs::path& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+class TravCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::temp_directory_path() /
+            ("trav_cli_test_" + std::to_string(getpid()) + "_" +
+             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+  }
+  void TearDown() override { fs::remove_all(root_); }
+
+  std::string WriteScenario(const std::string& name, const std::string& text) {
+    const fs::path path = root_ / name;
+    std::ofstream(path) << text;
+    return path.string();
+  }
+  // The folder holds nothing but the scenario files: no output, complete or partial.
+  void ExpectNoOutputFolder() {
+    for (const auto& entry : fs::directory_iterator(root_)) {
+      EXPECT_EQ(entry.path().extension(), ".yaml") << "left behind: " << entry.path();
+    }
+  }
+  fs::path root_;
+};
+
+constexpr char kShortRun[] = R"(
+schema_version: 1
+name: short
+terrain: {type: hilly, seed: 3, size: [12, 12], resolution: 0.1}
+robot: {start: [-3, 0, 0]}
+goal: [3, 0]
+duration: 2
+drive: [{v: 1.0, omega: 0.2, duration: 2}]
+video: {enabled: false}
+)";
+
+TEST_F(TravCliTest, RunWritesSummaryTrajectoryAndResolvedScenario) {
+  const std::string scenario = WriteScenario("short.yaml", kShortRun);
+  const CommandResult result = RunTrav("run " + scenario + " --out " + (root_ / "run").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("outcome: completed"));
+  const nlohmann::json summary = nlohmann::json::parse(ReadFile(root_ / "run" / "summary.json"));
+  EXPECT_EQ(summary["outcome"], "completed");
+  EXPECT_NEAR(summary["sim_time_s"].get<double>(), 2.0, 1e-9);
+  EXPECT_GT(summary["distance_m"].get<double>(), 1.5);
+  EXPECT_LT(summary["distance_m"].get<double>(), 2.2);
+  EXPECT_GT(summary["real_time_factor"].get<double>(), 0.0);
+  for (const char* key : {"max_roll_deg", "max_pitch_deg", "rms_roll_deg", "rms_pitch_deg", "wall_time_s"}) {
+    EXPECT_TRUE(summary.contains(key)) << key;
+  }
+  EXPECT_TRUE(summary["video"].is_null());
+  EXPECT_TRUE(fs::exists(root_ / "run" / "scenario.yaml"));
+  // 50 Hz samples over 2 s plus the header
+  const std::string csv = ReadFile(root_ / "run" / "trajectory.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 101);
+}
+
+TEST_F(TravCliTest, SeededRunsAreBitIdentical) {
+  const std::string scenario = WriteScenario("short.yaml", kShortRun);
+  ASSERT_EQ(RunTrav("run " + scenario + " --out " + (root_ / "a").string()).exit_code, 0);
+  ASSERT_EQ(RunTrav("run " + scenario + " --out " + (root_ / "b").string()).exit_code, 0);
+  EXPECT_EQ(ReadFile(root_ / "a" / "trajectory.csv"), ReadFile(root_ / "b" / "trajectory.csv"));
+  ASSERT_EQ(RunTrav("run " + scenario + " --seed 4 --out " + (root_ / "c").string()).exit_code, 0);
+  EXPECT_NE(ReadFile(root_ / "a" / "trajectory.csv"), ReadFile(root_ / "c" / "trajectory.csv"));
+}
+
+TEST_F(TravCliTest, UnexpectedOutcomeExitsWithOne) {
+  const std::string scenario = WriteScenario("short.yaml", std::string(kShortRun) + "expect: rolled_over\n");
+  const CommandResult result = RunTrav("run " + scenario + " --out " + (root_ / "run").string());
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("outcome: completed (expected rolled_over)"));
+  EXPECT_TRUE(fs::exists(root_ / "run" / "summary.json"));
+}
+
+TEST_F(TravCliTest, SetOverridesScenarioValues) {
+  const std::string scenario = WriteScenario("short.yaml", kShortRun);
+  const CommandResult result =
+      RunTrav("run " + scenario + " --set duration=1 --set name=overridden --out " + (root_ / "run").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const nlohmann::json summary = nlohmann::json::parse(ReadFile(root_ / "run" / "summary.json"));
+  EXPECT_NEAR(summary["sim_time_s"].get<double>(), 1.0, 1e-9);
+  EXPECT_EQ(summary["scenario"], "overridden");
+}
+
+TEST_F(TravCliTest, UnknownKeyIsBadInputWithNoOutput) {
+  const std::string scenario = WriteScenario("bad.yaml", std::string(kShortRun) + "durration: 3\n");
+  const CommandResult result = RunTrav("run " + scenario + " --out " + (root_ / "run").string());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.output, HasSubstr(scenario + ": durration: unknown key"));
+  ExpectNoOutputFolder();
+}
+
+TEST_F(TravCliTest, WrongTypeIsBadInputNamingKeyAndValue) {
+  std::string text = kShortRun;
+  text.replace(text.find("goal: [3, 0]"), 12, "goal: here");
+  const std::string scenario = WriteScenario("bad.yaml", text);
+  const CommandResult result = RunTrav("run " + scenario + " --out " + (root_ / "run").string());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.output, HasSubstr("goal: expected a sequence of 2 numbers, got 'here'"));
+  ExpectNoOutputFolder();
+}
+
+TEST_F(TravCliTest, DuplicateKeyIsBadInput) {
+  const std::string scenario = WriteScenario("bad.yaml", std::string(kShortRun) + "duration: 5\n");
+  const CommandResult result = RunTrav("run " + scenario + " --out " + (root_ / "run").string());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.output, HasSubstr(scenario + ": duration: duplicate key"));
+  ExpectNoOutputFolder();
+}
+
+TEST_F(TravCliTest, NegativeResolutionIsBadInput) {
+  const std::string scenario = WriteScenario("short.yaml", kShortRun);
+  const CommandResult result =
+      RunTrav("run " + scenario + " --set terrain.resolution=-0.2 --out " + (root_ / "run").string());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.output, HasSubstr("terrain.resolution: value '-0.2' must be > 0"));
+  ExpectNoOutputFolder();
+}
+
+TEST_F(TravCliTest, MissingFilesAreBadInput) {
+  CommandResult result = RunTrav("run " + (root_ / "missing.yaml").string() + " --out " + (root_ / "run").string());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.output, HasSubstr("missing.yaml: cannot open file"));
+  const std::string scenario = WriteScenario("short.yaml", std::string(kShortRun) + "");
+  result = RunTrav("run " + scenario + " --set robot.model=nothere.xml --out " + (root_ / "run").string());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.output, HasSubstr("robot.model: cannot open robot model 'nothere.xml'"));
+  ExpectNoOutputFolder();
+}
+
+TEST_F(TravCliTest, UsageErrorsExitWithTwo) {
+  EXPECT_EQ(RunTrav("run --no-such-flag").exit_code, 2);
+  EXPECT_EQ(RunTrav("fly").exit_code, 2);
+  EXPECT_EQ(RunTrav("run --set nokeyvalue --out " + (root_ / "run").string()).exit_code, 2);
+  const CommandResult help = RunTrav("run --help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_THAT(help.output, HasSubstr("--no-video"));
+  ExpectNoOutputFolder();
+}
+
+TEST_F(TravCliTest, TerrainExportsHeightmapCloudAndPreview) {
+  const std::string scenario = WriteScenario("short.yaml", kShortRun);
+  const CommandResult result = RunTrav("terrain " + scenario + " --out " + (root_ / "terrain").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  for (const char* file : {"heightmap.png", "heightmap.raw", "cloud.pcd", "preview.png", "terrain.json"}) {
+    EXPECT_TRUE(fs::exists(root_ / "terrain" / file)) << file;
+  }
+  // 121 x 121 float samples
+  EXPECT_EQ(fs::file_size(root_ / "terrain" / "heightmap.raw"), 121u * 121u * 4u);
+  const nlohmann::json terrain = nlohmann::json::parse(ReadFile(root_ / "terrain" / "terrain.json"));
+  EXPECT_EQ(terrain["grid"]["num_x"], 121);
+  EXPECT_EQ(terrain["type"], "hilly");
+  // a PCD header announcing the ground samples
+  const std::string pcd = ReadFile(root_ / "terrain" / "cloud.pcd");
+  EXPECT_THAT(pcd, HasSubstr("POINTS 14641"));
+  EXPECT_THAT(pcd, HasSubstr("DATA binary"));
+}
+
+}  // namespace
+}  // namespace trav::scenarios
