@@ -1,4 +1,4 @@
-// The trav command line: `trav run`, `trav terrain`.
+// The trav command line: `trav run`, `trav terrain`, `trav calibrate`.
 #include <unistd.h>
 
 #include <cstdio>
@@ -13,6 +13,7 @@
 #include "common/input_error.h"
 #include "common/logging.h"
 #include "common/yaml_reader.h"
+#include "scenarios/calibration.h"
 #include "scenarios/open_loop_run.h"
 #include "scenarios/output_folder.h"
 #include "scenarios/scenario.h"
@@ -68,6 +69,15 @@ Scenario ResolveScenario(const ScenarioOptions& options, std::optional<bool> vid
   return LoadScenario(document);
 }
 
+// The robot model file of a scenario. @throws common::InputError if it cannot be read.
+std::string ExistingRobotModel(const Scenario& scenario) {
+  const std::string model = RobotModelPath(scenario, ModelsDirectory());
+  if (access(model.c_str(), R_OK) != 0) {
+    throw common::InputError(model, "robot.model", "cannot open robot model '" + scenario.robot_model + "'");
+  }
+  return model;
+}
+
 // A progress bar on a terminal; nothing when stderr is a file or pipe.
 ProgressCallback TerminalProgress() {
   if (!isatty(STDERR_FILENO)) return {};
@@ -82,13 +92,10 @@ ProgressCallback TerminalProgress() {
 
 int Run(const ScenarioOptions& options, std::optional<bool> video) {
   const Scenario scenario = ResolveScenario(options, video);
-  const std::string model = RobotModelPath(scenario, ModelsDirectory());
-  if (access(model.c_str(), R_OK) != 0) {
-    throw common::InputError(model, "robot.model", "cannot open robot model '" + scenario.robot_model + "'");
-  }
+  const std::string model = ExistingRobotModel(scenario);
   OutputFolder folder(scenario.output_dir);
   WriteTextFile(folder.File("scenario.yaml"), ResolvedScenarioYaml(scenario));
-  const RunSummary summary = RunOpenLoop(scenario, ModelsDirectory(), folder.File(""), TerminalProgress());
+  const RunSummary summary = RunOpenLoop(scenario, model, folder.File(""), TerminalProgress());
   WriteTextFile(folder.File("summary.json"), SummaryJson(scenario, summary));
   folder.Commit();
 
@@ -121,6 +128,22 @@ int Terrain(const ScenarioOptions& options) {
   return kExitExpected;
 }
 
+int Calibrate(const ScenarioOptions& options) {
+  const Scenario scenario = ResolveScenario(options, std::nullopt);
+  const std::string model = ExistingRobotModel(scenario);
+  const CalibrationResult result = CalibrateSkidSteer(model, scenario.skid_steer);
+  std::printf("skid-steer calibration of %s on flat ground (effective_track_factor %.3f)\n",
+              model.c_str(), scenario.skid_steer.effective_track_factor);
+  std::printf("%12s %14s %12s %14s\n", "cmd v [m/s]", "cmd w [rad/s]", "v [m/s]", "w [rad/s]");
+  for (const CalibrationSample& sample : result.samples) {
+    std::printf("%12.2f %14.2f %12.3f %14.3f\n", sample.commanded_v_m_s, sample.commanded_omega_rad_s,
+                sample.measured_v_m_s, sample.measured_omega_rad_s);
+  }
+  std::printf("effective_track_factor that matches the commanded yaw rates: %.3f\n",
+              result.effective_track_factor);
+  return kExitExpected;
+}
+
 int Main(int argc, char** argv) {
   CLI::App app{"trav: physics-simulated navigation testbed for the Scout Mini on uneven terrain"};
   app.require_subcommand(1);
@@ -139,6 +162,11 @@ int Main(int argc, char** argv) {
       "terrain", "Generate a scenario's terrain and export heightmap, point cloud and preview");
   AddScenarioOptions(terrain, &terrain_options);
 
+  ScenarioOptions calibrate_options;
+  CLI::App* calibrate = app.add_subcommand(
+      "calibrate", "Measure the skid-steer mapping of the scenario's robot on flat ground");
+  AddScenarioOptions(calibrate, &calibrate_options);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -148,6 +176,7 @@ int Main(int argc, char** argv) {
 
   try {
     if (run->parsed()) return Run(run_options, video);
+    if (calibrate->parsed()) return Calibrate(calibrate_options);
     return Terrain(terrain_options);
   } catch (const common::InputError& e) {
     std::fprintf(stderr, "trav: error: %s\n", e.what());

@@ -54,13 +54,13 @@ std::string RobotModelPath(const Scenario& scenario, const std::string& models_d
   return model.is_absolute() ? model.string() : (std::filesystem::path(models_dir) / model).string();
 }
 
-RunSummary RunOpenLoop(const Scenario& scenario, const std::string& models_dir,
+RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_path,
                        const std::string& output_dir, const ProgressCallback& progress) {
   const auto wall_start = std::chrono::steady_clock::now();
   const sim::TerrainWorld world =
       sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W});
   sim::WorldOptions options;
-  options.robot_model_path = RobotModelPath(scenario, models_dir);
+  options.robot_model_path = robot_model_path;
   options.timestep_s = scenario.physics_timestep_s;
   options.ground_friction = scenario.ground_friction;
   sim::Simulation simulation(world, scenario.start_W, options);

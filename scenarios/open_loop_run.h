@@ -34,9 +34,9 @@ using ProgressCallback = std::function<void(double fraction)>;
 /// the scenario's script through the skid-steer mapping, and writes into `output_dir` (which must
 /// exist) `trajectory.csv` (50 Hz) and, if video is on, `video.mp4`. Stops early on rollover or
 /// divergence (recorded as the outcome).
-/// @throws common::InputError on bad input (a missing robot model); std::runtime_error if video
-/// was asked for and GL or ffmpeg is missing.
-RunSummary RunOpenLoop(const Scenario& scenario, const std::string& models_dir,
+/// @throws common::InputError on bad input (an unreadable robot model); std::runtime_error if
+/// video was asked for and GL or ffmpeg is missing.
+RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_path,
                        const std::string& output_dir, const ProgressCallback& progress = {});
 
 /// Absolute path of the robot model of `scenario` (robot.model in `models_dir` unless absolute).

@@ -1,0 +1,21 @@
+# Dependency rule (DESIGN.md section 1): mapping/, planner/ and controller/ are algorithms on plain
+# data and include nothing of MuJoCo, Embree or sim/. Run as a ctest: cmake -DROOT=<source> -P <this>.
+set(violations "")
+foreach(module mapping planner controller)
+  if(NOT IS_DIRECTORY "${ROOT}/${module}")
+    continue()
+  endif()
+  file(GLOB_RECURSE sources "${ROOT}/${module}/*.h" "${ROOT}/${module}/*.cc" "${ROOT}/${module}/*.hpp"
+       "${ROOT}/${module}/*.cpp" "${ROOT}/${module}/CMakeLists.txt")
+  foreach(source ${sources})
+    file(STRINGS "${source}" lines REGEX "#include[ \t]*[<\"](mujoco|embree|sim/)|mujoco::mujoco|embree|trav::sim|trav_sim|trav::lidar")
+    foreach(line ${lines})
+      list(APPEND violations "${source}: ${line}")
+    endforeach()
+  endforeach()
+endforeach()
+if(violations)
+  list(JOIN violations "\n  " message)
+  message(FATAL_ERROR "dependency rule broken (mapping, planner and controller must not use MuJoCo, Embree or sim):\n  ${message}")
+endif()
+message(STATUS "dependency rule holds")
