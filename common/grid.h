@@ -18,8 +18,8 @@ struct GridGeometry {
   int num_x{0};                                       ///< cells along x
   int num_y{0};                                       ///< cells along y
 
-  /// Grid of `size_m` (x, y) [m] centred on `center_W` with cells of `resolution_m`; the cell centres
-  /// include both borders, so it has round(size / resolution) + 1 cells along each axis.
+  /// Grid of `size_m` (x, y) [m] centred on `center_W` with cells of `resolution_m`; the cell
+  /// centres include both borders, so it has round(size / resolution) + 1 cells along each axis.
   static GridGeometry Centered(const Eigen::Vector2d& center_W, const Eigen::Vector2d& size_m,
                                double resolution_m);
 
@@ -29,9 +29,7 @@ struct GridGeometry {
   }
 
   /// Extent between the first and the last cell centre along x and y [m].
-  Eigen::Vector2d Extent() const {
-    return resolution_m * Eigen::Vector2d(num_x - 1, num_y - 1);
-  }
+  Eigen::Vector2d Extent() const { return resolution_m * Eigen::Vector2d(num_x - 1, num_y - 1); }
 
   /// Centre of the grid in W [m].
   Eigen::Vector2d Center() const { return origin_W + 0.5 * Extent(); }

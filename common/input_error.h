@@ -6,7 +6,8 @@
 namespace trav::common {
 
 /// Bad input from the user: a malformed scenario, a missing file, an out-of-range value.
-/// The `trav` command maps it to exit code 2. The message names the file, the key path and the value.
+/// The `trav` command maps it to exit code 2. The message names the file, the key path and the
+/// value.
 class InputError : public std::runtime_error {
  public:
   explicit InputError(const std::string& message);

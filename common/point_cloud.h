@@ -6,9 +6,9 @@
 
 namespace trav::common {
 
-/// A point cloud as a structure of arrays: one point per column of `points` [m], expressed in the frame
-/// named by `frame_id` ("W", "L", ...). Optional per-point arrays are either empty or have one entry per
-/// point.
+/// A point cloud as a structure of arrays: one point per column of `points` [m], expressed in the
+/// frame named by `frame_id` ("W", "L", ...). Optional per-point arrays are either empty or have
+/// one entry per point.
 struct PointCloud {
   Eigen::Matrix3Xf points;       ///< [m], one point per column
   Eigen::VectorXf time_offsets;  ///< per-point time after `stamp_s` [s]; empty if not measured

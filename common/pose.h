@@ -36,10 +36,12 @@ using WheelSpeeds = std::array<double, 4>;
 /// Full ground-truth state of the robot base B in the world W.
 struct RobotState {
   Eigen::Isometry3d X_WB{Eigen::Isometry3d::Identity()};  ///< pose of B in W
-  Eigen::Vector3d v_WB_B{Eigen::Vector3d::Zero()};  ///< linear velocity of B in W, expressed in B [m/s]
-  Eigen::Vector3d w_WB_B{Eigen::Vector3d::Zero()};  ///< angular velocity of B in W, expressed in B [rad/s]
-  WheelSpeeds wheel_speeds{};                       ///< measured wheel speeds [rad/s]
-  double time_s{0.0};                               ///< simulation time [s]
+  Eigen::Vector3d v_WB_B{
+      Eigen::Vector3d::Zero()};  ///< linear velocity of B in W, expressed in B [m/s]
+  Eigen::Vector3d w_WB_B{
+      Eigen::Vector3d::Zero()};  ///< angular velocity of B in W, expressed in B [rad/s]
+  WheelSpeeds wheel_speeds{};    ///< measured wheel speeds [rad/s]
+  double time_s{0.0};            ///< simulation time [s]
 };
 
 /// Roll, pitch and yaw [rad] (intrinsic z-y-x, as REP-103) of a rotation.
@@ -59,7 +61,9 @@ inline RollPitchYaw ToRollPitchYaw(const Eigen::Matrix3d& R) {
 }
 
 /// Tilt of a rotation: the angle [rad] between its z axis and the world's +z.
-inline double TiltAngle(const Eigen::Matrix3d& R) { return std::acos(std::clamp(R(2, 2), -1.0, 1.0)); }
+inline double TiltAngle(const Eigen::Matrix3d& R) {
+  return std::acos(std::clamp(R(2, 2), -1.0, 1.0));
+}
 
 /// Wraps an angle to (-pi, pi].
 inline double WrapAngle(double angle) {

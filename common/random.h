@@ -6,8 +6,8 @@
 namespace trav::common {
 
 /// Seeded random numbers that are bit-identical on every platform and standard library: the engine
-/// (std::mt19937_64) is fully specified by the C++ standard, but std::*_distribution are not, so the
-/// transforms to uniform reals and integers are written here.
+/// (std::mt19937_64) is fully specified by the C++ standard, but std::*_distribution are not, so
+/// the transforms to uniform reals and integers are written here.
 class Random {
  public:
   explicit Random(std::uint64_t seed) : engine_(seed) {}

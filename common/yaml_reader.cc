@@ -54,6 +54,14 @@ void YamlDocument::Set(const std::string& key_path, const std::string& value_tex
   } catch (const YAML::Exception& e) {
     throw InputError("--set", key_path, "invalid value '" + value_text + "': " + e.what());
   }
+  Assign(key_path, value);
+}
+
+void YamlDocument::SetString(const std::string& key_path, const std::string& value) {
+  Assign(key_path, YAML::Node(value));
+}
+
+void YamlDocument::Assign(const std::string& key_path, const YAML::Node& value) {
   // Walk (and create) the maps along the path; yaml-cpp nodes are handles, so assignment below
   // writes into the tree.
   std::vector<std::string> keys;
@@ -123,7 +131,8 @@ namespace {
 template <typename T>
 void ReadScalar(YamlReader* reader, const YAML::Node& node, const std::string& key,
                 const char* type_name, T* value) {
-  if (!node.IsScalar()) reader->Fail(key, "expected " + std::string(type_name) + ", got " + ScalarText(node));
+  if (!node.IsScalar())
+    reader->Fail(key, "expected " + std::string(type_name) + ", got " + ScalarText(node));
   try {
     *value = node.as<T>();
   } catch (const YAML::Exception&) {

@@ -32,10 +32,14 @@ class YamlDocument {
   YamlDocument& operator=(YamlDocument&&) noexcept;
   ~YamlDocument();
 
-  /// Sets the value at a dotted key path ("terrain.seed") from YAML text ("7", "[1, 2]"), creating maps
-  /// on the way (the strict reader later rejects keys that do not exist). Used by `--set key=value`.
+  /// Sets the value at a dotted key path ("terrain.seed") from YAML text ("7", "[1, 2]"), creating
+  /// maps on the way (the strict reader later rejects keys that do not exist). Used by `--set
+  /// key=value`.
   /// @throws InputError if the value is not valid YAML or a path element is not a map.
   void Set(const std::string& key_path, const std::string& value_text);
+
+  /// Like Set(), but stores `value` as a string as it is (file paths with any characters).
+  void SetString(const std::string& key_path, const std::string& value);
 
   /// The document as YAML text.
   std::string Dump() const;
@@ -47,13 +51,15 @@ class YamlDocument {
 
  private:
   YamlDocument(std::unique_ptr<YAML::Node> root, std::string source);
+  void Assign(const std::string& key_path, const YAML::Node& value);
   std::unique_ptr<YAML::Node> root_;
   std::string source_;
 };
 
-/// Strict reader of one YAML map: every key must be read (an unknown key is an error when Finish() is
-/// called), every value must have the expected type, and every error names the source, the key path
-/// and the offending value. Keys that are absent leave the destination at its documented default.
+/// Strict reader of one YAML map: every key must be read (an unknown key is an error when Finish()
+/// is called), every value must have the expected type, and every error names the source, the key
+/// path and the offending value. Keys that are absent leave the destination at its documented
+/// default.
 class YamlReader {
  public:
   YamlReader(const YAML::Node& map, std::string source, std::string key_path);

@@ -36,7 +36,8 @@ common::Twist2 FromWheelSpeeds(const common::WheelSpeeds& wheel_speeds_rad_s,
                               wheel_speeds_rad_s[static_cast<int>(Wheel::kRearRight)]);
   common::Twist2 twist;
   twist.v = 0.5 * config.wheel_radius_m * (left + right);
-  twist.omega = config.wheel_radius_m * (right - left) / (config.effective_track_factor * config.track_m);
+  twist.omega =
+      config.wheel_radius_m * (right - left) / (config.effective_track_factor * config.track_m);
   return twist;
 }
 

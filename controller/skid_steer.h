@@ -13,15 +13,15 @@ struct SkidSteerConfig {
   /// same wheel speeds because its wheels scrub sideways. Measured in simulation by spinning in
   /// place (docs/skid-steer-calibration.md; `trav calibrate` reproduces it). >= 1.
   double effective_track_factor{2.48};
-  double max_speed_m_s{3.0};        ///< top forward speed [m/s]
-  double max_yaw_rate_rad_s{2.5};   ///< top yaw rate [rad/s]
+  double max_speed_m_s{3.0};           ///< top forward speed [m/s]
+  double max_yaw_rate_rad_s{2.5};      ///< top yaw rate [rad/s]
   double max_wheel_speed_rad_s{35.0};  ///< motor limit [rad/s]
 };
 
 /// Maps a body twist (v, omega) to the four wheel speeds [rad/s] with the effective track:
-/// left = (v - omega B_eff / 2) / r, right = (v + omega B_eff / 2) / r. The command is first clamped
-/// to the speed and yaw-rate limits; if a wheel would still exceed its limit, v and omega are
-/// scaled down together so the path curvature is kept.
+/// left = (v - omega B_eff / 2) / r, right = (v + omega B_eff / 2) / r. The command is first
+/// clamped to the speed and yaw-rate limits; if a wheel would still exceed its limit, v and omega
+/// are scaled down together so the path curvature is kept.
 common::WheelSpeeds ToWheelSpeeds(const common::Twist2& command, const SkidSteerConfig& config);
 
 /// Inverse of ToWheelSpeeds (without limits): the twist the wheel speeds produce, averaging each

@@ -14,7 +14,8 @@ CameraView ChaseCamera::Update(const Eigen::Isometry3d& X_WB, double dt_s) {
     initialised_ = true;
   } else {
     const double alpha = 1.0 - std::exp(-dt_s / params_.heading_time_constant_s);
-    heading_rad_ = common::WrapAngle(heading_rad_ + alpha * common::WrapAngle(heading - heading_rad_));
+    heading_rad_ =
+        common::WrapAngle(heading_rad_ + alpha * common::WrapAngle(heading - heading_rad_));
   }
   CameraView view;
   view.lookat_W = X_WB.translation() + Eigen::Vector3d(0, 0, params_.height_offset_m);

@@ -23,7 +23,7 @@ enum class CameraMode {
 struct ChaseCameraParams {
   double distance_m{3.5};
   double elevation_deg{-22.0};
-  double height_offset_m{0.3};     ///< lookat above the robot base [m]
+  double height_offset_m{0.3};          ///< lookat above the robot base [m]
   double heading_time_constant_s{0.6};  ///< smoothing of the heading [s], >= 0
 };
 

@@ -2,14 +2,14 @@
 
 #include <dlfcn.h>
 
-#include <EGL/egl.h>
-#include <EGL/eglext.h>
-#include <GL/osmesa.h>
-
 #include <atomic>
 #include <cstdio>
 #include <stdexcept>
 #include <vector>
+
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <GL/osmesa.h>
 
 namespace trav::renders {
 namespace {
@@ -75,35 +75,55 @@ class EglContext final : public GlContext {
   EglContext() {
     library_ = OpenLibrary("libEGL.so.1", "libegl1 and libegl-mesa0");
     auto get_proc = Symbol<void* (*)(const char*)>(library_, "eglGetProcAddress");
-    auto initialize = Symbol<EGLBoolean (*)(EGLDisplay, EGLint*, EGLint*)>(library_, "eglInitialize");
-    auto choose_config = Symbol<EGLBoolean (*)(EGLDisplay, const EGLint*, EGLConfig*, EGLint, EGLint*)>(
-        library_, "eglChooseConfig");
+    auto initialize =
+        Symbol<EGLBoolean (*)(EGLDisplay, EGLint*, EGLint*)>(library_, "eglInitialize");
+    auto choose_config =
+        Symbol<EGLBoolean (*)(EGLDisplay, const EGLint*, EGLConfig*, EGLint, EGLint*)>(
+            library_, "eglChooseConfig");
     auto bind_api = Symbol<EGLBoolean (*)(EGLenum)>(library_, "eglBindAPI");
     auto create_context = Symbol<EGLContext (*)(EGLDisplay, EGLConfig, EGLContext, const EGLint*)>(
         library_, "eglCreateContext");
     auto make_current = Symbol<EGLBoolean (*)(EGLDisplay, EGLSurface, EGLSurface, EGLContext)>(
         library_, "eglMakeCurrent");
     auto get_error = Symbol<EGLint (*)()>(library_, "eglGetError");
-    destroy_context_ = Symbol<EGLBoolean (*)(EGLDisplay, EGLContext)>(library_, "eglDestroyContext");
+    destroy_context_ =
+        Symbol<EGLBoolean (*)(EGLDisplay, EGLContext)>(library_, "eglDestroyContext");
     terminate_ = Symbol<EGLBoolean (*)(EGLDisplay)>(library_, "eglTerminate");
 
     // headless: Mesa's surfaceless platform needs no display server and no GPU
-    auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
-        get_proc("eglGetPlatformDisplayEXT"));
-    if (get_platform_display == nullptr) throw std::runtime_error("EGL lacks eglGetPlatformDisplayEXT");
+    auto get_platform_display =
+        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(get_proc("eglGetPlatformDisplayEXT"));
+    if (get_platform_display == nullptr)
+      throw std::runtime_error("EGL lacks eglGetPlatformDisplayEXT");
     display_ = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
     if (display_ == EGL_NO_DISPLAY || !initialize(display_, nullptr, nullptr)) {
       throw std::runtime_error("EGL: cannot initialise the surfaceless display (error 0x" +
                                ToHex(get_error()) + ")");
     }
-    const EGLint attributes[] = {EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8,
-                                 EGL_ALPHA_SIZE, 8, EGL_DEPTH_SIZE, 24, EGL_STENCIL_SIZE, 8,
-                                 EGL_COLOR_BUFFER_TYPE, EGL_RGB_BUFFER, EGL_SURFACE_TYPE,
-                                 EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
+    const EGLint attributes[] = {EGL_RED_SIZE,
+                                 8,
+                                 EGL_GREEN_SIZE,
+                                 8,
+                                 EGL_BLUE_SIZE,
+                                 8,
+                                 EGL_ALPHA_SIZE,
+                                 8,
+                                 EGL_DEPTH_SIZE,
+                                 24,
+                                 EGL_STENCIL_SIZE,
+                                 8,
+                                 EGL_COLOR_BUFFER_TYPE,
+                                 EGL_RGB_BUFFER,
+                                 EGL_SURFACE_TYPE,
+                                 EGL_PBUFFER_BIT,
+                                 EGL_RENDERABLE_TYPE,
+                                 EGL_OPENGL_BIT,
+                                 EGL_NONE};
     EGLConfig config;
     EGLint num_configs = 0;
     if (!choose_config(display_, attributes, &config, 1, &num_configs) || num_configs < 1) {
-      throw std::runtime_error("EGL: no suitable configuration (error 0x" + ToHex(get_error()) + ")");
+      throw std::runtime_error("EGL: no suitable configuration (error 0x" + ToHex(get_error()) +
+                               ")");
     }
     if (!bind_api(EGL_OPENGL_API)) throw std::runtime_error("EGL: cannot bind the OpenGL API");
     context_ = create_context(display_, config, EGL_NO_CONTEXT, nullptr);

@@ -13,7 +13,8 @@ struct FileCloser {
   void operator()(std::FILE* file) const { std::fclose(file); }
 };
 
-// Writes rows with libpng; `bit_depth` 8 (RGB) or 16 (gray, big-endian rows prepared by the caller).
+// Writes rows with libpng; `bit_depth` 8 (RGB) or 16 (gray, big-endian rows prepared by the
+// caller).
 void WriteRows(const std::string& path, int width, int height, int bit_depth, int color_type,
                const std::vector<png_bytep>& rows) {
   std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
@@ -30,8 +31,9 @@ void WriteRows(const std::string& path, int width, int height, int bit_depth, in
     throw std::runtime_error("libpng: cannot write " + path);
   }
   png_init_io(png, file.get());
-  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), bit_depth,
-               color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height),
+               bit_depth, color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
   png_write_image(png, const_cast<png_bytepp>(rows.data()));
   png_write_end(png, nullptr);

@@ -21,6 +21,7 @@ void WritePng(const std::string& path, const Image& image);
 
 /// Writes a 16-bit grayscale PNG of `width` x `height` values (rows top to bottom).
 /// @throws std::runtime_error if the file cannot be written.
-void WritePng16(const std::string& path, int width, int height, const std::vector<std::uint16_t>& values);
+void WritePng16(const std::string& path, int width, int height,
+                const std::vector<std::uint16_t>& values);
 
 }  // namespace trav::renders

@@ -11,9 +11,9 @@ namespace trav::renders {
 
 /// A polyline drawn as capsules between consecutive points (planned and driven paths).
 struct Polyline {
-  std::vector<Eigen::Vector3d> points_W;              ///< [m]
+  std::vector<Eigen::Vector3d> points_W;  ///< [m]
   Eigen::Vector4f rgba{1.0f, 0.2f, 0.1f, 1.0f};
-  double width_m{0.04};                               ///< [m]
+  double width_m{0.04};  ///< [m]
 };
 
 /// Points drawn as small spheres, one colour each (LiDAR points, goals, obstacles).
@@ -23,9 +23,9 @@ struct ColoredPoints {
   double radius_m{0.03};      ///< [m]
 };
 
-/// A coloured grid on the ground (traversability maps): each known cell is a flat box at its height,
-/// coloured by its value from green (`value_min`) through yellow to red (`value_max`). NaN cells are
-/// not drawn. Cells are subsampled so that at most `max_cells` are drawn.
+/// A coloured grid on the ground (traversability maps): each known cell is a flat box at its
+/// height, coloured by its value from green (`value_min`) through yellow to red (`value_max`). NaN
+/// cells are not drawn. Cells are subsampled so that at most `max_cells` are drawn.
 struct GroundGrid {
   common::GridGeometry geometry{};
   Eigen::MatrixXf heights_m;  ///< cell heights [m], same shape as values

@@ -1,11 +1,11 @@
 #include "renders/renderer.h"
 
-#include <mujoco/mujoco.h>
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
+
+#include <mujoco/mujoco.h>
 
 #include "common/input_error.h"
 #include "sim/simulation.h"
@@ -39,7 +39,8 @@ void DrawPolyline(const Polyline& line, mjvScene* scene) {
     const Eigen::Vector3d& a = line.points_W[i];
     const Eigen::Vector3d& b = line.points_W[i + 1];
     InitOverlayGeom(geom, mjGEOM_CAPSULE, zero, zero, rgba);
-    mjv_makeConnector(geom, mjGEOM_CAPSULE, 0.5 * line.width_m, a.x(), a.y(), a.z(), b.x(), b.y(), b.z());
+    mjv_makeConnector(geom, mjGEOM_CAPSULE, 0.5 * line.width_m, a.x(), a.y(), a.z(), b.x(), b.y(),
+                      b.z());
   }
 }
 
@@ -49,7 +50,8 @@ void DrawPoints(const ColoredPoints& points, mjvScene* scene) {
     mjvGeom* geom = NextGeom(scene);
     if (geom == nullptr) return;
     const Eigen::Index c = points.rgba.cols() == 1 ? 0 : i;
-    const float rgba[4] = {points.rgba(0, c), points.rgba(1, c), points.rgba(2, c), points.rgba(3, c)};
+    const float rgba[4] = {points.rgba(0, c), points.rgba(1, c), points.rgba(2, c),
+                           points.rgba(3, c)};
     const mjtNum pos[3] = {points.points_W(0, i), points.points_W(1, i), points.points_W(2, i)};
     InitOverlayGeom(geom, mjGEOM_SPHERE, size, pos, rgba);
   }

@@ -16,13 +16,13 @@ namespace trav::renders {
 /// Quality and size of rendered frames. The defaults keep a 640 x 480 frame near 20 ms on one CPU
 /// core with Mesa's llvmpipe (no shadows, no multisampling): see the README's performance section.
 struct RenderConfig {
-  int width{640};    ///< [pixels], 16..4096
-  int height{480};   ///< [pixels], 16..4096
+  int width{640};   ///< [pixels], 16..4096
+  int height{480};  ///< [pixels], 16..4096
   GlBackend backend{GlBackend::kOsmesa};
-  bool shadows{false};     ///< shadow mapping (about 2x the cost on llvmpipe)
+  bool shadows{false};  ///< shadow mapping (about 2x the cost on llvmpipe)
   bool reflections{false};
-  int msaa_samples{0};     ///< multisampling, 0 = off
-  int max_geoms{30000};    ///< capacity for scene plus overlay geoms
+  int msaa_samples{0};   ///< multisampling, 0 = off
+  int max_geoms{30000};  ///< capacity for scene plus overlay geoms
 };
 
 /// Checks the ranges of a render config. @throws common::InputError naming the field and value.

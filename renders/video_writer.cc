@@ -3,7 +3,6 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -12,6 +11,8 @@
 #include <sstream>
 #include <stdexcept>
 #include <vector>
+
+#include <sys/wait.h>
 
 extern char** environ;
 
@@ -46,11 +47,11 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height, double 
 
   const std::string size = std::to_string(width) + "x" + std::to_string(height);
   const std::string rate = FormatNumber(fps);
-  std::vector<std::string> args = {"ffmpeg", "-loglevel", "error", "-nostdin", "-y",
-                                   "-f", "rawvideo", "-pixel_format", "rgb24", "-video_size", size,
-                                   "-framerate", rate, "-i", "pipe:0", "-c:v", "libx264",
-                                   "-preset", "veryfast", "-crf", "23", "-pix_fmt", "yuv420p",
-                                   "-movflags", "+faststart", "-f", "mp4", path};
+  std::vector<std::string> args = {
+      "ffmpeg",        "-loglevel", "error",       "-nostdin",   "-y",         "-f",   "rawvideo",
+      "-pixel_format", "rgb24",     "-video_size", size,         "-framerate", rate,   "-i",
+      "pipe:0",        "-c:v",      "libx264",     "-preset",    "veryfast",   "-crf", "23",
+      "-pix_fmt",      "yuv420p",   "-movflags",   "+faststart", "-f",         "mp4",  path};
   std::vector<char*> argv;
   for (std::string& arg : args) argv.push_back(arg.data());
   argv.push_back(nullptr);
@@ -92,7 +93,8 @@ void VideoWriter::Write(const Image& frame) {
     const ssize_t written = write(pipe_fd_, data, remaining);
     if (written < 0) {
       if (errno == EINTR) continue;
-      throw std::runtime_error("ffmpeg stopped while writing " + path_ + ": " + std::strerror(errno));
+      throw std::runtime_error("ffmpeg stopped while writing " + path_ + ": " +
+                               std::strerror(errno));
     }
     data += written;
     remaining -= static_cast<std::size_t>(written);

@@ -12,7 +12,8 @@ constexpr double kSpinUp_s = 1.0;
 constexpr double kMeasure_s = 2.0;
 
 CalibrationSample Measure(const sim::TerrainWorld& flat, const sim::WorldOptions& options,
-                          const controller::SkidSteerConfig& config, const common::Twist2& command) {
+                          const controller::SkidSteerConfig& config,
+                          const common::Twist2& command) {
   sim::Simulation simulation(flat, common::Pose2{}, options);
   auto step_for = [&](double seconds) {
     const int steps = static_cast<int>(std::lround(seconds / simulation.timestep()));
@@ -61,7 +62,8 @@ CalibrationResult CalibrateSkidSteer(const std::string& robot_model_path,
     ratio_sum += omega / result.samples.back().measured_omega_rad_s;
     ++spins;
   }
-  for (double v : {0.5, 1.0, 2.0}) result.samples.push_back(Measure(flat, options, config, {v, 0.0}));
+  for (double v : {0.5, 1.0, 2.0})
+    result.samples.push_back(Measure(flat, options, config, {v, 0.0}));
   result.effective_track_factor = config.effective_track_factor * ratio_sum / spins;
   return result;
 }

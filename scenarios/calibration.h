@@ -11,7 +11,7 @@ namespace trav::scenarios {
 struct CalibrationSample {
   double commanded_v_m_s{0.0};
   double commanded_omega_rad_s{0.0};
-  double measured_v_m_s{0.0};      ///< mean forward speed over the measuring window
+  double measured_v_m_s{0.0};        ///< mean forward speed over the measuring window
   double measured_omega_rad_s{0.0};  ///< mean yaw rate over the measuring window
 };
 

@@ -47,15 +47,17 @@ void AddScenarioOptions(CLI::App* command, ScenarioOptions* options) {
                       "Scenario YAML file (default: the built-in hilly-terrain scenario)");
   command->add_option("--out", options->out, "Output folder (default: output.dir of the scenario)");
   command->add_option("--seed", options->seed, "Terrain seed (overrides terrain.seed)");
-  command->add_option("--set", options->sets,
-                      "Override a scenario value: --set key.path=value (repeatable)")
+  command
+      ->add_option("--set", options->sets,
+                   "Override a scenario value: --set key.path=value (repeatable)")
       ->type_name("KEY=VALUE");
 }
 
 Scenario ResolveScenario(const ScenarioOptions& options, std::optional<bool> video) {
   common::YamlDocument document =
-      options.path.empty() ? common::YamlDocument::Parse(DefaultScenarioYaml(), "<built-in default>")
-                           : common::YamlDocument::Load(options.path);
+      options.path.empty()
+          ? common::YamlDocument::Parse(DefaultScenarioYaml(), "<built-in default>")
+          : common::YamlDocument::Load(options.path);
   for (const std::string& assignment : options.sets) {
     const std::size_t equals = assignment.find('=');
     if (equals == std::string::npos || equals == 0) {
@@ -65,7 +67,7 @@ Scenario ResolveScenario(const ScenarioOptions& options, std::optional<bool> vid
   }
   if (options.seed) document.Set("terrain.seed", std::to_string(*options.seed));
   if (video) document.Set("video.enabled", *video ? "true" : "false");
-  if (options.out) document.Set("output.dir", "'" + *options.out + "'");
+  if (options.out) document.SetString("output.dir", *options.out);
   return LoadScenario(document);
 }
 
@@ -73,7 +75,8 @@ Scenario ResolveScenario(const ScenarioOptions& options, std::optional<bool> vid
 std::string ExistingRobotModel(const Scenario& scenario) {
   const std::string model = RobotModelPath(scenario, ModelsDirectory());
   if (access(model.c_str(), R_OK) != 0) {
-    throw common::InputError(model, "robot.model", "cannot open robot model '" + scenario.robot_model + "'");
+    throw common::InputError(model, "robot.model",
+                             "cannot open robot model '" + scenario.robot_model + "'");
   }
   return model;
 }
@@ -102,10 +105,12 @@ int Run(const ScenarioOptions& options, std::optional<bool> video) {
   std::printf("outcome: %s (expected %s)\n", OutcomeName(summary.outcome),
               OutcomeName(scenario.expected_outcome));
   std::printf("simulated %.1f s in %.1f s wall time (%.1fx real time), drove %.1f m\n",
-              summary.sim_time_s, summary.wall_time_s, summary.real_time_factor, summary.distance_m);
+              summary.sim_time_s, summary.wall_time_s, summary.real_time_factor,
+              summary.distance_m);
   std::printf("summary: %s/summary.json\n", folder.final_path().c_str());
   if (summary.video_frames > 0) {
-    std::printf("video:   %s/video.mp4 (%d frames)\n", folder.final_path().c_str(), summary.video_frames);
+    std::printf("video:   %s/video.mp4 (%d frames)\n", folder.final_path().c_str(),
+                summary.video_frames);
   }
   return summary.outcome == scenario.expected_outcome ? kExitExpected : kExitOtherOutcome;
 }
@@ -123,8 +128,9 @@ int Terrain(const ScenarioOptions& options) {
               sim::TerrainTypeName(scenario.terrain.type),
               static_cast<unsigned long long>(scenario.terrain.seed), world.geometry.num_x,
               world.geometry.num_y, world.obstacles.size());
-  std::printf("written to %s (heightmap.png, heightmap.raw, cloud.pcd, preview.png, terrain.json)\n",
-              folder.final_path().c_str());
+  std::printf(
+      "written to %s (heightmap.png, heightmap.raw, cloud.pcd, preview.png, terrain.json)\n",
+      folder.final_path().c_str());
   return kExitExpected;
 }
 
@@ -136,8 +142,8 @@ int Calibrate(const ScenarioOptions& options) {
               model.c_str(), scenario.skid_steer.effective_track_factor);
   std::printf("%12s %14s %12s %14s\n", "cmd v [m/s]", "cmd w [rad/s]", "v [m/s]", "w [rad/s]");
   for (const CalibrationSample& sample : result.samples) {
-    std::printf("%12.2f %14.2f %12.3f %14.3f\n", sample.commanded_v_m_s, sample.commanded_omega_rad_s,
-                sample.measured_v_m_s, sample.measured_omega_rad_s);
+    std::printf("%12.2f %14.2f %12.3f %14.3f\n", sample.commanded_v_m_s,
+                sample.commanded_omega_rad_s, sample.measured_v_m_s, sample.measured_omega_rad_s);
   }
   std::printf("effective_track_factor that matches the commanded yaw rates: %.3f\n",
               result.effective_track_factor);
@@ -151,11 +157,14 @@ int Main(int argc, char** argv) {
 
   ScenarioOptions run_options;
   std::optional<bool> video;
-  CLI::App* run = app.add_subcommand("run", "Run a scenario and write summary.json, trajectory.csv "
-                                            "and video.mp4 into its output folder");
+  CLI::App* run = app.add_subcommand("run",
+                                     "Run a scenario and write summary.json, trajectory.csv "
+                                     "and video.mp4 into its output folder");
   AddScenarioOptions(run, &run_options);
-  run->add_flag_callback("--video", [&] { video = true; }, "Record video.mp4 (overrides video.enabled)");
-  run->add_flag_callback("--no-video", [&] { video = false; }, "Do not record a video");
+  run->add_flag_callback(
+      "--video", [&] { video = true; }, "Record video.mp4 (overrides video.enabled)");
+  run->add_flag_callback(
+      "--no-video", [&] { video = false; }, "Do not record a video");
 
   ScenarioOptions terrain_options;
   CLI::App* terrain = app.add_subcommand(

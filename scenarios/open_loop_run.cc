@@ -26,8 +26,8 @@ class VideoCamera {
  public:
   VideoCamera(renders::CameraMode mode, const sim::TerrainWorld& world) : mode_(mode) {
     const Eigen::Vector2d centre = world.geometry.Center();
-    overview_ = renders::OverviewView(Eigen::Vector3d(centre.x(), centre.y(), world.height_m.mean()),
-                                      world.geometry.Extent());
+    overview_ = renders::OverviewView(
+        Eigen::Vector3d(centre.x(), centre.y(), world.height_m.mean()), world.geometry.Extent());
   }
   renders::CameraView View(const Eigen::Isometry3d& X_WB, double dt_s) {
     switch (mode_) {
@@ -51,7 +51,8 @@ class VideoCamera {
 
 std::string RobotModelPath(const Scenario& scenario, const std::string& models_dir) {
   const std::filesystem::path model(scenario.robot_model);
-  return model.is_absolute() ? model.string() : (std::filesystem::path(models_dir) / model).string();
+  return model.is_absolute() ? model.string()
+                             : (std::filesystem::path(models_dir) / model).string();
 }
 
 RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_path,
@@ -72,13 +73,15 @@ RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_
   renders::Image frame;
   if (scenario.video.enabled) {
     renderer = std::make_unique<renders::Renderer>(&simulation, scenario.video.render);
-    video = std::make_unique<renders::VideoWriter>(output_dir + "/video.mp4", scenario.video.render.width,
-                                                   scenario.video.render.height, scenario.video.fps);
+    video = std::make_unique<renders::VideoWriter>(
+        output_dir + "/video.mp4", scenario.video.render.width, scenario.video.render.height,
+        scenario.video.fps);
     camera.emplace(scenario.video.camera, world);
   }
   const double frame_period_s = 1.0 / scenario.video.fps;
   double next_frame_s = 0.0;
-  const int steps_per_sample = std::max(1, static_cast<int>(std::lround(kTrajectoryPeriod_s / simulation.timestep())));
+  const int steps_per_sample =
+      std::max(1, static_cast<int>(std::lround(kTrajectoryPeriod_s / simulation.timestep())));
 
   std::ofstream trajectory(output_dir + "/trajectory.csv");
   trajectory << "t,x,y,z,roll,pitch,yaw,v_forward,yaw_rate,cmd_v,cmd_omega,"
@@ -125,9 +128,10 @@ RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_
       char line[512];
       std::snprintf(line, sizeof(line),
                     "%.3f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f\n",
-                    state.time_s, p.x(), p.y(), p.z(), rpy.roll, rpy.pitch, rpy.yaw, state.v_WB_B.x(),
-                    state.w_WB_B.z(), command.v, command.omega, state.wheel_speeds[0],
-                    state.wheel_speeds[1], state.wheel_speeds[2], state.wheel_speeds[3]);
+                    state.time_s, p.x(), p.y(), p.z(), rpy.roll, rpy.pitch, rpy.yaw,
+                    state.v_WB_B.x(), state.w_WB_B.z(), command.v, command.omega,
+                    state.wheel_speeds[0], state.wheel_speeds[1], state.wheel_speeds[2],
+                    state.wheel_speeds[3]);
       trajectory << line;
     }
     if (common::TiltAngle(state.X_WB.linear()) > tilt_limit) {
@@ -151,7 +155,8 @@ RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_
   summary.sim_time_s = simulation.time();
   summary.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  summary.real_time_factor = summary.wall_time_s > 0.0 ? summary.sim_time_s / summary.wall_time_s : 0.0;
+  summary.real_time_factor =
+      summary.wall_time_s > 0.0 ? summary.sim_time_s / summary.wall_time_s : 0.0;
   const double n = std::max(1, summary.physics_steps);
   summary.rms_roll_deg = std::sqrt(sum_roll2 / n) * kRadToDeg;
   summary.rms_pitch_deg = std::sqrt(sum_pitch2 / n) * kRadToDeg;

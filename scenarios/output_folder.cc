@@ -20,7 +20,8 @@ OutputFolder::OutputFolder(const std::string& final_path) {
   fs::remove_all(partial_path_, error);
   fs::create_directories(partial_path_, error);
   if (error) {
-    throw std::runtime_error("cannot create output folder " + partial_path_ + ": " + error.message());
+    throw std::runtime_error("cannot create output folder " + partial_path_ + ": " +
+                             error.message());
   }
 }
 

@@ -15,10 +15,10 @@ template <typename Enum>
 using Names = std::vector<std::pair<std::string, Enum>>;
 
 const Names<sim::TerrainType> kTerrainTypes = {
-    {"flat", sim::TerrainType::kFlat},     {"slope", sim::TerrainType::kSlope},
-    {"step", sim::TerrainType::kStep},     {"stairs", sim::TerrainType::kStairs},
-    {"hilly", sim::TerrainType::kHilly},   {"forest", sim::TerrainType::kForest},
-    {"ruin", sim::TerrainType::kRuin},     {"road", sim::TerrainType::kRoad},
+    {"flat", sim::TerrainType::kFlat},    {"slope", sim::TerrainType::kSlope},
+    {"step", sim::TerrainType::kStep},    {"stairs", sim::TerrainType::kStairs},
+    {"hilly", sim::TerrainType::kHilly},  {"forest", sim::TerrainType::kForest},
+    {"ruin", sim::TerrainType::kRuin},    {"road", sim::TerrainType::kRoad},
     {"indoor", sim::TerrainType::kIndoor}};
 const Names<sim::FractalFamily> kFamilies = {{"fbm", sim::FractalFamily::kFbm},
                                              {"ridged", sim::FractalFamily::kRidged},
@@ -108,7 +108,9 @@ class WriteArchive {
   void Field(const std::string& key, T* value, Predicate, const std::string&) {
     Field(key, value);
   }
-  void Field(const std::string& key, Eigen::Vector2d* value) { WriteFlow(key, {value->x(), value->y()}); }
+  void Field(const std::string& key, Eigen::Vector2d* value) {
+    WriteFlow(key, {value->x(), value->y()});
+  }
   void Field(const std::string& key, std::array<double, 2>* range) {
     WriteFlow(key, {range->at(0), range->at(1)});
   }
@@ -218,8 +220,9 @@ void VisitTerrainParameters(Archive& a, sim::TerrainConfig& t) {
 template <typename Archive>
 void VisitScenario(Archive& a, Scenario& s) {
   int schema_version = 1;
-  a.Field("schema_version", &schema_version, [](int v) { return v == 1; },
-          "is not supported (this trav reads schema version 1)");
+  a.Field(
+      "schema_version", &schema_version, [](int v) { return v == 1; },
+      "is not supported (this trav reads schema version 1)");
   a.Field("name", &s.name);
   a.Map("terrain", [&](Archive& t) {
     t.Enum("type", &s.terrain.type, kTerrainTypes);
@@ -234,20 +237,24 @@ void VisitScenario(Archive& a, Scenario& s) {
     r.Map("skid_steer", [&](Archive& k) {
       k.Field("wheel_radius", &s.skid_steer.wheel_radius_m, Positive, kPositive);
       k.Field("track", &s.skid_steer.track_m, Positive, kPositive);
-      k.Field("effective_track_factor", &s.skid_steer.effective_track_factor,
-              [](double v) { return v >= 1.0; }, "must be >= 1");
+      k.Field(
+          "effective_track_factor", &s.skid_steer.effective_track_factor,
+          [](double v) { return v >= 1.0; }, "must be >= 1");
       k.Field("max_speed", &s.skid_steer.max_speed_m_s, Positive, kPositive);
       k.Field("max_yaw_rate", &s.skid_steer.max_yaw_rate_rad_s, Positive, kPositive);
       k.Field("max_wheel_speed", &s.skid_steer.max_wheel_speed_rad_s, Positive, kPositive);
     });
-    r.Field("rollover_limit_deg", &s.rollover_limit_deg,
-            [](double v) { return v > 0.0 && v <= 180.0; }, "must be in (0, 180]");
+    r.Field(
+        "rollover_limit_deg", &s.rollover_limit_deg, [](double v) { return v > 0.0 && v <= 180.0; },
+        "must be in (0, 180]");
   });
   a.Map("physics", [&](Archive& p) {
-    p.Field("timestep", &s.physics_timestep_s, [](double v) { return v > 0.0 && v <= 0.01; },
-            "must be in (0, 0.01]");
-    p.Field("ground_friction", &s.ground_friction, [](double v) { return v > 0.0 && v <= 5.0; },
-            "must be in (0, 5]");
+    p.Field(
+        "timestep", &s.physics_timestep_s, [](double v) { return v > 0.0 && v <= 0.01; },
+        "must be in (0, 0.01]");
+    p.Field(
+        "ground_friction", &s.ground_friction, [](double v) { return v > 0.0 && v <= 5.0; },
+        "must be in (0, 5]");
   });
   a.Field("goal", &s.goal_W);
   a.Field("duration", &s.duration_s, Positive, kPositive);
@@ -260,8 +267,8 @@ void VisitScenario(Archive& a, Scenario& s) {
     v.Field("enabled", &s.video.enabled);
     v.Field("width", &s.video.render.width);
     v.Field("height", &s.video.render.height);
-    v.Field("fps", &s.video.fps, [](double f) { return f > 0.0 && f <= 120.0; },
-            "must be in (0, 120]");
+    v.Field(
+        "fps", &s.video.fps, [](double f) { return f > 0.0 && f <= 120.0; }, "must be in (0, 120]");
     v.Enum("camera", &s.video.camera, kCameras);
     v.Enum("backend", &s.video.render.backend, kBackends);
     v.Field("shadows", &s.video.render.shadows);
@@ -309,7 +316,8 @@ common::Twist2 DriveCommandAt(const std::vector<DriveSegment>& drive, double t_s
 }
 
 const std::string& DefaultScenarioYaml() {
-  static const std::string kYaml = R"(# trav's built-in default scenario: the Scout Mini drives over hilly terrain for 30 s.
+  static const std::string kYaml =
+      R"(# trav's built-in default scenario: the Scout Mini drives over hilly terrain for 30 s.
 schema_version: 1
 name: default
 terrain:

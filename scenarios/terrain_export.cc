@@ -30,8 +30,8 @@ void WriteHeightmaps(const sim::TerrainWorld& world, const OutputFolder& folder)
   for (int row = 0; row < g.num_y; ++row) {
     const int iy = g.num_y - 1 - row;  // top row = largest y
     for (int ix = 0; ix < g.num_x; ++ix) {
-      png[static_cast<std::size_t>(row) * g.num_x + ix] =
-          static_cast<std::uint16_t>(std::lround((world.height_m(ix, iy) - low) / range * 65535.0f));
+      png[static_cast<std::size_t>(row) * g.num_x + ix] = static_cast<std::uint16_t>(
+          std::lround((world.height_m(ix, iy) - low) / range * 65535.0f));
     }
   }
   renders::WritePng16(folder.File("heightmap.png"), g.num_x, g.num_y, png);
@@ -72,13 +72,18 @@ void WritePreview(const sim::TerrainWorld& world, const OutputFolder& folder) {
     for (int ix = 0; ix < g.num_x; ++ix) {
       const int x0 = std::max(ix - 1, 0), x1 = std::min(ix + 1, g.num_x - 1);
       const int y0 = std::max(iy - 1, 0), y1 = std::min(iy + 1, g.num_y - 1);
-      const double gx = (world.height_m(x1, iy) - world.height_m(x0, iy)) / ((x1 - x0) * g.resolution_m);
-      const double gy = (world.height_m(ix, y1) - world.height_m(ix, y0)) / ((y1 - y0) * g.resolution_m);
-      const double shade = std::clamp(Eigen::Vector3d(-gx, -gy, 1).normalized().dot(light), 0.2, 1.0);
+      const double gx =
+          (world.height_m(x1, iy) - world.height_m(x0, iy)) / ((x1 - x0) * g.resolution_m);
+      const double gy =
+          (world.height_m(ix, y1) - world.height_m(ix, y0)) / ((y1 - y0) * g.resolution_m);
+      const double shade =
+          std::clamp(Eigen::Vector3d(-gx, -gy, 1).normalized().dot(light), 0.2, 1.0);
       const double t = (world.height_m(ix, iy) - low) / range;
-      const Eigen::Vector3d base = (1 - t) * Eigen::Vector3d(0.45, 0.62, 0.35) + t * Eigen::Vector3d(0.72, 0.6, 0.45);
+      const Eigen::Vector3d base =
+          (1 - t) * Eigen::Vector3d(0.45, 0.62, 0.35) + t * Eigen::Vector3d(0.72, 0.6, 0.45);
       std::uint8_t* pixel = image.rgb.data() + 3 * (static_cast<std::size_t>(row) * g.num_x + ix);
-      for (int c = 0; c < 3; ++c) pixel[c] = static_cast<std::uint8_t>(std::lround(255 * shade * base[c]));
+      for (int c = 0; c < 3; ++c)
+        pixel[c] = static_cast<std::uint8_t>(std::lround(255 * shade * base[c]));
     }
   }
   // obstacles seen from above, lowest first so canopies cover trunks (the ceiling is left out)
@@ -90,13 +95,16 @@ void WritePreview(const sim::TerrainWorld& world, const OutputFolder& folder) {
     return a->X_WO.translation().z() < b->X_WO.translation().z();
   });
   for (const sim::Obstacle* obstacle : order) {
-    const common::PointCloud surface = sim::SampleSurface(sim::ObstacleMesh({*obstacle}), 0.5 * g.resolution_m);
+    const common::PointCloud surface =
+        sim::SampleSurface(sim::ObstacleMesh({*obstacle}), 0.5 * g.resolution_m);
     for (Eigen::Index i = 0; i < surface.size(); ++i) {
       const auto cell = g.CellIndex(surface.points.col(i).head<2>().cast<double>());
       if (!cell) continue;
-      std::uint8_t* pixel = image.rgb.data() +
-                            3 * (static_cast<std::size_t>(g.num_y - 1 - cell->y()) * g.num_x + cell->x());
-      for (int c = 0; c < 3; ++c) pixel[c] = static_cast<std::uint8_t>(std::lround(255 * obstacle->rgba[c]));
+      std::uint8_t* pixel =
+          image.rgb.data() +
+          3 * (static_cast<std::size_t>(g.num_y - 1 - cell->y()) * g.num_x + cell->x());
+      for (int c = 0; c < 3; ++c)
+        pixel[c] = static_cast<std::uint8_t>(std::lround(255 * obstacle->rgba[c]));
     }
   }
   renders::WritePng(folder.File("preview.png"), image);
@@ -114,12 +122,10 @@ void WriteMetadata(const sim::TerrainWorld& world, const OutputFolder& folder) {
                   {"num_y", g.num_y}};
   json["height_min_m"] = world.height_m.minCoeff();
   json["height_max_m"] = world.height_m.maxCoeff();
-  json["statistics"] = {{"slope_p50_deg", stats.slope_p50_deg},
-                        {"slope_p95_deg", stats.slope_p95_deg},
-                        {"slope_max_deg", stats.slope_max_deg},
-                        {"num_obstacles", stats.num_obstacles},
-                        {"num_trees", stats.num_trees},
-                        {"tree_density_per_m2", stats.tree_density_per_m2}};
+  json["statistics"] = {
+      {"slope_p50_deg", stats.slope_p50_deg}, {"slope_p95_deg", stats.slope_p95_deg},
+      {"slope_max_deg", stats.slope_max_deg}, {"num_obstacles", stats.num_obstacles},
+      {"num_trees", stats.num_trees},         {"tree_density_per_m2", stats.tree_density_per_m2}};
   nlohmann::json obstacles = nlohmann::json::array();
   for (const sim::Obstacle& obstacle : world.obstacles) {
     const Eigen::Vector3d p = obstacle.X_WO.translation();

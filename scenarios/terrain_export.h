@@ -6,7 +6,8 @@
 namespace trav::scenarios {
 
 /// Writes a generated world into `folder` (what `trav terrain` produces):
-/// - `heightmap.png`: 16-bit grayscale, white = high, top row = largest y (MuJoCo's PNG height-field
+/// - `heightmap.png`: 16-bit grayscale, white = high, top row = largest y (MuJoCo's PNG
+/// height-field
 ///   convention), heights mapped linearly from height_min_m to height_max_m of terrain.json;
 /// - `heightmap.raw`: float32 heights [m], little-endian, row-major with rows along +y starting at
 ///   the smallest y (num_y rows of num_x values);

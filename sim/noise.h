@@ -28,7 +28,8 @@ class PerlinNoise {
   std::array<std::uint8_t, 512> permutation_{};
 };
 
-/// Fractal families of the EPFL procedural terrain generator (reference/simulation.md, section 6.1).
+/// Fractal families of the EPFL procedural terrain generator (reference/simulation.md,
+/// section 6.1).
 enum class FractalFamily {
   kFbm,      ///< fractional Brownian motion: sum of octaves
   kRidged,   ///< sum of (1 - |n|): sharp ridges
@@ -39,11 +40,11 @@ enum class FractalFamily {
 /// Parameters of a fractal noise field; lengths in lattice units of the base octave.
 struct FractalParams {
   FractalFamily family{FractalFamily::kFbm};
-  int octaves{5};            ///< number of octaves, >= 1
-  double lacunarity{2.0};    ///< frequency ratio between octaves, > 1
-  double gain{0.5};          ///< amplitude ratio between octaves, in (0, 1)
-  double warp{0.0};          ///< domain warping strength (kFbm/kRidged/kBillowy: offset by a second
-                             ///< noise field; kSwiss: derivative warp), >= 0
+  int octaves{5};          ///< number of octaves, >= 1
+  double lacunarity{2.0};  ///< frequency ratio between octaves, > 1
+  double gain{0.5};        ///< amplitude ratio between octaves, in (0, 1)
+  double warp{0.0};        ///< domain warping strength (kFbm/kRidged/kBillowy: offset by a second
+                           ///< noise field; kSwiss: derivative warp), >= 0
 };
 
 /// A fractal noise field over the plane built from one seeded Perlin lattice.

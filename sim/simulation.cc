@@ -1,12 +1,12 @@
 #include "sim/simulation.h"
 
-#include <mujoco/mujoco.h>
-
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <mutex>
 #include <stdexcept>
+
+#include <mujoco/mujoco.h>
 
 #include "common/input_error.h"
 #include "common/logging.h"
@@ -116,7 +116,8 @@ Simulation::Simulation(const TerrainWorld& terrain, const common::Pose2& start_W
   root_qpos_address_ = model_->jnt_qposadr[root];
   root_qvel_address_ = model_->jnt_dofadr[root];
   for (int w = 0; w < 4; ++w) {
-    wheel_qvel_address_[w] = model_->jnt_dofadr[RequireId(model_.get(), mjOBJ_JOINT, kWheelJoints[w])];
+    wheel_qvel_address_[w] =
+        model_->jnt_dofadr[RequireId(model_.get(), mjOBJ_JOINT, kWheelJoints[w])];
     if (RequireId(model_.get(), mjOBJ_ACTUATOR, kWheelActuators[w]) != w) {
       throw std::runtime_error(std::string("robot model: actuator ") + kWheelActuators[w] +
                                " must be number " + std::to_string(w));
@@ -179,8 +180,8 @@ void Simulation::CollectWarnings() {
     const int number = data_->warning[kind].number;
     if (number == last_warning_numbers_[kind]) continue;
     if (last_warning_numbers_[kind] == 0) {
-      warning_messages_.push_back(std::string(WarningName(kind)) + " at t = " +
-                                  std::to_string(data_->time) + " s (info " +
+      warning_messages_.push_back(std::string(WarningName(kind)) +
+                                  " at t = " + std::to_string(data_->time) + " s (info " +
                                   std::to_string(data_->warning[kind].lastinfo) + ")");
     }
     warning_count_ += number - last_warning_numbers_[kind];
@@ -207,8 +208,8 @@ Eigen::Isometry3d Simulation::LidarPose() const {
   Eigen::Isometry3d X_WL = Eigen::Isometry3d::Identity();
   const mjtNum* p = data_->site_xpos + 3 * lidar_site_id_;
   X_WL.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
-  X_WL.linear() =
-      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(data_->site_xmat + 9 * lidar_site_id_);
+  X_WL.linear() = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
+      data_->site_xmat + 9 * lidar_site_id_);
   return X_WL;
 }
 

@@ -21,7 +21,8 @@ namespace trav::sim {
 /// Outcome of one physics step.
 enum class StepStatus {
   kOk,        ///< stepped normally
-  kDiverged,  ///< MuJoCo reported a bad state (NaN or huge qpos, qvel or qacc) or the state is not finite
+  kDiverged,  ///< MuJoCo reported a bad state (NaN or huge qpos, qvel or qacc) or the state is not
+              ///< finite
 };
 
 /// A MuJoCo world built from a generated terrain with the Scout Mini on it, stepped at a fixed
@@ -32,7 +33,8 @@ class Simulation {
   /// Builds the world of `terrain` and places the robot with its base B at `start_W` (x, y, yaw),
   /// aligned with the ground under its wheels and dropped from 1 cm above it.
   /// @throws std::runtime_error if the robot model cannot be loaded or the world does not compile.
-  Simulation(const TerrainWorld& terrain, const common::Pose2& start_W, const WorldOptions& options);
+  Simulation(const TerrainWorld& terrain, const common::Pose2& start_W,
+             const WorldOptions& options);
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;

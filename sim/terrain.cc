@@ -15,8 +15,7 @@ constexpr double kDegToRad = M_PI / 180.0;
 
 void Require(bool condition, const std::string& field, double value, const std::string& what) {
   if (!condition) {
-    throw InputError("", "terrain." + field,
-                     "value " + std::to_string(value) + " " + what);
+    throw InputError("", "terrain." + field, "value " + std::to_string(value) + " " + what);
   }
 }
 
@@ -25,7 +24,8 @@ std::vector<double> SlopeMagnitudes(const TerrainWorld& world) {
   std::vector<double> slopes;
   const Eigen::MatrixXf& h = world.height_m;
   const double two_res = 2.0 * world.geometry.resolution_m;
-  slopes.reserve(static_cast<std::size_t>(std::max<Eigen::Index>(0, (h.rows() - 2) * (h.cols() - 2))));
+  slopes.reserve(
+      static_cast<std::size_t>(std::max<Eigen::Index>(0, (h.rows() - 2) * (h.cols() - 2))));
   for (Eigen::Index iy = 1; iy + 1 < h.cols(); ++iy) {
     for (Eigen::Index ix = 1; ix + 1 < h.rows(); ++ix) {
       const double gx = (h(ix + 1, iy) - h(ix - 1, iy)) / two_res;
@@ -54,13 +54,15 @@ void FillProfile(const TerrainConfig& config, internal::ObstaclePlacer* placer) 
     double h = 0.0;
     switch (config.type) {
       case TerrainType::kSlope:
-        h = std::max(0.0, x - config.slope.start_x_m) * std::tan(config.slope.angle_deg * kDegToRad);
+        h = std::max(0.0, x - config.slope.start_x_m) *
+            std::tan(config.slope.angle_deg * kDegToRad);
         break;
       case TerrainType::kStep:
         h = x > config.step.x_m ? config.step.height_m : 0.0;
         break;
       case TerrainType::kStairs: {
-        const double steps = std::floor((x - config.stairs.start_x_m) / config.stairs.step_depth_m) + 1.0;
+        const double steps =
+            std::floor((x - config.stairs.start_x_m) / config.stairs.step_depth_m) + 1.0;
         h = config.stairs.step_height_m * std::clamp(steps, 0.0, double(config.stairs.num_steps));
         break;
       }
@@ -71,18 +73,23 @@ void FillProfile(const TerrainConfig& config, internal::ObstaclePlacer* placer) 
   }
   auto add_riser = [&](double edge_x, double top_z) {
     // from the edge to the first sample beyond it, across the whole world
-    const double next_sample = g.origin_W.x() + g.resolution_m * (std::floor((edge_x - g.origin_W.x()) / g.resolution_m) + 1.0);
+    const double next_sample =
+        g.origin_W.x() +
+        g.resolution_m * (std::floor((edge_x - g.origin_W.x()) / g.resolution_m) + 1.0);
     Obstacle riser;
     riser.shape = ShapeType::kBox;
-    riser.size = Eigen::Vector3d(0.5 * (next_sample - edge_x), 0.5 * g.Extent().y(), 0.5 * top_z + 0.05);
-    riser.X_WO.translation() = Eigen::Vector3d(0.5 * (edge_x + next_sample), g.Center().y(), 0.5 * top_z - 0.05);
+    riser.size =
+        Eigen::Vector3d(0.5 * (next_sample - edge_x), 0.5 * g.Extent().y(), 0.5 * top_z + 0.05);
+    riser.X_WO.translation() =
+        Eigen::Vector3d(0.5 * (edge_x + next_sample), g.Center().y(), 0.5 * top_z - 0.05);
     riser.rgba = Eigen::Vector4f(0.6f, 0.6f, 0.6f, 1.0f);
     if (riser.size.x() > 1e-6 && top_z > 0.0) placer->Add("riser", riser);
   };
   if (config.type == TerrainType::kStep) add_riser(config.step.x_m, config.step.height_m);
   if (config.type == TerrainType::kStairs) {
     for (int k = 0; k < config.stairs.num_steps; ++k) {
-      add_riser(config.stairs.start_x_m + k * config.stairs.step_depth_m, (k + 1) * config.stairs.step_height_m);
+      add_riser(config.stairs.start_x_m + k * config.stairs.step_depth_m,
+                (k + 1) * config.stairs.step_height_m);
     }
   }
 }
@@ -121,8 +128,8 @@ namespace {
 
 void ValidateHilly(const TerrainConfig& c) {
   const HillyParams& h = c.hilly;
-  Require(h.fractal.octaves >= 1 && h.fractal.octaves <= 12, "parameters.octaves", h.fractal.octaves,
-          "must be in [1, 12]");
+  Require(h.fractal.octaves >= 1 && h.fractal.octaves <= 12, "parameters.octaves",
+          h.fractal.octaves, "must be in [1, 12]");
   Require(h.fractal.lacunarity > 1.0, "parameters.lacunarity", h.fractal.lacunarity, "must be > 1");
   Require(h.fractal.gain > 0.0 && h.fractal.gain < 1.0, "parameters.gain", h.fractal.gain,
           "must be in (0, 1)");
@@ -139,9 +146,11 @@ void ValidateForest(const ForestParams& f) {
   Require(f.tree_density_per_m2 > 0.0 && f.tree_density_per_m2 <= 1.0, "parameters.tree_density",
           f.tree_density_per_m2, "must be in (0, 1]");
   Require(f.trunk_radius_m[0] > 0.0 && f.trunk_radius_m[0] <= f.trunk_radius_m[1],
-          "parameters.trunk_radius", f.trunk_radius_m[0], "must be a range [min, max] with min > 0");
+          "parameters.trunk_radius", f.trunk_radius_m[0],
+          "must be a range [min, max] with min > 0");
   Require(f.trunk_height_m[0] > 0.0 && f.trunk_height_m[0] <= f.trunk_height_m[1],
-          "parameters.trunk_height", f.trunk_height_m[0], "must be a range [min, max] with min > 0");
+          "parameters.trunk_height", f.trunk_height_m[0],
+          "must be a range [min, max] with min > 0");
 }
 
 void ValidateRuin(const RuinParams& r) {
@@ -166,7 +175,8 @@ void ValidateIndoor(const IndoorParams& in) {
   Require(in.min_room_size_m >= 2.0 * in.door_width_m, "parameters.min_room_size",
           in.min_room_size_m, "must be >= twice the door width");
   Require(in.wall_height_m > 0.5, "parameters.wall_height", in.wall_height_m, "must be > 0.5 m");
-  Require(in.wall_thickness_m > 0.0, "parameters.wall_thickness", in.wall_thickness_m, "must be > 0");
+  Require(in.wall_thickness_m > 0.0, "parameters.wall_thickness", in.wall_thickness_m,
+          "must be > 0");
 }
 
 }  // namespace
@@ -192,9 +202,11 @@ void ValidateTerrainConfig(const TerrainConfig& c) {
     Require(c.step.height_m >= 0.0, "parameters.height", c.step.height_m, "must be >= 0");
   }
   if (c.type == TerrainType::kStairs) {
-    Require(c.stairs.step_depth_m > 0.0, "parameters.step_depth", c.stairs.step_depth_m, "must be > 0");
+    Require(c.stairs.step_depth_m > 0.0, "parameters.step_depth", c.stairs.step_depth_m,
+            "must be > 0");
     Require(c.stairs.num_steps >= 1, "parameters.num_steps", c.stairs.num_steps, "must be >= 1");
-    Require(c.stairs.step_height_m >= 0.0, "parameters.step_height", c.stairs.step_height_m, "must be >= 0");
+    Require(c.stairs.step_height_m >= 0.0, "parameters.step_height", c.stairs.step_height_m,
+            "must be >= 0");
   }
 }
 
@@ -204,8 +216,8 @@ TerrainWorld GenerateTerrain(const TerrainConfig& config,
   ValidateTerrainConfig(config);
   TerrainWorld world;
   world.config = config;
-  world.geometry = common::GridGeometry::Centered(Eigen::Vector2d::Zero(), config.size_m,
-                                                  config.resolution_m);
+  world.geometry =
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), config.size_m, config.resolution_m);
   world.height_m = Eigen::MatrixXf::Zero(world.geometry.num_x, world.geometry.num_y);
 
   common::Random random(config.seed);
@@ -262,7 +274,8 @@ void FillHillyGround(const TerrainConfig& config, common::Random* random, Terrai
     Eigen::MatrixXf bumps(coarse.num_x, coarse.num_y);
     for (int iy = 0; iy < coarse.num_y; ++iy) {
       for (int ix = 0; ix < coarse.num_x; ++ix) {
-        bumps(ix, iy) = static_cast<float>(random->Uniform(-params.roughness_m, params.roughness_m));
+        bumps(ix, iy) =
+            static_cast<float>(random->Uniform(-params.roughness_m, params.roughness_m));
       }
     }
     for (int iy = 0; iy < world->geometry.num_y; ++iy) {
@@ -291,7 +304,8 @@ ObstaclePlacer::ObstaclePlacer(TerrainWorld* world, std::vector<Eigen::Vector2d>
 bool ObstaclePlacer::IsFree(const Eigen::Vector2d& p_W, double radius_m) const {
   const Eigen::Vector2d low = world_->geometry.origin_W;
   const Eigen::Vector2d high = low + world_->geometry.Extent();
-  if ((p_W.array() - radius_m < low.array()).any() || (p_W.array() + radius_m > high.array()).any()) {
+  if ((p_W.array() - radius_m < low.array()).any() ||
+      (p_W.array() + radius_m > high.array()).any()) {
     return false;
   }
   for (const Eigen::Vector2d& c : keep_clear_W_) {
@@ -318,7 +332,8 @@ bool ObstaclePlacer::IsRectangleFree(const Eigen::Vector2d& centre_W,
 
 Eigen::Vector2d ObstaclePlacer::RandomPosition(common::Random* random, double margin_m) const {
   const Eigen::Vector2d low = world_->geometry.origin_W.array() + margin_m;
-  const Eigen::Vector2d high = (world_->geometry.origin_W + world_->geometry.Extent()).array() - margin_m;
+  const Eigen::Vector2d high =
+      (world_->geometry.origin_W + world_->geometry.Extent()).array() - margin_m;
   return Eigen::Vector2d(random->Uniform(low.x(), high.x()), random->Uniform(low.y(), high.y()));
 }
 
@@ -387,7 +402,8 @@ TerrainStatistics ComputeStatistics(const TerrainWorld& world) {
   auto to_deg = [](double slope) { return std::atan(slope) / kDegToRad; };
   stats.slope_p50_deg = to_deg(Percentile(slopes, 0.5));
   stats.slope_p95_deg = to_deg(Percentile(slopes, 0.95));
-  stats.slope_max_deg = to_deg(slopes.empty() ? 0.0 : *std::max_element(slopes.begin(), slopes.end()));
+  stats.slope_max_deg =
+      to_deg(slopes.empty() ? 0.0 : *std::max_element(slopes.begin(), slopes.end()));
   stats.height_min_m = world.height_m.minCoeff();
   stats.height_max_m = world.height_m.maxCoeff();
   for (const Obstacle& obstacle : world.obstacles) {

@@ -22,20 +22,21 @@ const char* TerrainTypeName(TerrainType type);
 /// Hilly ground (also the base of forest and ruin): fractal noise rescaled so that a chosen
 /// percentile of the slope reaches a target angle.
 struct HillyParams {
-  FractalParams fractal{};        ///< noise family and octaves
-  double wavelength_m{18.0};      ///< wavelength of the base octave [m], > 0
-  double slope_p95_deg{12.0};     ///< 95th percentile of the ground slope after rescaling [deg], in [0, 45)
-  double roughness_m{0.02};       ///< amplitude of the fine uniform bumps added on top [m], >= 0
-  double roughness_cell_m{0.2};   ///< size of a roughness bump [m], >= resolution
+  FractalParams fractal{};    ///< noise family and octaves
+  double wavelength_m{18.0};  ///< wavelength of the base octave [m], > 0
+  double slope_p95_deg{
+      12.0};  ///< 95th percentile of the ground slope after rescaling [deg], in [0, 45)
+  double roughness_m{0.02};      ///< amplitude of the fine uniform bumps added on top [m], >= 0
+  double roughness_cell_m{0.2};  ///< size of a roughness bump [m], >= resolution
 };
 
 /// Forest: trees (trunk cylinders that collide, canopies that only the LiDAR and the camera see) on
 /// hilly ground, placed by Poisson-disk sampling.
 struct ForestParams {
-  double tree_density_per_m2{0.08};                  ///< trees per m^2, in (0, 1]
-  std::array<double, 2> trunk_radius_m{0.08, 0.3};   ///< [min, max] [m]
-  std::array<double, 2> trunk_height_m{3.0, 8.0};    ///< [min, max] above ground [m]
-  bool canopy{true};                                 ///< add canopy spheres
+  double tree_density_per_m2{0.08};                 ///< trees per m^2, in (0, 1]
+  std::array<double, 2> trunk_radius_m{0.08, 0.3};  ///< [min, max] [m]
+  std::array<double, 2> trunk_height_m{3.0, 8.0};   ///< [min, max] above ground [m]
+  bool canopy{true};                                ///< add canopy spheres
 };
 
 /// Ruin: boxes (random yaw, tilted, partly buried), standing and fallen columns, low walls with
@@ -63,7 +64,7 @@ struct IndoorParams {
   double min_room_size_m{4.0};
   double wall_height_m{2.7};
   double wall_thickness_m{0.1};
-  double door_width_m{1.0};    ///< >= 0.8 so the robot fits
+  double door_width_m{1.0};  ///< >= 0.8 so the robot fits
   int furniture_per_room{2};
 };
 
@@ -110,9 +111,11 @@ enum class ObstacleRole {
 };
 
 /// A static obstacle primitive. Sizes follow MuJoCo's conventions: box half-extents (x, y, z);
-/// cylinder and capsule (radius, half-length, unused) along the local z axis; sphere (radius, -, -).
+/// cylinder and capsule (radius, half-length, unused) along the local z axis; sphere (radius, -,
+/// -).
 struct Obstacle {
-  std::string name;  ///< unique in the world; its prefix names the kind ("tree", "box", "wall", ...)
+  std::string
+      name;  ///< unique in the world; its prefix names the kind ("tree", "box", "wall", ...)
   ShapeType shape{ShapeType::kBox};
   ObstacleRole role{ObstacleRole::kSolid};
   Eigen::Isometry3d X_WO{Eigen::Isometry3d::Identity()};  ///< pose of the shape's frame in W
@@ -154,7 +157,7 @@ struct TerrainStatistics {
   double slope_max_deg{0.0};
   double height_min_m{0.0};
   double height_max_m{0.0};
-  int num_obstacles{0};          ///< solid obstacles (ceiling excluded)
+  int num_obstacles{0};             ///< solid obstacles (ceiling excluded)
   int num_trees{0};                 ///< obstacles named "tree..._trunk"
   double tree_density_per_m2{0.0};  ///< trees per m^2 of the world's area
 };

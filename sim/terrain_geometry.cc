@@ -26,8 +26,10 @@ struct MeshBuilder {
     TriangleMesh mesh;
     mesh.vertices_W.resize(3, static_cast<Eigen::Index>(vertices.size()));
     mesh.triangles.resize(3, static_cast<Eigen::Index>(triangles.size()));
-    for (std::size_t i = 0; i < vertices.size(); ++i) mesh.vertices_W.col(static_cast<Eigen::Index>(i)) = vertices[i];
-    for (std::size_t i = 0; i < triangles.size(); ++i) mesh.triangles.col(static_cast<Eigen::Index>(i)) = triangles[i];
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+      mesh.vertices_W.col(static_cast<Eigen::Index>(i)) = vertices[i];
+    for (std::size_t i = 0; i < triangles.size(); ++i)
+      mesh.triangles.col(static_cast<Eigen::Index>(i)) = triangles[i];
     return mesh;
   }
 };
@@ -58,8 +60,9 @@ void AddLathe(const Eigen::Isometry3d& X_WO, const std::vector<Eigen::Vector2d>&
     const int count = point.x() > 0.0 ? segments : 1;
     for (int s = 0; s < count; ++s) {
       const double angle = 2.0 * M_PI * s / segments;
-      ring.push_back(mesh->AddVertex(
-          X_WO * Eigen::Vector3d(point.x() * std::cos(angle), point.x() * std::sin(angle), point.y())));
+      ring.push_back(
+          mesh->AddVertex(X_WO * Eigen::Vector3d(point.x() * std::cos(angle),
+                                                 point.x() * std::sin(angle), point.y())));
     }
     rings.push_back(std::move(ring));
   }
@@ -94,7 +97,8 @@ common::PointCloud ToPointCloud(const std::vector<Eigen::Vector3f>& points) {
   common::PointCloud cloud;
   cloud.frame_id = "W";
   cloud.points.resize(3, static_cast<Eigen::Index>(points.size()));
-  for (std::size_t i = 0; i < points.size(); ++i) cloud.points.col(static_cast<Eigen::Index>(i)) = points[i];
+  for (std::size_t i = 0; i < points.size(); ++i)
+    cloud.points.col(static_cast<Eigen::Index>(i)) = points[i];
   return cloud;
 }
 
@@ -107,8 +111,8 @@ TriangleMesh GroundMesh(const TerrainWorld& world) {
   for (int iy = 0; iy < g.num_y; ++iy) {
     for (int ix = 0; ix < g.num_x; ++ix) {
       const Eigen::Vector2d p = g.CellCenter(ix, iy);
-      mesh.vertices_W.col(ix + iy * g.num_x) =
-          Eigen::Vector3f(static_cast<float>(p.x()), static_cast<float>(p.y()), world.height_m(ix, iy));
+      mesh.vertices_W.col(ix + iy * g.num_x) = Eigen::Vector3f(
+          static_cast<float>(p.x()), static_cast<float>(p.y()), world.height_m(ix, iy));
     }
   }
   mesh.triangles.resize(3, 2 * static_cast<Eigen::Index>(g.num_x - 1) * (g.num_y - 1));
@@ -193,7 +197,8 @@ common::PointCloud DenseCloud(const TerrainWorld& world, double spacing_m) {
   for (int iy = 0; iy < g.num_y; ++iy) {
     for (int ix = 0; ix < g.num_x; ++ix) {
       const Eigen::Vector2d p = g.CellCenter(ix, iy);
-      points.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), world.height_m(ix, iy));
+      points.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                          world.height_m(ix, iy));
     }
   }
   // obstacle surfaces above the ground

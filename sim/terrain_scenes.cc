@@ -33,13 +33,13 @@ Obstacle MakeObstacle(ShapeType shape, const Eigen::Isometry3d& X_WO, const Eige
 
 // A vertical cylinder standing on the ground at p_W, its base sunk `sink_m` below the lowest ground
 // under it, reaching `height_m` above the ground at its centre.
-Obstacle StandingCylinder(const ObstaclePlacer& placer, const Eigen::Vector2d& p_W,
-                          double radius_m, double height_m, double sink_m,
-                          const Eigen::Vector4f& rgba) {
+Obstacle StandingCylinder(const ObstaclePlacer& placer, const Eigen::Vector2d& p_W, double radius_m,
+                          double height_m, double sink_m, const Eigen::Vector4f& rgba) {
   const double base = placer.MinGroundHeight(p_W, radius_m) - sink_m;
   const double top = placer.world().GroundHeight(p_W) + height_m;
   const double half = 0.5 * (top - base);
-  return MakeObstacle(ShapeType::kCylinder, PoseAt(Eigen::Vector3d(p_W.x(), p_W.y(), base + half), 0.0),
+  return MakeObstacle(ShapeType::kCylinder,
+                      PoseAt(Eigen::Vector3d(p_W.x(), p_W.y(), base + half), 0.0),
                       Eigen::Vector3d(radius_m, half, 0.0), rgba);
 }
 
@@ -49,11 +49,13 @@ void GenerateForest(const TerrainConfig& config, common::Random* random, Obstacl
   FillHillyGround(config, random, &placer->world());
   const ForestParams& params = config.forest;
   const Eigen::Vector2d extent = placer->world().geometry.Extent();
-  const int target = static_cast<int>(std::lround(params.tree_density_per_m2 * extent.x() * extent.y()));
+  const int target =
+      static_cast<int>(std::lround(params.tree_density_per_m2 * extent.x() * extent.y()));
 
   // dart throwing with a minimum clear gap between trunks (a Poisson-disk set)
   std::vector<std::pair<Eigen::Vector2d, double>> trunks;
-  for (int attempt = 0; attempt < 50 * target && static_cast<int>(trunks.size()) < target; ++attempt) {
+  for (int attempt = 0; attempt < 50 * target && static_cast<int>(trunks.size()) < target;
+       ++attempt) {
     const double radius = random->Uniform(params.trunk_radius_m[0], params.trunk_radius_m[1]);
     const Eigen::Vector2d p = placer->RandomPosition(random, radius);
     if (!placer->IsFree(p, radius)) continue;
@@ -68,9 +70,9 @@ void GenerateForest(const TerrainConfig& config, common::Random* random, Obstacl
       // the crown: a sphere centred near the top of the trunk, seen but not collided with
       const double crown = std::clamp(0.3 * height, 1.0, 2.5);
       const double z = placer->world().GroundHeight(p) + height;
-      placer->Add("canopy", MakeObstacle(ShapeType::kSphere, PoseAt(Eigen::Vector3d(p.x(), p.y(), z), 0.0),
-                                         Eigen::Vector3d(crown, 0.0, 0.0), kLeaves,
-                                         ObstacleRole::kCanopy));
+      placer->Add("canopy",
+                  MakeObstacle(ShapeType::kSphere, PoseAt(Eigen::Vector3d(p.x(), p.y(), z), 0.0),
+                               Eigen::Vector3d(crown, 0.0, 0.0), kLeaves, ObstacleRole::kCanopy));
     }
   }
 }
@@ -81,8 +83,8 @@ void GenerateRuin(const TerrainConfig& config, common::Random* random, ObstacleP
   TerrainWorld& world = placer->world();
 
   // tilted boxes, partly buried
-  for (int placed = 0, attempt = 0; placed < params.num_boxes && attempt < 100 * (params.num_boxes + 1);
-       ++attempt) {
+  for (int placed = 0, attempt = 0;
+       placed < params.num_boxes && attempt < 100 * (params.num_boxes + 1); ++attempt) {
     const Eigen::Vector3d half(random->Uniform(0.1, 1.0), random->Uniform(0.1, 1.0),
                                random->Uniform(0.1, 1.0));
     const Eigen::Vector2d p = placer->RandomPosition(random, 1.0);
@@ -92,7 +94,8 @@ void GenerateRuin(const TerrainConfig& config, common::Random* random, ObstacleP
     const double z = world.GroundHeight(p) + half.z() * (1.0 - 2.0 * burial);
     const double tilt = random->Uniform(-20.0, 20.0) * kDegToRad;
     placer->Add("box", MakeObstacle(ShapeType::kBox,
-                                    PoseAt(Eigen::Vector3d(p.x(), p.y(), z), random->Uniform(0, 2 * M_PI), tilt),
+                                    PoseAt(Eigen::Vector3d(p.x(), p.y(), z),
+                                           random->Uniform(0, 2 * M_PI), tilt),
                                     half, kStone));
     ++placed;
   }
@@ -107,7 +110,8 @@ void GenerateRuin(const TerrainConfig& config, common::Random* random, ObstacleP
     if (fallen) {
       const double z = world.GroundHeight(p) + 0.7 * radius;
       Eigen::Isometry3d X = PoseAt(Eigen::Vector3d(p.x(), p.y(), z), random->Uniform(0, 2 * M_PI));
-      X.linear() = X.linear() * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+      X.linear() =
+          X.linear() * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
       placer->Add("column", MakeObstacle(ShapeType::kCylinder, X,
                                          Eigen::Vector3d(radius, 0.5 * length, 0.0), kStone));
     } else {
@@ -116,29 +120,31 @@ void GenerateRuin(const TerrainConfig& config, common::Random* random, ObstacleP
     ++placed;
   }
   // low walls with one gap each
-  for (int placed = 0, attempt = 0; placed < params.num_walls && attempt < 100 * (params.num_walls + 1);
-       ++attempt) {
+  for (int placed = 0, attempt = 0;
+       placed < params.num_walls && attempt < 100 * (params.num_walls + 1); ++attempt) {
     const double length = random->Uniform(2.0, 6.0);
     const Eigen::Vector2d centre = placer->RandomPosition(random, 0.5 * length + 0.5);
     const double yaw = random->Uniform(0, M_PI);
     const Eigen::Vector2d half = 0.5 * length * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
     const double gap_start = random->Uniform(0.2, std::max(0.3, length - 1.4));
-    placer->AddWall(centre - half, centre + half, random->Uniform(0.3, 1.5), random->Uniform(0.2, 0.3),
-                    {{gap_start, gap_start + random->Uniform(1.0, 1.5)}}, kStone);
+    placer->AddWall(centre - half, centre + half, random->Uniform(0.3, 1.5),
+                    random->Uniform(0.2, 0.3), {{gap_start, gap_start + random->Uniform(1.0, 1.5)}},
+                    kStone);
     ++placed;
   }
   // rubble: small boxes the robot can drive over (115 mm clearance)
-  for (int placed = 0, attempt = 0; placed < params.num_rubble && attempt < 100 * (params.num_rubble + 1);
-       ++attempt) {
+  for (int placed = 0, attempt = 0;
+       placed < params.num_rubble && attempt < 100 * (params.num_rubble + 1); ++attempt) {
     const Eigen::Vector3d half(random->Uniform(0.05, 0.2), random->Uniform(0.05, 0.2),
                                random->Uniform(0.025, 0.075));
     const Eigen::Vector2d p = placer->RandomPosition(random, 0.5);
     if (!placer->IsFree(p, half.norm())) continue;
-    placer->Add("rubble", MakeObstacle(ShapeType::kBox,
-                                       PoseAt(Eigen::Vector3d(p.x(), p.y(), world.GroundHeight(p) + 0.5 * half.z()),
-                                              random->Uniform(0, 2 * M_PI),
-                                              random->Uniform(-10.0, 10.0) * kDegToRad),
-                                       half, kStone));
+    placer->Add(
+        "rubble",
+        MakeObstacle(ShapeType::kBox,
+                     PoseAt(Eigen::Vector3d(p.x(), p.y(), world.GroundHeight(p) + 0.5 * half.z()),
+                            random->Uniform(0, 2 * M_PI), random->Uniform(-10.0, 10.0) * kDegToRad),
+                     half, kStone));
     ++placed;
   }
 }
@@ -148,7 +154,8 @@ void GenerateRoad(const TerrainConfig& config, common::Random* random, ObstacleP
   TerrainWorld& world = placer->world();
   const double half_street = 0.5 * params.street_width_m;
   const double sidewalk_end = half_street + params.sidewalk_width_m;
-  // distance from a coordinate to the nearest street centre line (streets at multiples of the block)
+  // distance from a coordinate to the nearest street centre line (streets at multiples of the
+  // block)
   auto street_offset = [&](double u) {
     return std::abs(u - params.block_size_m * std::round(u / params.block_size_m));
   };
@@ -179,17 +186,19 @@ void GenerateRoad(const TerrainConfig& config, common::Random* random, ObstacleP
       const double span = block_high.x() - block_low.x();
       for (int b = 0; b < num_buildings; ++b) {
         const double x0 = block_low.x() + span * b / num_buildings + random->Uniform(0.3, 1.5);
-        const double x1 = block_low.x() + span * (b + 1) / num_buildings - random->Uniform(0.3, 1.5);
+        const double x1 =
+            block_low.x() + span * (b + 1) / num_buildings - random->Uniform(0.3, 1.5);
         const double y0 = block_low.y() + random->Uniform(0.3, 1.5);
         const double y1 = block_high.y() - random->Uniform(0.3, 1.5);
         const Eigen::Vector2d centre(0.5 * (x0 + x1), 0.5 * (y0 + y1));
         const Eigen::Vector2d half(0.5 * (x1 - x0), 0.5 * (y1 - y0));
         if (half.minCoeff() < 0.5 || !placer->IsRectangleFree(centre, half)) continue;
         const double height = random->Uniform(5.0, 20.0);
-        placer->Add("building",
-                    MakeObstacle(ShapeType::kBox,
-                                 PoseAt(Eigen::Vector3d(centre.x(), centre.y(), 0.5 * height - 0.2), 0.0),
-                                 Eigen::Vector3d(half.x(), half.y(), 0.5 * height + 0.2), kBuilding));
+        placer->Add(
+            "building",
+            MakeObstacle(ShapeType::kBox,
+                         PoseAt(Eigen::Vector3d(centre.x(), centre.y(), 0.5 * height - 0.2), 0.0),
+                         Eigen::Vector3d(half.x(), half.y(), 0.5 * height + 0.2), kBuilding));
       }
       for (int k = 0; k < params.poles_per_block; ++k) {
         // on the sidewalk along the block's lower x edge or lower y edge
@@ -200,7 +209,8 @@ void GenerateRoad(const TerrainConfig& config, common::Random* random, ObstacleP
                                                          : corner + Eigen::Vector2d(across, along);
         const double radius = random->Uniform(0.05, 0.12);
         if (!placer->IsFree(p, radius)) continue;
-        placer->Add("pole", StandingCylinder(*placer, p, radius, random->Uniform(3.0, 6.0), 0.2, kPole));
+        placer->Add("pole",
+                    StandingCylinder(*placer, p, radius, random->Uniform(3.0, 6.0), 0.2, kPole));
       }
     }
   }
@@ -260,10 +270,11 @@ void GenerateIndoor(const TerrainConfig& config, common::Random* random, Obstacl
   SplitRoom({low, high}, params, random, placer, &rooms);
   const Eigen::Vector2d centre = 0.5 * (low + high);
   const Eigen::Vector2d half = 0.5 * (high - low);
-  placer->Add("ceiling", MakeObstacle(ShapeType::kBox,
-                                      PoseAt(Eigen::Vector3d(centre.x(), centre.y(), params.wall_height_m + 0.05), 0.0),
-                                      Eigen::Vector3d(half.x(), half.y(), 0.05), kWall,
-                                      ObstacleRole::kCeiling));
+  placer->Add("ceiling",
+              MakeObstacle(
+                  ShapeType::kBox,
+                  PoseAt(Eigen::Vector3d(centre.x(), centre.y(), params.wall_height_m + 0.05), 0.0),
+                  Eigen::Vector3d(half.x(), half.y(), 0.05), kWall, ObstacleRole::kCeiling));
 
   // furniture away from the walls (so doorways stay open): boxes and tables with thin legs
   for (const Room& room : rooms) {
@@ -277,7 +288,8 @@ void GenerateIndoor(const TerrainConfig& config, common::Random* random, Obstacl
       if (random->Bernoulli(0.5)) {
         const Eigen::Vector3d box(random->Uniform(0.2, 0.6), random->Uniform(0.2, 0.6),
                                   random->Uniform(0.2, 0.5));
-        placer->Add("furniture", MakeObstacle(ShapeType::kBox, PoseAt(Eigen::Vector3d(p.x(), p.y(), box.z()), yaw),
+        placer->Add("furniture", MakeObstacle(ShapeType::kBox,
+                                              PoseAt(Eigen::Vector3d(p.x(), p.y(), box.z()), yaw),
                                               box, kFurniture));
         continue;
       }

@@ -44,7 +44,8 @@ std::string MjcfSize(const Obstacle& obstacle) {
 HeightFieldLayout ComputeHeightFieldLayout(const TerrainWorld& world) {
   HeightFieldLayout layout;
   layout.z_offset_m = world.height_m.minCoeff();
-  layout.z_top_m = std::max(1e-3, static_cast<double>(world.height_m.maxCoeff()) - layout.z_offset_m);
+  layout.z_top_m =
+      std::max(1e-3, static_cast<double>(world.height_m.maxCoeff()) - layout.z_offset_m);
   return layout;
 }
 
@@ -65,7 +66,8 @@ Eigen::MatrixXf ResampleGround(const TerrainWorld& world, int max_samples) {
   return height_m;
 }
 
-void FillHeightField(const Eigen::MatrixXf& height_m, const HeightFieldLayout& layout, float* data) {
+void FillHeightField(const Eigen::MatrixXf& height_m, const HeightFieldLayout& layout,
+                     float* data) {
   // Eigen's column-major (num_x, num_y) storage is row-major with rows along y: MuJoCo's layout.
   const Eigen::Index n = height_m.size();
   const float offset = static_cast<float>(layout.z_offset_m);
@@ -97,7 +99,8 @@ std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options
       << "  <asset>\n"
       << "    <texture name=\"sky\" type=\"skybox\" builtin=\"gradient\" rgb1=\"0.55 0.7 0.9\""
       << " rgb2=\"0.9 0.93 0.97\" width=\"64\" height=\"64\"/>\n"
-      << "    <texture name=\"ground_checker\" type=\"2d\" builtin=\"checker\" rgb1=\"0.45 0.55 0.33\""
+      << "    <texture name=\"ground_checker\" type=\"2d\" builtin=\"checker\" rgb1=\"0.45 0.55 "
+         "0.33\""
       << " rgb2=\"0.49 0.58 0.36\" width=\"64\" height=\"64\"/>\n"
       << "    <material name=\"ground\" texture=\"ground_checker\" texrepeat=\""
       << world.geometry.Extent().x() / 2.0 << " " << world.geometry.Extent().y() / 2.0
@@ -105,8 +108,9 @@ std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options
       << "    <hfield name=\"terrain\" nrow=\"" << world.geometry.num_y << "\" ncol=\""
       << world.geometry.num_x << "\" size=\"" << half.x() << " " << half.y() << " "
       << layout.z_top_m << " 1\"/>\n"
-      << "    <hfield name=\"terrain_visual\" nrow=\"" << visual_num_y << "\" ncol=\"" << visual_num_x
-      << "\" size=\"" << half.x() << " " << half.y() << " " << layout.z_top_m << " 1\"/>\n"
+      << "    <hfield name=\"terrain_visual\" nrow=\"" << visual_num_y << "\" ncol=\""
+      << visual_num_x << "\" size=\"" << half.x() << " " << half.y() << " " << layout.z_top_m
+      << " 1\"/>\n"
       << "  </asset>\n"
       << "  <worldbody>\n"
       << "    <light name=\"sun\" directional=\"true\" pos=\"0 0 50\" dir=\"-0.5 0.35 -0.6\""
@@ -114,17 +118,18 @@ std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options
       << "    <geom name=\"ground\" type=\"hfield\" hfield=\"terrain\" pos=\"" << centre.x() << " "
       << centre.y() << " " << layout.z_offset_m << "\" friction=\"" << options.ground_friction
       << " 0.005 0.0001\" group=\"3\"/>\n"
-      << "    <geom name=\"ground_visual\" type=\"hfield\" hfield=\"terrain_visual\" pos=\"" << centre.x()
-      << " " << centre.y() << " " << layout.z_offset_m
+      << "    <geom name=\"ground_visual\" type=\"hfield\" hfield=\"terrain_visual\" pos=\""
+      << centre.x() << " " << centre.y() << " " << layout.z_offset_m
       << "\" contype=\"0\" conaffinity=\"0\" material=\"ground\" group=\"0\"/>\n";
   for (const Obstacle& obstacle : world.obstacles) {
     const Eigen::Quaterniond q(obstacle.X_WO.linear());
     const Eigen::Vector3d p = obstacle.X_WO.translation();
     xml << "    <geom name=\"" << obstacle.name << "\" type=\"" << MjcfShape(obstacle.shape)
-        << "\" size=\"" << MjcfSize(obstacle) << "\" pos=\"" << p.x() << " " << p.y() << " " << p.z()
-        << "\" quat=\"" << q.w() << " " << q.x() << " " << q.y() << " " << q.z() << "\" rgba=\""
-        << obstacle.rgba[0] << " " << obstacle.rgba[1] << " " << obstacle.rgba[2] << " "
-        << obstacle.rgba[3] << "\" friction=\"" << options.ground_friction << " 0.005 0.0001\"";
+        << "\" size=\"" << MjcfSize(obstacle) << "\" pos=\"" << p.x() << " " << p.y() << " "
+        << p.z() << "\" quat=\"" << q.w() << " " << q.x() << " " << q.y() << " " << q.z()
+        << "\" rgba=\"" << obstacle.rgba[0] << " " << obstacle.rgba[1] << " " << obstacle.rgba[2]
+        << " " << obstacle.rgba[3] << "\" friction=\"" << options.ground_friction
+        << " 0.005 0.0001\"";
     switch (obstacle.role) {
       case ObstacleRole::kSolid:
         xml << " group=\"0\"";

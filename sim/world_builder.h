@@ -38,8 +38,8 @@ HeightFieldLayout ComputeHeightFieldLayout(const TerrainWorld& world);
 /// same extent, as a (num_x, num_y) matrix; the world's own heights if they are not larger.
 Eigen::MatrixXf ResampleGround(const TerrainWorld& world, int max_samples);
 
-/// Writes the normalised samples of `height_m` (num_x, num_y) into `data` (row-major, rows along y, num_x * num_y),
-/// MuJoCo's hfield_data layout.
+/// Writes the normalised samples of `height_m` (num_x, num_y) into `data` (row-major, rows along y,
+/// num_x * num_y), MuJoCo's hfield_data layout.
 void FillHeightField(const Eigen::MatrixXf& height_m, const HeightFieldLayout& layout, float* data);
 
 }  // namespace trav::sim

@@ -25,8 +25,7 @@ void BM_DriveOnHillyTerrain(benchmark::State& state) {
     for (int i = 0; i < kStepsPerIteration; ++i) simulation.Step();
   }
   const double simulated_s = state.iterations() * kStepsPerIteration * simulation.timestep();
-  state.counters["real_time_factor"] =
-      benchmark::Counter(simulated_s, benchmark::Counter::kIsRate);
+  state.counters["real_time_factor"] = benchmark::Counter(simulated_s, benchmark::Counter::kIsRate);
   state.counters["sim_seconds"] = simulated_s;
 }
 BENCHMARK(BM_DriveOnHillyTerrain)

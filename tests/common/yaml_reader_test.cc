@@ -63,17 +63,20 @@ TEST(YamlReaderTest, UnknownKeyNamesSourceAndPath) {
 }
 
 TEST(YamlReaderTest, WrongTypeNamesKeyAndValue) {
-  const YamlDocument document = YamlDocument::Parse("count: many\nstart: [1, x, 2]\nseed: -4", "s.yaml");
+  const YamlDocument document =
+      YamlDocument::Parse("count: many\nstart: [1, x, 2]\nseed: -4", "s.yaml");
   YamlReader dut = document.Root();
   int count = 0;
-  EXPECT_THAT([&] { dut.Read("count", &count); },
-              ThrowsMessage<InputError>(HasSubstr("s.yaml: count: expected an integer, got 'many'")));
+  EXPECT_THAT(
+      [&] { dut.Read("count", &count); },
+      ThrowsMessage<InputError>(HasSubstr("s.yaml: count: expected an integer, got 'many'")));
   Eigen::Vector3d start;
   EXPECT_THAT([&] { dut.Read("start", &start); },
               ThrowsMessage<InputError>(HasSubstr("start: expected a sequence of 3 numbers")));
   std::uint64_t seed = 0;
-  EXPECT_THAT([&] { dut.Read("seed", &seed); },
-              ThrowsMessage<InputError>(HasSubstr("seed: expected a non-negative integer, got '-4'")));
+  EXPECT_THAT(
+      [&] { dut.Read("seed", &seed); },
+      ThrowsMessage<InputError>(HasSubstr("seed: expected a non-negative integer, got '-4'")));
 }
 
 TEST(YamlReaderTest, CheckReportsTheValue) {
@@ -90,8 +93,11 @@ TEST(YamlReaderTest, EnumRejectsUnknownNamesListingValidOnes) {
   const YamlDocument document = YamlDocument::Parse("mode: c", "s.yaml");
   YamlReader dut = document.Root();
   Mode mode = Mode::kA;
-  EXPECT_THAT([&] { dut.ReadEnum("mode", &mode, {{"a", Mode::kA}, {"b", Mode::kB}}); },
-              ThrowsMessage<InputError>(HasSubstr("mode: unknown value 'c' (expected one of: a, b)")));
+  EXPECT_THAT(
+      [&] {
+        dut.ReadEnum("mode", &mode, {{"a", Mode::kA}, {"b", Mode::kB}});
+      },
+      ThrowsMessage<InputError>(HasSubstr("mode: unknown value 'c' (expected one of: a, b)")));
 }
 
 TEST(YamlDocumentTest, SetOverridesAndCreatesNestedKeys) {
@@ -109,7 +115,12 @@ TEST(YamlDocumentTest, SetOverridesAndCreatesNestedKeys) {
   EXPECT_EQ(speed, 2.5);
   EXPECT_EQ(size, Eigen::Vector2d(3, 4));
   EXPECT_TRUE(key);
-  EXPECT_THAT([&] { dut.Set("speed.x", "1"); }, ThrowsMessage<InputError>(HasSubstr("'speed' is not a map")));
+  dut.SetString("name", "it's: [not yaml]");
+  std::string name;
+  dut.Root().Read("name", &name);
+  EXPECT_EQ(name, "it's: [not yaml]");
+  EXPECT_THAT([&] { dut.Set("speed.x", "1"); },
+              ThrowsMessage<InputError>(HasSubstr("'speed' is not a map")));
 }
 
 TEST(YamlDocumentTest, MissingFileAndBadSyntaxAreInputErrors) {
@@ -117,8 +128,9 @@ TEST(YamlDocumentTest, MissingFileAndBadSyntaxAreInputErrors) {
               ThrowsMessage<InputError>(HasSubstr("/nonexistent/scenario.yaml: cannot open file")));
   EXPECT_THAT([] { YamlDocument::Parse("a: [1, 2", "bad.yaml"); },
               ThrowsMessage<InputError>(HasSubstr("bad.yaml: invalid YAML")));
-  EXPECT_THAT([] { YamlDocument::Parse("- 1\n- 2", "list.yaml"); },
-              ThrowsMessage<InputError>(HasSubstr("list.yaml: expected a YAML map at the top level")));
+  EXPECT_THAT(
+      [] { YamlDocument::Parse("- 1\n- 2", "list.yaml"); },
+      ThrowsMessage<InputError>(HasSubstr("list.yaml: expected a YAML map at the top level")));
 }
 
 }  // namespace

@@ -7,7 +7,9 @@ namespace {
 
 using common::Wheel;
 
-double Speed(const common::WheelSpeeds& speeds, Wheel wheel) { return speeds[static_cast<int>(wheel)]; }
+double Speed(const common::WheelSpeeds& speeds, Wheel wheel) {
+  return speeds[static_cast<int>(wheel)];
+}
 
 TEST(SkidSteerTest, StraightDrivingTurnsAllWheelsAtVOverR) {
   SkidSteerConfig config;
@@ -38,7 +40,8 @@ TEST(SkidSteerTest, WheelSaturationKeepsTheCurvature) {
   SkidSteerConfig config;
   const common::Twist2 command{2.5, 2.0};
   const common::WheelSpeeds speeds = ToWheelSpeeds(command, config);
-  const double largest = std::max(std::abs(Speed(speeds, Wheel::kFrontLeft)), std::abs(Speed(speeds, Wheel::kFrontRight)));
+  const double largest = std::max(std::abs(Speed(speeds, Wheel::kFrontLeft)),
+                                  std::abs(Speed(speeds, Wheel::kFrontRight)));
   EXPECT_DOUBLE_EQ(largest, config.max_wheel_speed_rad_s);
   const common::Twist2 achieved = FromWheelSpeeds(speeds, config);
   EXPECT_LT(achieved.v, command.v);
@@ -47,7 +50,8 @@ TEST(SkidSteerTest, WheelSaturationKeepsTheCurvature) {
 
 TEST(SkidSteerTest, OdometryInvertsTheMappingWithinLimits) {
   SkidSteerConfig config;
-  for (const common::Twist2 command : {common::Twist2{0.7, -0.3}, common::Twist2{-1.0, 0.5}, common::Twist2{0.0, 2.0}}) {
+  for (const common::Twist2 command :
+       {common::Twist2{0.7, -0.3}, common::Twist2{-1.0, 0.5}, common::Twist2{0.0, 2.0}}) {
     const common::Twist2 dut = FromWheelSpeeds(ToWheelSpeeds(command, config), config);
     EXPECT_NEAR(dut.v, command.v, 1e-12);
     EXPECT_NEAR(dut.omega, command.omega, 1e-12);

@@ -88,7 +88,8 @@ TEST_F(RendererTest, OverlaysAreDrawnInTheScene) {
   EXPECT_LT(yellow.y(), 120 - 30);
   EXPECT_NEAR(yellow.x(), 160, 15);
   // the text is white in the top-left corner
-  const auto [text, text_count] = Centroid(image, [](int r, int g, int b) { return r > 240 && g > 240 && b > 240; });
+  const auto [text, text_count] =
+      Centroid(image, [](int r, int g, int b) { return r > 240 && g > 240 && b > 240; });
   ASSERT_GT(text_count, 10);
   EXPECT_LT(text.x(), 80);
   EXPECT_LT(text.y(), 40);

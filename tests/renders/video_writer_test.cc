@@ -15,8 +15,10 @@ namespace {
 
 // Frames in a video file, decoded by ffprobe.
 int DecodedFrames(const std::string& path) {
-  const std::string command = "ffprobe -v error -count_frames -select_streams v:0 -show_entries "
-                              "stream=nb_read_frames -of csv=p=0 '" + path + "'";
+  const std::string command =
+      "ffprobe -v error -count_frames -select_streams v:0 -show_entries "
+      "stream=nb_read_frames -of csv=p=0 '" +
+      path + "'";
   std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
   if (!pipe) return -1;
   int frames = -1;
@@ -30,8 +32,9 @@ TEST(VideoWriterTest, TwoSecondsOfRenderedFramesDecodeWithTheExpectedCount) {
   config.width = 160;
   config.height = 120;
   Renderer renderer(simulation.get(), config);
-  const std::string path =
-      (std::filesystem::temp_directory_path() / ("trav_video_test_" + std::to_string(getpid()) + ".mp4")).string();
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("trav_video_test_" + std::to_string(getpid()) + ".mp4"))
+                               .string();
   VideoWriter dut(path, config.width, config.height, 30.0);
   ChaseCamera camera;
   Image frame;
@@ -51,8 +54,9 @@ TEST(VideoWriterTest, TwoSecondsOfRenderedFramesDecodeWithTheExpectedCount) {
 }
 
 TEST(VideoWriterTest, RejectsFramesOfTheWrongSize) {
-  const std::string path =
-      (std::filesystem::temp_directory_path() / ("trav_video_size_" + std::to_string(getpid()) + ".mp4")).string();
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("trav_video_size_" + std::to_string(getpid()) + ".mp4"))
+                               .string();
   VideoWriter dut(path, 64, 48, 30.0);
   Image frame;
   frame.width = 32;

@@ -15,10 +15,13 @@ TEST(CalibrationTest, DefaultEffectiveTrackFactorMatchesTheModel) {
   const CalibrationResult dut =
       CalibrateSkidSteer(std::string(TRAV_MODELS_DIR) + "/scout_mini.xml", config);
   ASSERT_EQ(dut.samples.size(), 6u);
-  EXPECT_NEAR(dut.effective_track_factor, config.effective_track_factor, 0.03 * config.effective_track_factor);
+  EXPECT_NEAR(dut.effective_track_factor, config.effective_track_factor,
+              0.03 * config.effective_track_factor);
   for (const CalibrationSample& sample : dut.samples) {
-    EXPECT_NEAR(sample.measured_omega_rad_s, sample.commanded_omega_rad_s, 0.05 * std::max(1.0, sample.commanded_omega_rad_s));
-    EXPECT_NEAR(sample.measured_v_m_s, sample.commanded_v_m_s, 0.03 * std::max(1.0, sample.commanded_v_m_s));
+    EXPECT_NEAR(sample.measured_omega_rad_s, sample.commanded_omega_rad_s,
+                0.05 * std::max(1.0, sample.commanded_omega_rad_s));
+    EXPECT_NEAR(sample.measured_v_m_s, sample.commanded_v_m_s,
+                0.03 * std::max(1.0, sample.commanded_v_m_s));
   }
 }
 

@@ -16,7 +16,8 @@ Scenario Load(const std::string& text) {
 }
 
 TEST(ScenarioTest, BuiltInDefaultIsAHillyThirtySecondDriveWithVideo) {
-  const Scenario dut = LoadScenario(common::YamlDocument::Parse(DefaultScenarioYaml(), "<built-in>"));
+  const Scenario dut =
+      LoadScenario(common::YamlDocument::Parse(DefaultScenarioYaml(), "<built-in>"));
   EXPECT_EQ(dut.terrain.type, sim::TerrainType::kHilly);
   EXPECT_EQ(dut.terrain.size_m, Eigen::Vector2d(50, 50));
   EXPECT_EQ(dut.terrain.resolution_m, 0.1);
@@ -79,8 +80,9 @@ expect: rolled_over
 }
 
 TEST(ScenarioTest, ResolvedYamlReloadsToTheSameScenario) {
-  const Scenario original = Load("terrain: {type: stairs, parameters: {num_steps: 3}}\nduration: 4\n"
-                                 "drive: [{v: 0.5, duration: 4}]\n");
+  const Scenario original = Load(
+      "terrain: {type: stairs, parameters: {num_steps: 3}}\nduration: 4\n"
+      "drive: [{v: 0.5, duration: 4}]\n");
   const std::string resolved = ResolvedScenarioYaml(original);
   const Scenario reloaded = LoadScenario(common::YamlDocument::Parse(resolved, "resolved.yaml"));
   EXPECT_EQ(ResolvedScenarioYaml(reloaded), resolved);
@@ -89,22 +91,29 @@ TEST(ScenarioTest, ResolvedYamlReloadsToTheSameScenario) {
 }
 
 TEST(ScenarioTest, BadInputNamesSourceKeyAndValue) {
-  EXPECT_THAT([] { Load("terrain: {resolutoin: 0.1}"); },
-              ThrowsMessage<common::InputError>(HasSubstr("test.yaml: terrain.resolutoin: unknown key")));
+  EXPECT_THAT(
+      [] { Load("terrain: {resolutoin: 0.1}"); },
+      ThrowsMessage<common::InputError>(HasSubstr("test.yaml: terrain.resolutoin: unknown key")));
   EXPECT_THAT([] { Load("duration: long"); },
-              ThrowsMessage<common::InputError>(HasSubstr("test.yaml: duration: expected a number, got 'long'")));
+              ThrowsMessage<common::InputError>(
+                  HasSubstr("test.yaml: duration: expected a number, got 'long'")));
   EXPECT_THAT([] { Load("terrain: {resolution: -0.1}"); },
-              ThrowsMessage<common::InputError>(HasSubstr("test.yaml: terrain.resolution: value '-0.1' must be > 0")));
+              ThrowsMessage<common::InputError>(
+                  HasSubstr("test.yaml: terrain.resolution: value '-0.1' must be > 0")));
   EXPECT_THAT([] { Load("terrain: {type: swamp}"); },
               ThrowsMessage<common::InputError>(HasSubstr("terrain.type: unknown value 'swamp'")));
-  EXPECT_THAT([] { Load("drive: [{v: 1, duration: 0}]"); },
-              ThrowsMessage<common::InputError>(HasSubstr("drive[0].duration: value '0' must be > 0")));
-  EXPECT_THAT([] { Load("schema_version: 2"); },
-              ThrowsMessage<common::InputError>(HasSubstr("schema_version: value '2' is not supported")));
+  EXPECT_THAT(
+      [] { Load("drive: [{v: 1, duration: 0}]"); },
+      ThrowsMessage<common::InputError>(HasSubstr("drive[0].duration: value '0' must be > 0")));
+  EXPECT_THAT(
+      [] { Load("schema_version: 2"); },
+      ThrowsMessage<common::InputError>(HasSubstr("schema_version: value '2' is not supported")));
   EXPECT_THAT([] { Load("video: {width: 5}"); },
-              ThrowsMessage<common::InputError>(HasSubstr("test.yaml: video.width: value 5 must be in [16, 4096]")));
-  EXPECT_THAT([] { Load("terrain: {type: road, parameters: {family: fbm}}"); },
-              ThrowsMessage<common::InputError>(HasSubstr("terrain.parameters.family: unknown key")));
+              ThrowsMessage<common::InputError>(
+                  HasSubstr("test.yaml: video.width: value 5 must be in [16, 4096]")));
+  EXPECT_THAT(
+      [] { Load("terrain: {type: road, parameters: {family: fbm}}"); },
+      ThrowsMessage<common::InputError>(HasSubstr("terrain.parameters.family: unknown key")));
 }
 
 TEST(ScenarioTest, DriveCommandFollowsTheScriptAndStopsAfterIt) {

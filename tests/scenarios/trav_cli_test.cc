@@ -1,6 +1,4 @@
 // End-to-end tests of the trav command: exit codes, outputs, error messages, determinism.
-#include <sys/wait.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +9,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <sys/wait.h>
 
 namespace trav::scenarios {
 namespace {
@@ -89,7 +88,8 @@ TEST_F(TravCliTest, RunWritesSummaryTrajectoryAndResolvedScenario) {
   EXPECT_GT(summary["distance_m"].get<double>(), 1.5);
   EXPECT_LT(summary["distance_m"].get<double>(), 2.2);
   EXPECT_GT(summary["real_time_factor"].get<double>(), 0.0);
-  for (const char* key : {"max_roll_deg", "max_pitch_deg", "rms_roll_deg", "rms_pitch_deg", "wall_time_s"}) {
+  for (const char* key :
+       {"max_roll_deg", "max_pitch_deg", "rms_roll_deg", "rms_pitch_deg", "wall_time_s"}) {
     EXPECT_TRUE(summary.contains(key)) << key;
   }
   EXPECT_TRUE(summary["video"].is_null());
@@ -109,7 +109,8 @@ TEST_F(TravCliTest, SeededRunsAreBitIdentical) {
 }
 
 TEST_F(TravCliTest, UnexpectedOutcomeExitsWithOne) {
-  const std::string scenario = WriteScenario("short.yaml", std::string(kShortRun) + "expect: rolled_over\n");
+  const std::string scenario =
+      WriteScenario("short.yaml", std::string(kShortRun) + "expect: rolled_over\n");
   const CommandResult result = RunTrav("run " + scenario + " --out " + (root_ / "run").string());
   EXPECT_EQ(result.exit_code, 1) << result.output;
   EXPECT_THAT(result.output, HasSubstr("outcome: completed (expected rolled_over)"));
@@ -119,7 +120,8 @@ TEST_F(TravCliTest, UnexpectedOutcomeExitsWithOne) {
 TEST_F(TravCliTest, SetOverridesScenarioValues) {
   const std::string scenario = WriteScenario("short.yaml", kShortRun);
   const CommandResult result =
-      RunTrav("run " + scenario + " --set duration=1 --set name=overridden --out " + (root_ / "run").string());
+      RunTrav("run " + scenario + " --set duration=1 --set name=overridden --out " +
+              (root_ / "run").string());
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const nlohmann::json summary = nlohmann::json::parse(ReadFile(root_ / "run" / "summary.json"));
   EXPECT_NEAR(summary["sim_time_s"].get<double>(), 1.0, 1e-9);
@@ -154,19 +156,21 @@ TEST_F(TravCliTest, DuplicateKeyIsBadInput) {
 
 TEST_F(TravCliTest, NegativeResolutionIsBadInput) {
   const std::string scenario = WriteScenario("short.yaml", kShortRun);
-  const CommandResult result =
-      RunTrav("run " + scenario + " --set terrain.resolution=-0.2 --out " + (root_ / "run").string());
+  const CommandResult result = RunTrav("run " + scenario + " --set terrain.resolution=-0.2 --out " +
+                                       (root_ / "run").string());
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_THAT(result.output, HasSubstr("terrain.resolution: value '-0.2' must be > 0"));
   ExpectNoOutputFolder();
 }
 
 TEST_F(TravCliTest, MissingFilesAreBadInput) {
-  CommandResult result = RunTrav("run " + (root_ / "missing.yaml").string() + " --out " + (root_ / "run").string());
+  CommandResult result =
+      RunTrav("run " + (root_ / "missing.yaml").string() + " --out " + (root_ / "run").string());
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_THAT(result.output, HasSubstr("missing.yaml: cannot open file"));
   const std::string scenario = WriteScenario("short.yaml", std::string(kShortRun) + "");
-  result = RunTrav("run " + scenario + " --set robot.model=nothere.xml --out " + (root_ / "run").string());
+  result = RunTrav("run " + scenario + " --set robot.model=nothere.xml --out " +
+                   (root_ / "run").string());
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_THAT(result.output, HasSubstr("robot.model: cannot open robot model 'nothere.xml'"));
   ExpectNoOutputFolder();
@@ -184,14 +188,17 @@ TEST_F(TravCliTest, UsageErrorsExitWithTwo) {
 
 TEST_F(TravCliTest, TerrainExportsHeightmapCloudAndPreview) {
   const std::string scenario = WriteScenario("short.yaml", kShortRun);
-  const CommandResult result = RunTrav("terrain " + scenario + " --out " + (root_ / "terrain").string());
+  const CommandResult result =
+      RunTrav("terrain " + scenario + " --out " + (root_ / "terrain").string());
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  for (const char* file : {"heightmap.png", "heightmap.raw", "cloud.pcd", "preview.png", "terrain.json"}) {
+  for (const char* file :
+       {"heightmap.png", "heightmap.raw", "cloud.pcd", "preview.png", "terrain.json"}) {
     EXPECT_TRUE(fs::exists(root_ / "terrain" / file)) << file;
   }
   // 121 x 121 float samples
   EXPECT_EQ(fs::file_size(root_ / "terrain" / "heightmap.raw"), 121u * 121u * 4u);
-  const nlohmann::json terrain = nlohmann::json::parse(ReadFile(root_ / "terrain" / "terrain.json"));
+  const nlohmann::json terrain =
+      nlohmann::json::parse(ReadFile(root_ / "terrain" / "terrain.json"));
   EXPECT_EQ(terrain["grid"]["num_x"], 121);
   EXPECT_EQ(terrain["type"], "hilly");
   // a PCD header announcing the ground samples

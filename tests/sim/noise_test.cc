@@ -16,10 +16,14 @@ TEST(PerlinNoiseTest, GradientMatchesCentralDifferences) {
   const PerlinNoise dut(11);
   const double h = 1e-6;
   for (const Eigen::Vector2d& p : {Eigen::Vector2d(0.3, 0.7), Eigen::Vector2d(-4.2, 1.9),
-                                  Eigen::Vector2d(17.55, -3.01), Eigen::Vector2d(0.5, 0.5)}) {
+                                   Eigen::Vector2d(17.55, -3.01), Eigen::Vector2d(0.5, 0.5)}) {
     const NoiseSample sample = dut.Sample(p);
-    const double dx = (dut.Sample(p + Eigen::Vector2d(h, 0)).value - dut.Sample(p - Eigen::Vector2d(h, 0)).value) / (2 * h);
-    const double dy = (dut.Sample(p + Eigen::Vector2d(0, h)).value - dut.Sample(p - Eigen::Vector2d(0, h)).value) / (2 * h);
+    const double dx = (dut.Sample(p + Eigen::Vector2d(h, 0)).value -
+                       dut.Sample(p - Eigen::Vector2d(h, 0)).value) /
+                      (2 * h);
+    const double dy = (dut.Sample(p + Eigen::Vector2d(0, h)).value -
+                       dut.Sample(p - Eigen::Vector2d(0, h)).value) /
+                      (2 * h);
     EXPECT_NEAR(sample.gradient.x(), dx, 1e-6) << "at " << p.transpose();
     EXPECT_NEAR(sample.gradient.y(), dy, 1e-6) << "at " << p.transpose();
   }
@@ -38,7 +42,8 @@ TEST(FractalNoiseTest, FamiliesDifferAndRidgedIsBoundedByOctaveSum) {
   const Eigen::Vector2d p(1.3, 2.1);
   double values[4];
   int k = 0;
-  for (FractalFamily family : {FractalFamily::kFbm, FractalFamily::kRidged, FractalFamily::kBillowy, FractalFamily::kSwiss}) {
+  for (FractalFamily family : {FractalFamily::kFbm, FractalFamily::kRidged, FractalFamily::kBillowy,
+                               FractalFamily::kSwiss}) {
     params.family = family;
     values[k++] = FractalNoise(9, params).Evaluate(p);
   }

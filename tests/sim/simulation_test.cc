@@ -1,11 +1,10 @@
 #include "sim/simulation.h"
 
-#include <mujoco/mujoco.h>
-
 #include <cmath>
 #include <string>
 
 #include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
 
 #include "controller/skid_steer.h"
 

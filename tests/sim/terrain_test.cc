@@ -27,7 +27,8 @@ bool SameWorld(const TerrainWorld& a, const TerrainWorld& b) {
   if (a.obstacles.size() != b.obstacles.size()) return false;
   for (std::size_t i = 0; i < a.obstacles.size(); ++i) {
     if (a.obstacles[i].name != b.obstacles[i].name) return false;
-    if (!(a.obstacles[i].X_WO.matrix().array() == b.obstacles[i].X_WO.matrix().array()).all()) return false;
+    if (!(a.obstacles[i].X_WO.matrix().array() == b.obstacles[i].X_WO.matrix().array()).all())
+      return false;
     if (!(a.obstacles[i].size.array() == b.obstacles[i].size.array()).all()) return false;
   }
   return true;
@@ -60,8 +61,9 @@ TEST_P(GeneratorTest, KeepsTheStartAndGoalClear) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllSceneTypes, GeneratorTest,
-                         ::testing::Values(TerrainType::kHilly, TerrainType::kForest, TerrainType::kRuin,
-                                           TerrainType::kRoad, TerrainType::kIndoor),
+                         ::testing::Values(TerrainType::kHilly, TerrainType::kForest,
+                                           TerrainType::kRuin, TerrainType::kRoad,
+                                           TerrainType::kIndoor),
                          [](const ::testing::TestParamInfo<TerrainType>& param_info) {
                            return std::string(TerrainTypeName(param_info.param));
                          });
@@ -86,7 +88,8 @@ TEST(TerrainStatisticsTest, HillySlopeMatchesItsTargetPercentile) {
 
 TEST(TerrainStatisticsTest, ForestDensityIsNearItsTarget) {
   for (std::uint64_t seed : {1, 2, 3}) {
-    const TerrainStatistics stats = ComputeStatistics(GenerateTerrain(Config(TerrainType::kForest, seed)));
+    const TerrainStatistics stats =
+        ComputeStatistics(GenerateTerrain(Config(TerrainType::kForest, seed)));
     EXPECT_GT(stats.tree_density_per_m2, 0.07);
     EXPECT_LE(stats.tree_density_per_m2, 0.0801);
   }
@@ -101,8 +104,9 @@ TEST(TerrainStatisticsTest, ForestTreesKeepAGapForTheRobot) {
   ASSERT_GT(trunks.size(), 100u);
   for (std::size_t i = 0; i < trunks.size(); ++i) {
     for (std::size_t j = i + 1; j < trunks.size(); ++j) {
-      const double gap = (trunks[i]->X_WO.translation() - trunks[j]->X_WO.translation()).head<2>().norm() -
-                         trunks[i]->size.x() - trunks[j]->size.x();
+      const double gap =
+          (trunks[i]->X_WO.translation() - trunks[j]->X_WO.translation()).head<2>().norm() -
+          trunks[i]->size.x() - trunks[j]->size.x();
       ASSERT_GE(gap, 1.0 - 1e-9);
     }
   }
@@ -134,7 +138,8 @@ TEST(TerrainStatisticsTest, RoadHasCurbsAndACrownedRoad) {
   EXPECT_NEAR(world.GroundHeight({3.0, 10.0}), 0.02 * 0.5, 1e-6);
   EXPECT_NEAR(world.GroundHeight({4.5, 10.0}), 0.12, 1e-6);
   int buildings = 0;
-  for (const Obstacle& obstacle : world.obstacles) buildings += obstacle.name.rfind("building", 0) == 0;
+  for (const Obstacle& obstacle : world.obstacles)
+    buildings += obstacle.name.rfind("building", 0) == 0;
   EXPECT_GE(buildings, 4);
 }
 
