@@ -1,5 +1,6 @@
 # trav_add_test(<name> SOURCES <files...> LIBS <targets...> [LABELS <labels...>])
-# Builds one GoogleTest executable per test file and registers its tests with ctest.
+# Builds one GoogleTest executable per test file and registers its tests with ctest. Tests find the
+# robot model through the TRAV_MODELS_DIR definition.
 find_package(GTest REQUIRED)
 include(GoogleTest)
 
@@ -11,6 +12,7 @@ function(trav_add_test name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest_main GTest::gmock trav_warnings)
   target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR})
+  target_compile_definitions(${name} PRIVATE TRAV_MODELS_DIR="${TRAV_MODELS_DIR}")
   gtest_discover_tests(${name} PROPERTIES LABELS "${ARG_LABELS}" DISCOVERY_TIMEOUT 60)
 endfunction()
 
@@ -21,4 +23,5 @@ function(trav_add_benchmark name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} benchmark::benchmark trav_warnings)
   target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR})
+  target_compile_definitions(${name} PRIVATE TRAV_MODELS_DIR="${TRAV_MODELS_DIR}")
 endfunction()
