@@ -1,6 +1,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -19,5 +20,17 @@ struct PointCloud {
   /// Number of points.
   Eigen::Index size() const { return points.cols(); }
 };
+
+/// A cloud of `points` (no per-point arrays) in frame `frame_id`.
+inline PointCloud MakePointCloud(const std::vector<Eigen::Vector3f>& points,
+                                 const std::string& frame_id = "W") {
+  PointCloud cloud;
+  cloud.frame_id = frame_id;
+  cloud.points.resize(3, static_cast<Eigen::Index>(points.size()));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    cloud.points.col(static_cast<Eigen::Index>(i)) = points[i];
+  }
+  return cloud;
+}
 
 }  // namespace trav::common

@@ -96,7 +96,7 @@ void WritePreview(const sim::TerrainWorld& world, const OutputFolder& folder) {
   });
   for (const sim::Obstacle* obstacle : order) {
     const common::PointCloud surface =
-        sim::SampleSurface(sim::ObstacleMesh({*obstacle}), 0.5 * g.resolution_m);
+        common::SampleSurface(common::PrimitiveMesh(*obstacle), 0.5 * g.resolution_m);
     for (Eigen::Index i = 0; i < surface.size(); ++i) {
       const auto cell = g.CellIndex(surface.points.col(i).head<2>().cast<double>());
       if (!cell) continue;

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "common/grid.h"
+#include "common/mesh.h"
 #include "common/point_cloud.h"
 #include "sim/noise.h"
 
@@ -100,8 +101,9 @@ struct TerrainConfig {
   StairsParams stairs{};
 };
 
-/// Primitive shapes of obstacles.
-enum class ShapeType { kBox, kCylinder, kSphere, kCapsule };
+// Obstacles are common primitives.
+using common::ShapeType;
+using common::TriangleMesh;
 
 /// How an obstacle takes part in the simulation.
 enum class ObstacleRole {
@@ -110,23 +112,12 @@ enum class ObstacleRole {
   kCeiling,  ///< collides and seen by the LiDAR; hidden in videos so the camera can look in
 };
 
-/// A static obstacle primitive. Sizes follow MuJoCo's conventions: box half-extents (x, y, z);
-/// cylinder and capsule (radius, half-length, unused) along the local z axis; sphere (radius, -,
-/// -).
-struct Obstacle {
+/// A static obstacle: a primitive (shape, pose X_WO, size) with a name, a role and a colour.
+struct Obstacle : common::Primitive {
   std::string
       name;  ///< unique in the world; its prefix names the kind ("tree", "box", "wall", ...)
-  ShapeType shape{ShapeType::kBox};
   ObstacleRole role{ObstacleRole::kSolid};
-  Eigen::Isometry3d X_WO{Eigen::Isometry3d::Identity()};  ///< pose of the shape's frame in W
-  Eigen::Vector3d size{Eigen::Vector3d::Zero()};          ///< [m], see above
   Eigen::Vector4f rgba{0.6f, 0.6f, 0.6f, 1.0f};
-};
-
-/// A triangle mesh in the world frame.
-struct TriangleMesh {
-  Eigen::Matrix3Xf vertices_W;  ///< [m], one vertex per column
-  Eigen::Matrix3Xi triangles;   ///< vertex indices, counter-clockwise seen from outside
 };
 
 /// A generated world: a height field (the ground) and obstacle primitives.

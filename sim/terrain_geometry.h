@@ -7,19 +7,11 @@
 
 namespace trav::sim {
 
-/// The ground as triangles, two per height-field cell (for ray casting and export).
+/// The ground as triangles in W, two per height-field cell (for ray casting and export).
 TriangleMesh GroundMesh(const TerrainWorld& world);
 
-/// The obstacle primitives as triangles: boxes exactly; cylinders, capsules and spheres as surfaces
-/// of revolution with `segments` around (>= 3).
+/// The obstacle primitives as triangles in W (common::PrimitiveMesh of each).
 TriangleMesh ObstacleMesh(const std::vector<Obstacle>& obstacles, int segments = 16);
-
-/// Appends `mesh` to `into`.
-void AppendMesh(const TriangleMesh& mesh, TriangleMesh* into);
-
-/// Points on the surface of `mesh` in W, on a barycentric lattice of every triangle with at most
-/// `spacing_m` between neighbours.
-common::PointCloud SampleSurface(const TriangleMesh& mesh, double spacing_m);
 
 /// A dense noise-free point cloud of the world in W: the ground at every height sample and the
 /// obstacle surfaces sampled every `spacing_m` or closer (parts below the ground are dropped).

@@ -51,7 +51,7 @@ TEST_P(GeneratorTest, KeepsTheStartAndGoalClear) {
   for (const Obstacle& obstacle : world.obstacles) {
     if (obstacle.role != ObstacleRole::kSolid) continue;
     // no solid surface point within 2 m of the start or goal (horizontally)
-    const common::PointCloud surface = SampleSurface(ObstacleMesh({obstacle}), 0.2);
+    const common::PointCloud surface = common::SampleSurface(common::PrimitiveMesh(obstacle), 0.2);
     for (Eigen::Index i = 0; i < surface.size(); ++i) {
       const Eigen::Vector2d p = surface.points.col(i).head<2>().cast<double>();
       ASSERT_GT((p - start).norm(), 1.99) << obstacle.name;
@@ -205,27 +205,10 @@ TEST(TerrainGeometryTest, GroundMeshHasTwoTrianglesPerCellAtTheSampleHeights) {
   config.resolution_m = 1.0;
   const TerrainWorld world = GenerateTerrain(config);
   const TriangleMesh mesh = GroundMesh(world);
-  EXPECT_EQ(mesh.vertices_W.cols(), 15);
+  EXPECT_EQ(mesh.vertices.cols(), 15);
   EXPECT_EQ(mesh.triangles.cols(), 16);
-  EXPECT_FLOAT_EQ(mesh.vertices_W(0, 4), 2.0f);
-  EXPECT_FLOAT_EQ(mesh.vertices_W(2, 4), world.height_m(4, 0));
-}
-
-TEST(TerrainGeometryTest, BoxMeshHasTwelveOutwardTrianglesOnItsCorners) {
-  Obstacle box;
-  box.shape = ShapeType::kBox;
-  box.size = Eigen::Vector3d(1.0, 2.0, 0.5);
-  box.X_WO.translation() = Eigen::Vector3d(10, 0, 1);
-  const TriangleMesh mesh = ObstacleMesh({box});
-  ASSERT_EQ(mesh.triangles.cols(), 12);
-  const Eigen::Vector3f centre(10, 0, 1);
-  for (Eigen::Index t = 0; t < 12; ++t) {
-    const Eigen::Vector3f a = mesh.vertices_W.col(mesh.triangles(0, t));
-    const Eigen::Vector3f b = mesh.vertices_W.col(mesh.triangles(1, t));
-    const Eigen::Vector3f c = mesh.vertices_W.col(mesh.triangles(2, t));
-    EXPECT_GT((b - a).cross(c - a).dot(a - centre), 0.0f) << "triangle " << t << " faces inward";
-  }
-  EXPECT_EQ(mesh.vertices_W.rowwise().maxCoeff(), Eigen::Vector3f(11, 2, 1.5));
+  EXPECT_FLOAT_EQ(mesh.vertices(0, 4), 2.0f);
+  EXPECT_FLOAT_EQ(mesh.vertices(2, 4), world.height_m(4, 0));
 }
 
 TEST(TerrainGeometryTest, DenseCloudCoversGroundAndObstacleTopsButNotBuriedParts) {

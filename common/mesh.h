@@ -1,0 +1,40 @@
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "common/point_cloud.h"
+
+namespace trav::common {
+
+/// Primitive shapes.
+enum class ShapeType { kBox, kCylinder, kSphere, kCapsule };
+
+/// A primitive solid. Sizes follow MuJoCo's conventions: box half-extents (x, y, z); cylinder and
+/// capsule (radius, half-length, unused) along the local z axis; sphere (radius, unused, unused).
+struct Primitive {
+  ShapeType shape{ShapeType::kBox};
+  Eigen::Isometry3d X_WO{Eigen::Isometry3d::Identity()};  ///< pose of the shape's frame O in W
+  Eigen::Vector3d size{Eigen::Vector3d::Zero()};          ///< [m], see above
+};
+
+/// A triangle mesh.
+struct TriangleMesh {
+  Eigen::Matrix3Xf vertices;   ///< [m], one vertex per column, in the frame the owner names
+  Eigen::Matrix3Xi triangles;  ///< vertex indices, counter-clockwise seen from outside
+};
+
+/// The surface of a primitive as triangles in W: a box exactly (12 triangles); cylinders, capsules
+/// and spheres as surfaces of revolution with `segments` around (>= 3) and a vertex at angle 0 (on
+/// the local +x axis) of every ring.
+TriangleMesh PrimitiveMesh(const Primitive& primitive, int segments = 16);
+
+/// Appends `mesh` to `into`.
+void AppendMesh(const TriangleMesh& mesh, TriangleMesh* into);
+
+/// Points on the surface of `mesh`, on a lattice of every triangle with at most `spacing_m` between
+/// neighbours, in the mesh's frame.
+PointCloud SampleSurface(const TriangleMesh& mesh, double spacing_m);
+
+}  // namespace trav::common
