@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <random>
 
@@ -26,6 +27,21 @@ class Random {
     return value % n;
   }
 
+  /// Standard normal draw (Box-Muller: each pair of uniform draws gives two values; the second
+  /// is returned by the next call).
+  double Normal() {
+    if (has_spare_normal_) {
+      has_spare_normal_ = false;
+      return spare_normal_;
+    }
+    const double u1 = 1.0 - Uniform();  // in (0, 1]
+    const double u2 = Uniform();
+    const double radius = std::sqrt(-2.0 * std::log(u1));
+    spare_normal_ = radius * std::sin(2.0 * M_PI * u2);
+    has_spare_normal_ = true;
+    return radius * std::cos(2.0 * M_PI * u2);
+  }
+
   /// True with probability p.
   bool Bernoulli(double p) { return Uniform() < p; }
 
@@ -34,6 +50,8 @@ class Random {
 
  private:
   std::mt19937_64 engine_;
+  double spare_normal_{0.0};
+  bool has_spare_normal_{false};
 };
 
 }  // namespace trav::common

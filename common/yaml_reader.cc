@@ -203,6 +203,11 @@ void YamlReader::Read(const std::string& key, Eigen::Vector3d* value) {
   ReadVector<3>(this, Get(key), key, value);
 }
 
+void YamlReader::Read(const std::string& key, Eigen::Matrix<double, 6, 1>* value) {
+  if (!Has(key)) return;
+  ReadVector<6>(this, Get(key), key, value);
+}
+
 YamlReader YamlReader::Map(const std::string& key) {
   if (!Has(key)) Fail(key, "required map is missing");
   const YAML::Node node = Get(key);

@@ -77,9 +77,10 @@ class YamlReader {
   void Read(const std::string& key, std::uint64_t* value);
   void Read(const std::string& key, bool* value);
   void Read(const std::string& key, std::string* value);
-  /// Reads a sequence of exactly 2 or 3 numbers.
+  /// Reads a sequence of exactly 2, 3 or 6 numbers.
   void Read(const std::string& key, Eigen::Vector2d* value);
   void Read(const std::string& key, Eigen::Vector3d* value);
+  void Read(const std::string& key, Eigen::Matrix<double, 6, 1>* value);
 
   /// Reads an enum by name from `names`; an unknown name is an error listing the valid ones.
   template <typename Enum>

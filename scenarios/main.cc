@@ -1,6 +1,7 @@
-// The trav command line: `trav run`, `trav terrain`, `trav calibrate`.
+// The trav command line: `trav run`, `trav scan`, `trav terrain`, `trav calibrate`.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -93,26 +94,59 @@ ProgressCallback TerminalProgress() {
   };
 }
 
-int Run(const ScenarioOptions& options, std::optional<bool> video) {
-  const Scenario scenario = ResolveScenario(options, video);
+// Runs a resolved scenario into its output folder; prints and returns the summary.
+RunSummary RunInFolder(const Scenario& scenario, const RunOptions& run_options) {
   const std::string model = ExistingRobotModel(scenario);
   OutputFolder folder(scenario.output_dir);
   WriteTextFile(folder.File("scenario.yaml"), ResolvedScenarioYaml(scenario));
-  const RunSummary summary = RunOpenLoop(scenario, model, folder.File(""), TerminalProgress());
+  const RunSummary summary =
+      RunOpenLoop(scenario, model, folder.File(""), run_options, TerminalProgress());
   WriteTextFile(folder.File("summary.json"), SummaryJson(scenario, summary));
   folder.Commit();
+  return summary;
+}
+
+int Run(const ScenarioOptions& options, std::optional<bool> video, bool record_clouds) {
+  const Scenario scenario = ResolveScenario(options, video);
+  RunOptions run_options;
+  run_options.record_clouds = record_clouds;
+  const RunSummary summary = RunInFolder(scenario, run_options);
+  const std::string& out = scenario.output_dir;
 
   std::printf("outcome: %s (expected %s)\n", OutcomeName(summary.outcome),
               OutcomeName(scenario.expected_outcome));
   std::printf("simulated %.1f s in %.1f s wall time (%.1fx real time), drove %.1f m\n",
               summary.sim_time_s, summary.wall_time_s, summary.real_time_factor,
               summary.distance_m);
-  std::printf("summary: %s/summary.json\n", folder.final_path().c_str());
+  if (summary.lidar_frames > 0) {
+    std::printf("lidar: %d frames, %.0f points and %.2f ms of ray casting per frame%s\n",
+                summary.lidar_frames, summary.lidar_points_per_frame, summary.lidar_ms_per_frame,
+                record_clouds ? " (clouds/*.pcd)" : "");
+  }
+  std::printf("summary: %s/summary.json\n", out.c_str());
   if (summary.video_frames > 0) {
-    std::printf("video:   %s/video.mp4 (%d frames)\n", folder.final_path().c_str(),
-                summary.video_frames);
+    std::printf("video:   %s/video.mp4 (%d frames)\n", out.c_str(), summary.video_frames);
   }
   return summary.outcome == scenario.expected_outcome ? kExitExpected : kExitOtherOutcome;
+}
+
+int Scan(const ScenarioOptions& options, int frames) {
+  if (!options.out) throw common::InputError("--out", "", "trav scan needs --out DIR");
+  if (frames < 1) throw common::InputError("--frames", std::to_string(frames), "must be >= 1");
+  Scenario scenario = ResolveScenario(options, false);
+  if (!scenario.lidar.enabled)
+    throw common::InputError("lidar.enabled", "false", "trav scan needs the LiDAR");
+  // run long enough for the frames, whatever the scenario's duration
+  scenario.duration_s = std::max(scenario.duration_s, (frames + 1) * scenario.lidar.frame_period_s);
+  RunOptions run_options;
+  run_options.record_clouds = true;
+  run_options.max_lidar_frames = frames;
+  const RunSummary summary = RunInFolder(scenario, run_options);
+  std::printf(
+      "%d frames of %.0f points on average written to %s/clouds (PCD: x y z in the sensor frame, "
+      "time, line)\n",
+      summary.lidar_frames, summary.lidar_points_per_frame, scenario.output_dir.c_str());
+  return summary.outcome == Outcome::kCompleted ? kExitExpected : kExitOtherOutcome;
 }
 
 int Terrain(const ScenarioOptions& options) {
@@ -165,6 +199,16 @@ int Main(int argc, char** argv) {
       "--video", [&] { video = true; }, "Record video.mp4 (overrides video.enabled)");
   run->add_flag_callback(
       "--no-video", [&] { video = false; }, "Do not record a video");
+  bool record_clouds = false;
+  run->add_flag("--record-clouds", record_clouds,
+                "Write every LiDAR frame as clouds/frame_NNNNNN.pcd");
+
+  ScenarioOptions scan_options;
+  int scan_frames = 10;
+  CLI::App* scan = app.add_subcommand(
+      "scan", "Drive the scenario's robot and write N LiDAR frames as PCD (no video)");
+  AddScenarioOptions(scan, &scan_options);
+  scan->add_option("--frames", scan_frames, "Number of frames to write")->capture_default_str();
 
   ScenarioOptions terrain_options;
   CLI::App* terrain = app.add_subcommand(
@@ -184,7 +228,8 @@ int Main(int argc, char** argv) {
   }
 
   try {
-    if (run->parsed()) return Run(run_options, video);
+    if (run->parsed()) return Run(run_options, video, record_clouds);
+    if (scan->parsed()) return Scan(scan_options, scan_frames);
     if (calibrate->parsed()) return Calibrate(calibrate_options);
     return Terrain(terrain_options);
   } catch (const common::InputError& e) {

@@ -13,7 +13,10 @@
 #include "controller/skid_steer.h"
 #include "renders/renderer.h"
 #include "renders/video_writer.h"
+#include "scenarios/pcd_io.h"
+#include "sim/lidar/lidar_emulator.h"
 #include "sim/simulation.h"
+#include "sim/terrain_geometry.h"
 
 namespace trav::scenarios {
 namespace {
@@ -47,6 +50,31 @@ class VideoCamera {
   renders::CameraView overview_;
 };
 
+// Points drawn in a video frame at most (each is one geom for MuJoCo's renderer).
+constexpr Eigen::Index kMaxDrawnPoints = 4000;
+
+// The latest LiDAR frame's points in W, coloured by height (blue low, red high), subsampled.
+renders::ColoredPoints DrawablePoints(const lidar::LidarFrame& frame) {
+  const Eigen::Matrix3Xf points_W = lidar::PointsInWorld(frame);
+  const Eigen::Index stride =
+      std::max<Eigen::Index>(1, (points_W.cols() + kMaxDrawnPoints - 1) / kMaxDrawnPoints);
+  const Eigen::Index count = (points_W.cols() + stride - 1) / stride;
+  renders::ColoredPoints drawable;
+  drawable.radius_m = 0.025;
+  drawable.points_W.resize(3, count);
+  drawable.rgba.resize(4, count);
+  if (count == 0) return drawable;
+  const float low = points_W.row(2).minCoeff();
+  const float range = std::max(0.5f, points_W.row(2).maxCoeff() - low);
+  for (Eigen::Index k = 0; k < count; ++k) {
+    drawable.points_W.col(k) = points_W.col(k * stride);
+    const float t = (points_W(2, k * stride) - low) / range;
+    drawable.rgba.col(k) =
+        Eigen::Vector4f(t, 0.3f + 0.4f * (1.0f - std::abs(2.0f * t - 1.0f)), 1.0f - t, 1.0f);
+  }
+  return drawable;
+}
+
 }  // namespace
 
 std::string RobotModelPath(const Scenario& scenario, const std::string& models_dir) {
@@ -56,7 +84,8 @@ std::string RobotModelPath(const Scenario& scenario, const std::string& models_d
 }
 
 RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_path,
-                       const std::string& output_dir, const ProgressCallback& progress) {
+                       const std::string& output_dir, const RunOptions& run_options,
+                       const ProgressCallback& progress) {
   const auto wall_start = std::chrono::steady_clock::now();
   const sim::TerrainWorld world =
       sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W});
@@ -65,6 +94,23 @@ RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_
   options.timestep_s = scenario.physics_timestep_s;
   options.ground_friction = scenario.ground_friction;
   sim::Simulation simulation(world, scenario.start_W, options);
+
+  // LiDAR: an Embree scene of the same world, scanned every physics step
+  std::unique_ptr<lidar::RayScene> ray_scene;
+  std::unique_ptr<lidar::LidarEmulator> lidar;
+  lidar::LidarFrame lidar_frame;
+  renders::Overlay overlay;
+  // the sensor pose: the scenario's mount on the base, or the model's lidar site
+  const bool mounted = scenario.lidar_mount_B.has_value();
+  const Eigen::Isometry3d X_BL =
+      mounted ? MountPose(*scenario.lidar_mount_B) : Eigen::Isometry3d::Identity();
+  if (scenario.lidar.enabled) {
+    ray_scene = std::make_unique<lidar::RayScene>(sim::RaySceneOf(world));
+    lidar = std::make_unique<lidar::LidarEmulator>(scenario.lidar);
+    if (run_options.record_clouds) std::filesystem::create_directories(output_dir + "/clouds");
+  }
+  double lidar_cast_s = 0.0;
+  double lidar_points = 0.0;
 
   // video: renderer and encoder only when asked for
   std::unique_ptr<renders::Renderer> renderer;
@@ -83,12 +129,12 @@ RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_
   const int steps_per_sample =
       std::max(1, static_cast<int>(std::lround(kTrajectoryPeriod_s / simulation.timestep())));
 
+  const double dt = simulation.timestep();
   std::ofstream trajectory(output_dir + "/trajectory.csv");
   trajectory << "t,x,y,z,roll,pitch,yaw,v_forward,yaw_rate,cmd_v,cmd_omega,"
                 "wheel_fl,wheel_rl,wheel_fr,wheel_rr\n";
 
   RunSummary summary;
-  const double dt = simulation.timestep();
   const int total_steps = static_cast<int>(std::ceil(scenario.duration_s / dt - 1e-9));
   const double tilt_limit = scenario.rollover_limit_deg / kRadToDeg;
   double sum_roll2 = 0.0;
@@ -101,8 +147,32 @@ RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_
     const common::Twist2 command = DriveCommandAt(scenario.drive, simulation.time());
     simulation.SetWheelSpeedCommands(controller::ToWheelSpeeds(command, scenario.skid_steer));
 
+    if (lidar) {
+      const Eigen::Isometry3d X_WL =
+          mounted ? Eigen::Isometry3d(state.X_WB * X_BL) : simulation.LidarPose();
+      const auto cast_start = std::chrono::steady_clock::now();
+      lidar->Scan(*ray_scene, simulation.time(), simulation.time() + dt, X_WL);
+      lidar_cast_s +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - cast_start).count();
+      if (lidar->frame_ready()) {
+        lidar->TakeFrame(&lidar_frame);
+        ++summary.lidar_frames;
+        lidar_points += static_cast<double>(lidar_frame.points_L.size());
+        if (run_options.record_clouds) {
+          char name[64];
+          std::snprintf(name, sizeof(name), "/clouds/frame_%06lld.pcd",
+                        static_cast<long long>(lidar_frame.index));
+          WriteLidarFramePcd(output_dir + name, lidar_frame);
+        }
+        if (video) overlay.points.assign(1, DrawablePoints(lidar_frame));
+        if (run_options.max_lidar_frames > 0 &&
+            summary.lidar_frames >= run_options.max_lidar_frames)
+          break;
+      }
+    }
+
     if (video && simulation.time() >= next_frame_s - 1e-9) {
-      renderer->Render(simulation, camera->View(state.X_WB, frame_period_s), {}, &frame);
+      renderer->Render(simulation, camera->View(state.X_WB, frame_period_s), overlay, &frame);
       video->Write(frame);
       next_frame_s += frame_period_s;
     }
@@ -163,6 +233,10 @@ RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_
   summary.final_pose_W.position = state.X_WB.translation().head<2>();
   summary.final_pose_W.yaw = common::ToRollPitchYaw(state.X_WB.linear()).yaw;
   summary.final_pose_W.time_s = state.time_s;
+  if (summary.lidar_frames > 0) {
+    summary.lidar_points_per_frame = lidar_points / summary.lidar_frames;
+    summary.lidar_ms_per_frame = 1e3 * lidar_cast_s / summary.lidar_frames;
+  }
   summary.mujoco_warning_count = simulation.warning_count();
   summary.mujoco_warnings = simulation.warnings();
   return summary;
@@ -191,6 +265,9 @@ std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
   json["mujoco_warnings"] = summary.mujoco_warnings;
   json["video"] = summary.video_frames > 0 ? nlohmann::json("video.mp4") : nlohmann::json(nullptr);
   json["video_frames"] = summary.video_frames;
+  json["lidar_frames"] = summary.lidar_frames;
+  json["lidar_points_per_frame"] = summary.lidar_points_per_frame;
+  json["lidar_ms_per_frame"] = summary.lidar_ms_per_frame;
   return json.dump(2) + "\n";
 }
 

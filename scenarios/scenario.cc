@@ -69,6 +69,12 @@ class ReadArchive {
     pose->position = value.head<2>();
     pose->yaw = value.z();
   }
+  void Field(const std::string& key, std::optional<Eigen::Matrix<double, 6, 1>>* value) {
+    if (!reader_.Has(key)) return;
+    Eigen::Matrix<double, 6, 1> read;
+    reader_.Read(key, &read);
+    *value = read;
+  }
   template <typename E>
   void Enum(const std::string& key, E* value, const Names<E>& names) {
     reader_.ReadEnum(key, value, names);
@@ -116,6 +122,12 @@ class WriteArchive {
   }
   void Field(const std::string& key, common::Pose2* pose) {
     WriteFlow(key, {pose->position.x(), pose->position.y(), pose->yaw});
+  }
+  void Field(const std::string& key, std::optional<Eigen::Matrix<double, 6, 1>>* value) {
+    if (value->has_value()) {
+      const Eigen::Matrix<double, 6, 1>& v = **value;
+      WriteFlow(key, {v[0], v[1], v[2], v[3], v[4], v[5]});
+    }
   }
   template <typename E>
   void Enum(const std::string& key, E* value, const Names<E>& names) {
@@ -263,6 +275,23 @@ void VisitScenario(Archive& a, Scenario& s) {
     d.Field("omega", &segment.omega_rad_s);
     d.Field("duration", &segment.duration_s, Positive, kPositive);
   });
+  a.Map("lidar", [&](Archive& l) {
+    lidar::LidarConfig& c = s.lidar;
+    l.Field("enabled", &c.enabled);
+    l.Field("table", &c.pattern_table);
+    l.Field("rate", &c.points_per_second);
+    l.Field("frame_period", &c.frame_period_s);
+    l.Field("range_min", &c.range_min_m);
+    l.Field("range_max", &c.range_max_m);
+    l.Field("range_noise", &c.range_noise_m);
+    l.Field("angular_noise_deg", &c.angular_noise_deg);
+    l.Field("dropout", &c.dropout);
+    l.Field("occlusion", &c.occlusion);
+    l.Field("occlusion_sectors", &c.occlusion_sectors);
+    l.Field("seed", &c.seed);
+    l.Field("threads", &c.threads);
+    l.Field("mount", &s.lidar_mount_B);
+  });
   a.Map("video", [&](Archive& v) {
     v.Field("enabled", &s.video.enabled);
     v.Field("width", &s.video.render.width);
@@ -291,6 +320,7 @@ Scenario LoadScenario(const common::YamlDocument& document) {
   try {
     sim::ValidateTerrainConfig(scenario.terrain);
     renders::ValidateRenderConfig(scenario.video.render);
+    lidar::ValidateLidarConfig(scenario.lidar);
   } catch (const common::InputError& e) {
     throw common::InputError(document.source() + ": " + e.what());
   }
@@ -304,6 +334,16 @@ std::string ResolvedScenarioYaml(const Scenario& scenario) {
   YAML::Emitter emitter;
   emitter << archive.node();
   return std::string(emitter.c_str()) + "\n";
+}
+
+Eigen::Isometry3d MountPose(const Eigen::Matrix<double, 6, 1>& mount) {
+  Eigen::Isometry3d X_BL = Eigen::Isometry3d::Identity();
+  X_BL.translation() = mount.head<3>();
+  X_BL.linear() = (Eigen::AngleAxisd(mount[5], Eigen::Vector3d::UnitZ()) *
+                   Eigen::AngleAxisd(mount[4], Eigen::Vector3d::UnitY()) *
+                   Eigen::AngleAxisd(mount[3], Eigen::Vector3d::UnitX()))
+                      .toRotationMatrix();
+  return X_BL;
 }
 
 common::Twist2 DriveCommandAt(const std::vector<DriveSegment>& drive, double t_s) {

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "controller/skid_steer.h"
 #include "renders/camera.h"
 #include "renders/renderer.h"
+#include "sim/lidar/lidar_config.h"
 #include "sim/terrain.h"
 
 namespace trav::scenarios {
@@ -52,6 +54,10 @@ struct Scenario {
   double duration_s{30.0};                    ///< [s], > 0
   std::vector<DriveSegment> drive;            ///< open-loop script; zero twist after its end
   double rollover_limit_deg{60.0};            ///< tilt that ends the run as rolled over [deg]
+  lidar::LidarConfig lidar{};
+  /// lidar.mount: pose of the sensor L in the base frame B as [x, y, z, roll, pitch, yaw]
+  /// [m, rad]; absent: the robot model's "lidar" site.
+  std::optional<Eigen::Matrix<double, 6, 1>> lidar_mount_B;
   VideoSettings video{};
   std::string output_dir{"out/default"};
   Outcome expected_outcome{Outcome::kCompleted};  ///< exit code 0 iff the run ends this way
@@ -67,6 +73,9 @@ const std::string& DefaultScenarioYaml();
 /// The scenario as YAML text, every field resolved (written next to a run's outputs so it can be
 /// replayed).
 std::string ResolvedScenarioYaml(const Scenario& scenario);
+
+/// The pose X_BL of a mount given as [x, y, z, roll, pitch, yaw].
+Eigen::Isometry3d MountPose(const Eigen::Matrix<double, 6, 1>& mount);
 
 /// The drive command at time t: the segment covering t, or zero after the script ends.
 common::Twist2 DriveCommandAt(const std::vector<DriveSegment>& drive, double t_s);

@@ -8,11 +8,9 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
-#include <pcl/io/pcd_io.h>
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
 
 #include "renders/image.h"
+#include "scenarios/pcd_io.h"
 #include "sim/terrain_geometry.h"
 
 namespace trav::scenarios {
@@ -44,17 +42,8 @@ void WriteHeightmaps(const sim::TerrainWorld& world, const OutputFolder& folder)
 }
 
 void WriteCloud(const sim::TerrainWorld& world, const OutputFolder& folder) {
-  const common::PointCloud cloud =
-      sim::DenseCloud(world, kCloudSpacingCells * world.geometry.resolution_m);
-  pcl::PointCloud<pcl::PointXYZ> pcl_cloud;
-  pcl_cloud.resize(static_cast<std::size_t>(cloud.size()));
-  for (Eigen::Index i = 0; i < cloud.size(); ++i) {
-    pcl_cloud[static_cast<std::size_t>(i)] =
-        pcl::PointXYZ(cloud.points(0, i), cloud.points(1, i), cloud.points(2, i));
-  }
-  if (pcl::io::savePCDFileBinary(folder.File("cloud.pcd"), pcl_cloud) != 0) {
-    throw std::runtime_error("cannot write " + folder.File("cloud.pcd"));
-  }
+  WritePcd(folder.File("cloud.pcd"),
+           sim::DenseCloud(world, kCloudSpacingCells * world.geometry.resolution_m));
 }
 
 void WritePreview(const sim::TerrainWorld& world, const OutputFolder& folder) {

@@ -58,4 +58,11 @@ common::PointCloud DenseCloud(const TerrainWorld& world, double spacing_m) {
   return common::MakePointCloud(points, "W");
 }
 
+lidar::RaySceneDescription RaySceneOf(const TerrainWorld& world) {
+  lidar::RaySceneDescription description;
+  description.meshes_W.push_back(GroundMesh(world));
+  description.primitives_W.assign(world.obstacles.begin(), world.obstacles.end());
+  return description;
+}
+
 }  // namespace trav::sim

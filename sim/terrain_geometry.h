@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "common/point_cloud.h"
+#include "sim/lidar/ray_scene.h"
 #include "sim/terrain.h"
 
 namespace trav::sim {
@@ -17,5 +18,10 @@ TriangleMesh ObstacleMesh(const std::vector<Obstacle>& obstacles, int segments =
 /// obstacle surfaces sampled every `spacing_m` or closer (parts below the ground are dropped).
 /// Used for ground truth and export.
 common::PointCloud DenseCloud(const TerrainWorld& world, double spacing_m);
+
+/// What the LiDAR sees of the world: the ground at full height-field resolution (object 0) and
+/// every obstacle as a primitive (objects 1.., in the order of `world.obstacles`), tree crowns and
+/// ceilings included. The robot is not part of it, so it never sees itself.
+lidar::RaySceneDescription RaySceneOf(const TerrainWorld& world);
 
 }  // namespace trav::sim

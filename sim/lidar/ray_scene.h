@@ -1,0 +1,70 @@
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "common/mesh.h"
+
+namespace trav::lidar {
+
+/// Plain description of what rays can hit, in the world frame W. Object ids are assigned in this
+/// order: `meshes_W`, then `primitives_W`, then `moving_meshes_I`.
+struct RaySceneDescription {
+  std::vector<common::TriangleMesh> meshes_W;   ///< static meshes (the terrain at full resolution)
+  std::vector<common::Primitive> primitives_W;  ///< static obstacle primitives
+  /// Moving objects: each a mesh in its own frame I, placed by `X_WI` (updatable between casts).
+  std::vector<common::TriangleMesh> moving_meshes_I;
+  std::vector<Eigen::Isometry3d> X_WI;
+  /// Primitives are tessellated with this many segments around (a cylinder of radius r deviates at
+  /// most r (1 - cos(pi / segments)) from its polygon: 0.2 % of r at 48).
+  int primitive_segments{48};
+};
+
+/// Results of a batch of rays, one entry per ray. Misses have range +inf, object id -1 and a zero
+/// normal.
+struct RayHits {
+  Eigen::VectorXf range_m;    ///< distance along the (unit) ray direction [m]
+  Eigen::VectorXi object_id;  ///< index of the object hit (see RaySceneDescription)
+  Eigen::Matrix3Xf normal_W;  ///< unit surface normal at the hit, in W
+
+  /// Number of entries (at least the number of rays of the last cast).
+  Eigen::Index size() const { return range_m.size(); }
+};
+
+/// An Embree 3 scene for casting rays against the simulated world. Static geometry is built once
+/// (BVH of build quality high); moving objects are instances whose poses can be updated between
+/// casts. Casting is const and thread-safe; results do not depend on the number of threads.
+class RayScene {
+ public:
+  /// Builds the scene. @throws std::runtime_error on an Embree error (out of memory, bad geometry).
+  explicit RayScene(const RaySceneDescription& description);
+  ~RayScene();
+  RayScene(const RayScene&) = delete;
+  RayScene& operator=(const RayScene&) = delete;
+
+  /// Number of objects (meshes, primitives and moving meshes).
+  int num_objects() const { return num_objects_; }
+
+  /// Moves the moving object `index` (0-based among the moving meshes) to X_WI.
+  /// @throws std::out_of_range for a bad index.
+  void SetMovingPose(int index, const Eigen::Isometry3d& X_WI);
+
+  /// Casts rays from one origin along unit `directions_W`, reporting the first hit in
+  /// [0, range_max_m]: ray k's result is entry k of `hits`, which grows when it has fewer entries
+  /// than rays and is never shrunk (no allocation in steady use).
+  /// Uses `num_threads` threads for batches of 4096 rays or more.
+  void Cast(const Eigen::Vector3f& origin_W, const Eigen::Ref<const Eigen::Matrix3Xf>& directions_W,
+            float range_max_m, RayHits* hits, int num_threads = 1) const;
+
+ private:
+  struct Embree;
+  void CastRange(const Eigen::Vector3f& origin_W,
+                 const Eigen::Ref<const Eigen::Matrix3Xf>& directions_W, float range_max_m,
+                 Eigen::Index begin, Eigen::Index end, RayHits* hits) const;
+  std::unique_ptr<Embree> embree_;
+  int num_objects_{0};
+};
+
+}  // namespace trav::lidar

@@ -1,0 +1,184 @@
+#include "sim/lidar/lidar_emulator.h"
+
+#include <cmath>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "common/input_error.h"
+#include "tests/lidar/lidar_test_util.h"
+
+namespace trav::lidar {
+namespace {
+
+using testing::At;
+using ::testing::HasSubstr;
+using testing::MakePrimitive;
+using testing::Plane;
+using ::testing::ThrowsMessage;
+
+// Runs the emulator standing still at X_WL for one frame, in 2 ms batches.
+LidarFrame OneFrame(const RayScene& scene, const LidarConfig& config,
+                    const Eigen::Isometry3d& X_WL) {
+  LidarEmulator dut(config);
+  for (int step = 0; step < 50; ++step) dut.Scan(scene, step * 0.002, (step + 1) * 0.002, X_WL);
+  EXPECT_TRUE(dut.frame_ready());
+  LidarFrame frame;
+  dut.TakeFrame(&frame);
+  return frame;
+}
+
+LidarConfig Noiseless() {
+  LidarConfig config;
+  config.range_noise_m = 0.0;
+  config.angular_noise_deg = 0.0;
+  return config;
+}
+
+// A closed sphere of radius 20 m around the origin: every ray returns.
+RayScene Enclosure() {
+  RaySceneDescription description;
+  description.primitives_W.push_back(
+      MakePrimitive(common::ShapeType::kSphere, {20, 0, 0}, {0, 0, 0}));
+  return RayScene(description);
+}
+
+TEST(LidarEmulatorTest, AFrameHasTwentyThousandPointsWithTimesAndLines) {
+  const RayScene scene = Enclosure();
+  const LidarFrame frame = OneFrame(scene, Noiseless(), Eigen::Isometry3d::Identity());
+  EXPECT_EQ(frame.rays, 20000);
+  ASSERT_EQ(frame.points_L.size(), 20000);
+  EXPECT_EQ(frame.points_L.frame_id, "L");
+  EXPECT_EQ(frame.points_L.stamp_s, 0.0);
+  // 5 microseconds per point, lines 0..3 in turn
+  EXPECT_FLOAT_EQ(frame.points_L.time_offsets[1], 5e-6f);
+  EXPECT_FLOAT_EQ(frame.points_L.time_offsets[19999], 19999 * 5e-6f);
+  EXPECT_EQ(frame.points_L.line_ids[6], 2);
+  EXPECT_EQ(frame.batch_poses_W.size(), 50u);
+}
+
+TEST(LidarEmulatorTest, RangeNoiseHasTheConfiguredStandardDeviation) {
+  RaySceneDescription description;
+  description.meshes_W.push_back(Plane(500.0, 0.0));
+  const RayScene scene(description);
+  LidarConfig config = Noiseless();
+  config.range_noise_m = 0.05;
+  config.range_max_m = 100.0;
+  const LidarFrame frame = OneFrame(scene, config, At({0, 0, 1}));
+  // the true range of a point is 1 / sin(depression) along its direction
+  double sum = 0.0, sum2 = 0.0;
+  const Eigen::Index n = frame.points_L.size();
+  ASSERT_GT(n, 2000);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Vector3f p = frame.points_L.points.col(i);
+    const double range = p.norm();
+    const double residual = range - 1.0 / (-p.z() / range);
+    sum += residual;
+    sum2 += residual * residual;
+  }
+  const double mean = sum / n;
+  const double sigma = std::sqrt(sum2 / n - mean * mean);
+  EXPECT_LT(std::abs(mean), 4.0 * 0.05 / std::sqrt(static_cast<double>(n)));
+  EXPECT_NEAR(sigma, 0.05, 0.05 * 0.06);
+}
+
+TEST(LidarEmulatorTest, DropoutAndOcclusionRemoveTheConfiguredShare) {
+  const RayScene scene = Enclosure();
+  LidarConfig config = Noiseless();
+  config.dropout = 0.3;
+  const LidarFrame dropped = OneFrame(scene, config, Eigen::Isometry3d::Identity());
+  EXPECT_NEAR(dropped.dropped.dropout / 20000.0, 0.3, 0.015);
+  EXPECT_EQ(dropped.points_L.size() + dropped.dropped.dropout, 20000);
+
+  config.dropout = 0.0;
+  config.occlusion = 0.15;
+  const LidarFrame occluded = OneFrame(scene, config, Eigen::Isometry3d::Identity());
+  // sectors may overlap: up to 15 % of the azimuth (and of the evenly spread points)
+  EXPECT_LE(occluded.dropped.occluded / 20000.0, 0.155);
+  EXPECT_GT(occluded.dropped.occluded / 20000.0, 0.05);
+  EXPECT_EQ(occluded.points_L.size() + occluded.dropped.occluded, 20000);
+}
+
+TEST(LidarEmulatorTest, MissesAndTheBlindZoneGiveNoPoints) {
+  RaySceneDescription description;
+  // a small box 5 cm in front of the sensor (inside the blind zone) and open sky elsewhere
+  description.primitives_W.push_back(
+      MakePrimitive(common::ShapeType::kBox, {0.01, 0.5, 0.5}, {0.06, 0, 0}));
+  description.meshes_W.push_back(Plane(100.0, -1.0));
+  const RayScene scene(description);
+  const LidarFrame frame = OneFrame(scene, Noiseless(), Eigen::Isometry3d::Identity());
+  EXPECT_GT(frame.dropped.blind, 100);
+  EXPECT_GT(frame.dropped.miss, 1000);
+  EXPECT_EQ(frame.points_L.size() + frame.dropped.blind + frame.dropped.miss, 20000);
+  for (Eigen::Index i = 0; i < frame.points_L.size(); ++i) {
+    ASSERT_GE(frame.points_L.points.col(i).norm(), 0.1f);
+  }
+}
+
+TEST(LidarEmulatorTest, SameSeedSameFramesOtherSeedOtherNoise) {
+  const RayScene scene = Enclosure();
+  LidarConfig config;
+  config.dropout = 0.1;
+  const LidarFrame a = OneFrame(scene, config, Eigen::Isometry3d::Identity());
+  const LidarFrame b = OneFrame(scene, config, Eigen::Isometry3d::Identity());
+  config.seed = 2;
+  const LidarFrame c = OneFrame(scene, config, Eigen::Isometry3d::Identity());
+  ASSERT_EQ(a.points_L.size(), b.points_L.size());
+  EXPECT_TRUE((a.points_L.points.array() == b.points_L.points.array()).all());
+  EXPECT_FALSE(a.points_L.size() == c.points_L.size() &&
+               (a.points_L.points.array() == c.points_L.points.array()).all());
+}
+
+TEST(LidarEmulatorTest, MotionDistortionIsRealAndCorrectedByPerPointPoses) {
+  // a wall facing the sensor at x = 10 m; the sensor drives towards it at 2 m/s
+  RaySceneDescription description;
+  description.primitives_W.push_back(
+      MakePrimitive(common::ShapeType::kBox, {0.5, 20, 20}, {10.5, 0, 0}));
+  const RayScene scene(description);
+  LidarEmulator dut(Noiseless());
+  const double speed = 2.0;
+  for (int step = 0; step < 50; ++step) {
+    const double t = step * 0.002;
+    dut.Scan(scene, t, t + 0.002, At({speed * t, 0, 0}));
+  }
+  ASSERT_TRUE(dut.frame_ready());
+  LidarFrame frame;
+  dut.TakeFrame(&frame);
+  const Eigen::Matrix3Xf corrected_W = PointsInWorld(frame);
+  int on_wall = 0;
+  double largest_offset = 0.0;
+  for (Eigen::Index i = 0; i < frame.points_L.size(); ++i) {
+    if (std::abs(corrected_W(0, i) - 10.0f) > 0.01f) continue;  // floor-less scene: only the wall
+    ++on_wall;
+    // with its own pose every point lies on the wall
+    EXPECT_NEAR(corrected_W(0, i), 10.0f, 1e-4f);
+    // with the frame-start pose it is short of the wall by the distance driven since the start
+    const Eigen::Vector3d start_W =
+        frame.X_WL_start() * frame.points_L.points.col(i).cast<double>();
+    const double driven =
+        frame.PoseOfPoint(i).translation().x() - frame.X_WL_start().translation().x();
+    EXPECT_NEAR(start_W.x(), 10.0 - driven, 1e-4);
+    largest_offset = std::max(largest_offset, driven);
+  }
+  EXPECT_GT(on_wall, 1000);
+  EXPECT_NEAR(largest_offset, speed * 0.098, 1e-9);
+}
+
+TEST(LidarEmulatorTest, InvalidSettingsAreInputErrors) {
+  LidarConfig config;
+  config.range_max_m = -1.0;
+  EXPECT_THAT([&] { LidarEmulator dut(config); },
+              ThrowsMessage<common::InputError>(
+                  HasSubstr("lidar.range_max: value -1.000000 must be > range_min")));
+  config = LidarConfig();
+  config.points_per_second = 0.0;
+  EXPECT_THAT([&] { LidarEmulator dut(config); },
+              ThrowsMessage<common::InputError>(HasSubstr("lidar.rate")));
+  config = LidarConfig();
+  config.pattern_table = "/nonexistent/mid360.csv";
+  EXPECT_THAT([&] { LidarEmulator dut(config); },
+              ThrowsMessage<common::InputError>(HasSubstr("cannot open scan table")));
+}
+
+}  // namespace
+}  // namespace trav::lidar

@@ -1,0 +1,120 @@
+#include "sim/lidar/ray_scene.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "sim/lidar/scan_pattern.h"
+#include "tests/lidar/lidar_test_util.h"
+
+namespace trav::lidar {
+namespace {
+
+using common::ShapeType;
+using testing::At;
+using testing::MakePrimitive;
+using testing::Plane;
+
+Eigen::Matrix3Xf Single(const Eigen::Vector3f& direction) { return direction.normalized(); }
+
+TEST(RaySceneTest, DownwardRaysOverAPlaneHitAtOneOverSinOfTheDepression) {
+  RaySceneDescription description;
+  description.meshes_W.push_back(Plane(200.0, 0.0));
+  const RayScene dut(description);
+  // one MID-360 frame from 1 m above the plane
+  const Mid360Pattern pattern;
+  Eigen::Matrix3Xf directions(3, 20000);
+  for (int i = 0; i < 20000; ++i) directions.col(i) = pattern.Ray(i).direction_L;
+  RayHits hits;
+  dut.Cast(Eigen::Vector3f(0, 0, 1), directions, 100.0f, &hits);
+  int downward = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const float dz = directions(2, i);
+    if (dz < -0.0175f) {  // below -1 deg: within 100 m
+      ++downward;
+      ASSERT_EQ(hits.object_id[i], 0);
+      EXPECT_NEAR(hits.range_m[i], 1.0f / -dz, 2e-6f / -dz) << "ray " << i;
+      EXPECT_NEAR(hits.normal_W(2, i), 1.0f, 1e-6f);
+    } else if (dz >= 0.0f) {
+      EXPECT_EQ(hits.object_id[i], -1);
+      EXPECT_TRUE(std::isinf(hits.range_m[i]));
+    }
+  }
+  EXPECT_GT(downward, 1000);
+}
+
+TEST(RaySceneTest, BoxAndCylinderAtKnownDistances) {
+  RaySceneDescription description;
+  description.primitives_W.push_back(MakePrimitive(ShapeType::kBox, {1, 1, 1}, {5, 0, 0}));
+  description.primitives_W.push_back(MakePrimitive(ShapeType::kCylinder, {0.5, 1, 0}, {0, 6, 0}));
+  description.primitives_W.push_back(MakePrimitive(ShapeType::kSphere, {2, 0, 0}, {0, -10, 0}));
+  const RayScene dut(description);
+  EXPECT_EQ(dut.num_objects(), 3);
+  RayHits hits;
+  Eigen::Matrix3Xf directions(3, 3);
+  directions << 1, 0, 0, 0, 1, -1, 0, 0, 0;
+  dut.Cast(Eigen::Vector3f::Zero(), directions, 40.0f, &hits);
+  EXPECT_FLOAT_EQ(hits.range_m[0], 4.0f);
+  EXPECT_EQ(hits.object_id[0], 0);
+  EXPECT_TRUE(hits.normal_W.col(0).isApprox(Eigen::Vector3f(-1, 0, 0)));
+  // the cylinder's polygon has a vertex where the ray meets it: exactly the radius
+  EXPECT_FLOAT_EQ(hits.range_m[1], 5.5f);
+  EXPECT_EQ(hits.object_id[1], 1);
+  EXPECT_FLOAT_EQ(hits.range_m[2], 8.0f);
+  EXPECT_EQ(hits.object_id[2], 2);
+}
+
+TEST(RaySceneTest, MovingObjectIsHitAtItsNewPose) {
+  RaySceneDescription description;
+  description.meshes_W.push_back(Plane(50.0, -1.0));
+  description.moving_meshes_I.push_back(
+      common::PrimitiveMesh(MakePrimitive(ShapeType::kBox, {0.5, 0.5, 0.5}, {0, 0, 0})));
+  description.X_WI.push_back(At({3, 0, 0}));
+  RayScene dut(description);
+  RayHits hits;
+  const Eigen::Matrix3Xf forward = Single(Eigen::Vector3f::UnitX());
+  dut.Cast(Eigen::Vector3f::Zero(), forward, 40.0f, &hits);
+  EXPECT_FLOAT_EQ(hits.range_m[0], 2.5f);
+  EXPECT_EQ(hits.object_id[0], 1);
+  dut.SetMovingPose(0, At({7, 0, 0}));
+  dut.Cast(Eigen::Vector3f::Zero(), forward, 40.0f, &hits);
+  EXPECT_FLOAT_EQ(hits.range_m[0], 6.5f);
+  // turned 90 deg about z: the normal of the face hit still faces the sensor
+  Eigen::Isometry3d turned = At({4, 0, 0});
+  turned.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  dut.SetMovingPose(0, turned);
+  dut.Cast(Eigen::Vector3f::Zero(), forward, 40.0f, &hits);
+  EXPECT_FLOAT_EQ(hits.range_m[0], 3.5f);
+  EXPECT_TRUE(hits.normal_W.col(0).isApprox(Eigen::Vector3f(-1, 0, 0), 1e-6f));
+  EXPECT_THROW(dut.SetMovingPose(1, At({0, 0, 0})), std::out_of_range);
+}
+
+TEST(RaySceneTest, RangeLimitTurnsFarHitsIntoMisses) {
+  RaySceneDescription description;
+  description.primitives_W.push_back(MakePrimitive(ShapeType::kBox, {1, 1, 1}, {30, 0, 0}));
+  const RayScene dut(description);
+  RayHits hits;
+  dut.Cast(Eigen::Vector3f::Zero(), Single(Eigen::Vector3f::UnitX()), 20.0f, &hits);
+  EXPECT_EQ(hits.object_id[0], -1);
+  EXPECT_TRUE(std::isinf(hits.range_m[0]));
+}
+
+TEST(RaySceneTest, ThreadsDoNotChangeTheResults) {
+  RaySceneDescription description;
+  description.meshes_W.push_back(Plane(30.0, 0.0));
+  description.primitives_W.push_back(MakePrimitive(ShapeType::kCylinder, {0.3, 2, 0}, {2, 1, 0}));
+  const RayScene dut(description);
+  const Mid360Pattern pattern;
+  Eigen::Matrix3Xf directions(3, 10000);
+  for (int i = 0; i < 10000; ++i) directions.col(i) = pattern.Ray(i).direction_L;
+  RayHits one, two;
+  dut.Cast(Eigen::Vector3f(0, 0, 0.5), directions, 40.0f, &one, 1);
+  dut.Cast(Eigen::Vector3f(0, 0, 0.5), directions, 40.0f, &two, 2);
+  EXPECT_TRUE((one.range_m.array() == two.range_m.array() ||
+               (one.range_m.array().isInf() && two.range_m.array().isInf()))
+                  .all());
+  EXPECT_TRUE((one.object_id.array() == two.object_id.array()).all());
+}
+
+}  // namespace
+}  // namespace trav::lidar
