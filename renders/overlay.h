@@ -16,11 +16,12 @@ struct Polyline {
   double width_m{0.04};  ///< [m]
 };
 
-/// Points drawn as small spheres, one colour each (LiDAR points, goals, obstacles).
+/// Points drawn as small cubes (12 triangles each: cheap for a software renderer), one colour each
+/// (LiDAR points, goals, obstacles).
 struct ColoredPoints {
   Eigen::Matrix3Xf points_W;  ///< [m], one point per column
   Eigen::Matrix4Xf rgba;      ///< one colour per point (columns), or a single column for all
-  double radius_m{0.03};      ///< [m]
+  double radius_m{0.03};      ///< half the side of a cube [m]
 };
 
 /// A coloured grid on the ground (traversability maps): each known cell is a flat box at its

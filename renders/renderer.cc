@@ -53,7 +53,7 @@ void DrawPoints(const ColoredPoints& points, mjvScene* scene) {
     const float rgba[4] = {points.rgba(0, c), points.rgba(1, c), points.rgba(2, c),
                            points.rgba(3, c)};
     const mjtNum pos[3] = {points.points_W(0, i), points.points_W(1, i), points.points_W(2, i)};
-    InitOverlayGeom(geom, mjGEOM_SPHERE, size, pos, rgba);
+    InitOverlayGeom(geom, mjGEOM_BOX, size, pos, rgba);
   }
 }
 

@@ -50,25 +50,33 @@ class VideoCamera {
   renders::CameraView overview_;
 };
 
-// Points drawn in a video frame at most (each is one geom for MuJoCo's renderer).
-constexpr Eigen::Index kMaxDrawnPoints = 4000;
+// LiDAR points drawn in a video frame: at most this many (each is one geom, drawn one by one by
+// MuJoCo's renderer), and only within this distance of the sensor (where a chase camera sees them).
+constexpr Eigen::Index kMaxDrawnPoints = 1200;
+constexpr float kDrawnPointRange_m = 15.0f;
 
-// The latest LiDAR frame's points in W, coloured by height (blue low, red high), subsampled.
+// The latest LiDAR frame's points near the sensor in W, coloured by height (blue low, red high),
+// evenly subsampled.
 renders::ColoredPoints DrawablePoints(const lidar::LidarFrame& frame) {
   const Eigen::Matrix3Xf points_W = lidar::PointsInWorld(frame);
-  const Eigen::Index stride =
-      std::max<Eigen::Index>(1, (points_W.cols() + kMaxDrawnPoints - 1) / kMaxDrawnPoints);
-  const Eigen::Index count = (points_W.cols() + stride - 1) / stride;
+  std::vector<Eigen::Index> near;
+  for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
+    if (frame.points_L.points.col(i).norm() < kDrawnPointRange_m) near.push_back(i);
+  }
+  const std::size_t stride =
+      std::max<std::size_t>(1, (near.size() + kMaxDrawnPoints - 1) / kMaxDrawnPoints);
+  const auto count = static_cast<Eigen::Index>((near.size() + stride - 1) / stride);
   renders::ColoredPoints drawable;
-  drawable.radius_m = 0.025;
+  drawable.radius_m = 0.03;
   drawable.points_W.resize(3, count);
   drawable.rgba.resize(4, count);
+  for (Eigen::Index k = 0; k < count; ++k)
+    drawable.points_W.col(k) = points_W.col(near[static_cast<std::size_t>(k) * stride]);
   if (count == 0) return drawable;
-  const float low = points_W.row(2).minCoeff();
-  const float range = std::max(0.5f, points_W.row(2).maxCoeff() - low);
+  const float low = drawable.points_W.row(2).minCoeff();
+  const float range = std::max(0.5f, drawable.points_W.row(2).maxCoeff() - low);
   for (Eigen::Index k = 0; k < count; ++k) {
-    drawable.points_W.col(k) = points_W.col(k * stride);
-    const float t = (points_W(2, k * stride) - low) / range;
+    const float t = (drawable.points_W(2, k) - low) / range;
     drawable.rgba.col(k) =
         Eigen::Vector4f(t, 0.3f + 0.4f * (1.0f - std::abs(2.0f * t - 1.0f)), 1.0f - t, 1.0f);
   }

@@ -186,6 +186,55 @@ TEST_F(TravCliTest, UsageErrorsExitWithTwo) {
   ExpectNoOutputFolder();
 }
 
+TEST_F(TravCliTest, RunReportsLidarFramesAndRecordsClouds) {
+  const std::string scenario = WriteScenario("short.yaml", kShortRun);
+  const CommandResult result =
+      RunTrav("run " + scenario + " --record-clouds --out " + (root_ / "run").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const nlohmann::json summary = nlohmann::json::parse(ReadFile(root_ / "run" / "summary.json"));
+  EXPECT_EQ(summary["lidar_frames"], 20);
+  EXPECT_GT(summary["lidar_points_per_frame"].get<double>(), 1000.0);
+  EXPECT_TRUE(fs::exists(root_ / "run" / "clouds" / "frame_000000.pcd"));
+  EXPECT_TRUE(fs::exists(root_ / "run" / "clouds" / "frame_000019.pcd"));
+}
+
+TEST_F(TravCliTest, ScanWritesTheRequestedFrames) {
+  const std::string scenario = WriteScenario("short.yaml", kShortRun);
+  const CommandResult result =
+      RunTrav("scan " + scenario + " --frames 3 --out " + (root_ / "scan").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  int frames = 0;
+  for (const auto& entry : fs::directory_iterator(root_ / "scan" / "clouds")) {
+    ++frames;
+    EXPECT_THAT(ReadFile(entry.path()), HasSubstr("FIELDS x y z time line"));
+  }
+  EXPECT_EQ(frames, 3);
+  EXPECT_FALSE(fs::exists(root_ / "scan" / "video.mp4"));
+}
+
+TEST_F(TravCliTest, BadLidarSettingsAreBadInput) {
+  const std::string scenario = WriteScenario("short.yaml", kShortRun);
+  CommandResult result =
+      RunTrav("run " + scenario + " --set lidar.table=" + (root_ / "none.csv").string() +
+              " --out " + (root_ / "run").string());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.output, HasSubstr("none.csv: cannot open scan table"));
+  const std::string table =
+      WriteScenario("table.yaml", "Time/s,Azimuth/deg,Zenith/deg\n1,0,oops\n");
+  result = RunTrav("run " + scenario + " --set lidar.table=" + table + " --out " +
+                   (root_ / "run").string());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.output, HasSubstr("table.yaml: line 2"));
+  result =
+      RunTrav("run " + scenario + " --set lidar.range_max=-5 --out " + (root_ / "run").string());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.output, HasSubstr("lidar.range_max: value -5"));
+  result = RunTrav("run " + scenario + " --set lidar.rate=0 --out " + (root_ / "run").string());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.output, HasSubstr("lidar.rate: value 0"));
+  ExpectNoOutputFolder();
+}
+
 TEST_F(TravCliTest, TerrainExportsHeightmapCloudAndPreview) {
   const std::string scenario = WriteScenario("short.yaml", kShortRun);
   const CommandResult result =
