@@ -15,9 +15,9 @@
 #include "common/logging.h"
 #include "common/yaml_reader.h"
 #include "scenarios/calibration.h"
-#include "scenarios/open_loop_run.h"
 #include "scenarios/output_folder.h"
 #include "scenarios/scenario.h"
+#include "scenarios/scenario_run.h"
 #include "scenarios/terrain_export.h"
 #include "sim/terrain.h"
 
@@ -100,7 +100,7 @@ RunSummary RunInFolder(const Scenario& scenario, const RunOptions& run_options) 
   OutputFolder folder(scenario.output_dir);
   WriteTextFile(folder.File("scenario.yaml"), ResolvedScenarioYaml(scenario));
   const RunSummary summary =
-      RunOpenLoop(scenario, model, folder.File(""), run_options, TerminalProgress());
+      RunScenario(scenario, model, folder.File(""), run_options, TerminalProgress());
   WriteTextFile(folder.File("summary.json"), SummaryJson(scenario, summary));
   folder.Commit();
   return summary;

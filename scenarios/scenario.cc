@@ -29,6 +29,12 @@ const Names<renders::CameraMode> kCameras = {{"chase", renders::CameraMode::kCha
                                              {"top_down", renders::CameraMode::kTopDown}};
 const Names<renders::GlBackend> kBackends = {{"osmesa", renders::GlBackend::kOsmesa},
                                              {"egl", renders::GlBackend::kEgl}};
+const Names<RunMode> kModes = {{"drive", RunMode::kDrive}, {"track", RunMode::kTrack}};
+const Names<ReferenceShape> kReferences = {{"line", ReferenceShape::kLine},
+                                           {"circle", ReferenceShape::kCircle},
+                                           {"figure_eight", ReferenceShape::kFigureEight},
+                                           {"slalom", ReferenceShape::kSlalom},
+                                           {"file", ReferenceShape::kFile}};
 const Names<Outcome> kOutcomes = {{"completed", Outcome::kCompleted},
                                   {"rolled_over", Outcome::kRolledOver},
                                   {"diverged", Outcome::kDiverged}};
@@ -113,6 +119,9 @@ class WriteArchive {
   template <typename T, typename Predicate>
   void Field(const std::string& key, T* value, Predicate, const std::string&) {
     Field(key, value);
+  }
+  void Field(const std::string& key, Eigen::Vector3d* value) {
+    WriteFlow(key, {value->x(), value->y(), value->z()});
   }
   void Field(const std::string& key, Eigen::Vector2d* value) {
     WriteFlow(key, {value->x(), value->y()});
@@ -270,6 +279,39 @@ void VisitScenario(Archive& a, Scenario& s) {
   });
   a.Field("goal", &s.goal_W);
   a.Field("duration", &s.duration_s, Positive, kPositive);
+  a.Enum("mode", &s.mode, kModes);
+  a.Map("track", [&](Archive& t) {
+    t.Enum("reference", &s.track.reference, kReferences);
+    t.Field("size", &s.track.size_m, Positive, kPositive);
+    t.Field("amplitude", &s.track.amplitude_m);
+    t.Field("wavelength", &s.track.wavelength_m, Positive, kPositive);
+    t.Field("speed", &s.track.speed_m_s, Positive, kPositive);
+    t.Field("acceleration", &s.track.acceleration_m_s2, Positive, kPositive);
+    t.Field("file", &s.track.file);
+  });
+  a.Map("controller", [&](Archive& c) {
+    double rate_hz = 1.0 / s.mpc.control_period_s;
+    c.Field(
+        "rate", &rate_hz, [](double v) { return v >= 5.0 && v <= 1000.0; },
+        "must be in [5, 1000] Hz");
+    s.mpc.control_period_s = 1.0 / rate_hz;
+    c.Map("mpc", [&](Archive& m) {
+      controller::MpcConfig& k = s.mpc;
+      m.Field("horizon", &k.horizon);
+      m.Field("step", &k.step_s);
+      m.Field("state_weights", &k.state_weights);
+      m.Field("input_weights", &k.input_weights);
+      m.Field("rate_weights", &k.rate_weights);
+      m.Field("max_speed", &k.max_speed_m_s);
+      m.Field("min_speed", &k.min_speed_m_s);
+      m.Field("max_yaw_rate", &k.max_yaw_rate_rad_s);
+      m.Field("max_acceleration", &k.max_acceleration_m_s2);
+      m.Field("max_yaw_acceleration", &k.max_yaw_acceleration_rad_s2);
+      m.Field("actuator_time_constant", &k.actuator_time_constant_s);
+      m.Field("max_iterations", &k.max_iterations);
+      m.Field("time_budget", &k.time_budget_s);
+    });
+  });
   a.template Sequence<DriveSegment>("drive", &s.drive, [](Archive& d, DriveSegment& segment) {
     d.Field("v", &segment.v_m_s);
     d.Field("omega", &segment.omega_rad_s);
@@ -321,8 +363,13 @@ Scenario LoadScenario(const common::YamlDocument& document) {
     sim::ValidateTerrainConfig(scenario.terrain);
     renders::ValidateRenderConfig(scenario.video.render);
     lidar::ValidateLidarConfig(scenario.lidar);
+    controller::ValidateMpcConfig(scenario.mpc);
   } catch (const common::InputError& e) {
     throw common::InputError(document.source() + ": " + e.what());
+  }
+  if (scenario.mode == RunMode::kTrack && scenario.track.reference == ReferenceShape::kFile &&
+      scenario.track.file.empty()) {
+    throw common::InputError(document.source(), "track.file", "required for reference 'file'");
   }
   return scenario;
 }

@@ -8,9 +8,11 @@
 
 #include "common/pose.h"
 #include "common/yaml_reader.h"
+#include "controller/mpc.h"
 #include "controller/skid_steer.h"
 #include "renders/camera.h"
 #include "renders/renderer.h"
+#include "scenarios/tracking.h"
 #include "sim/lidar/lidar_config.h"
 #include "sim/terrain.h"
 
@@ -25,6 +27,12 @@ enum class Outcome {
 
 /// Name as written in summaries and scenario files ("completed", "rolled_over", "diverged").
 const char* OutcomeName(Outcome outcome);
+
+/// What drives the robot.
+enum class RunMode {
+  kDrive,  ///< the open-loop `drive` script
+  kTrack,  ///< the MPC tracking the `track` reference (no mapping or planning)
+};
 
 /// One segment of an open-loop drive script: a constant body twist held for a duration.
 struct DriveSegment {
@@ -52,8 +60,12 @@ struct Scenario {
   double physics_timestep_s{0.002};           ///< [s], in (0, 0.01]
   double ground_friction{0.9};                ///< in (0, 5]
   double duration_s{30.0};                    ///< [s], > 0
-  std::vector<DriveSegment> drive;            ///< open-loop script; zero twist after its end
-  double rollover_limit_deg{60.0};            ///< tilt that ends the run as rolled over [deg]
+  RunMode mode{RunMode::kDrive};
+  std::vector<DriveSegment> drive;  ///< open-loop script; zero twist after its end
+  TrackSettings track{};            ///< the reference of mode `track`
+  /// controller.mpc (its control period is 1 / controller.rate, 50 Hz by default)
+  controller::MpcConfig mpc{};
+  double rollover_limit_deg{60.0};  ///< tilt that ends the run as rolled over [deg]
   lidar::LidarConfig lidar{};
   /// lidar.mount: pose of the sensor L in the base frame B as [x, y, z, roll, pitch, yaw]
   /// [m, rad]; absent: the robot model's "lidar" site.

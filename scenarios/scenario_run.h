@@ -1,6 +1,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,10 +25,11 @@ struct RunSummary {
   int physics_steps{0};
   int mujoco_warning_count{0};
   std::vector<std::string> mujoco_warnings;
-  int video_frames{0};                 ///< 0 when video is off
-  int lidar_frames{0};                 ///< complete LiDAR frames (0 when the LiDAR is off)
-  double lidar_points_per_frame{0.0};  ///< mean points per frame
-  double lidar_ms_per_frame{0.0};      ///< mean wall time spent casting one frame's rays [ms]
+  int video_frames{0};                      ///< 0 when video is off
+  int lidar_frames{0};                      ///< complete LiDAR frames (0 when the LiDAR is off)
+  double lidar_points_per_frame{0.0};       ///< mean points per frame
+  double lidar_ms_per_frame{0.0};           ///< mean wall time spent casting one frame's rays [ms]
+  std::optional<TrackingMetrics> tracking;  ///< mode track only
 };
 
 /// Options of a run that are not part of the scenario.
@@ -39,15 +41,17 @@ struct RunOptions {
 /// Progress reports: fraction of the scenario's duration simulated so far, in [0, 1].
 using ProgressCallback = std::function<void(double fraction)>;
 
-/// Runs a scenario open loop: generates its terrain, builds the MuJoCo world, drives the robot by
-/// the scenario's script through the skid-steer mapping while the LiDAR scans (each physics step
+/// Runs a scenario: generates its terrain, builds the MuJoCo world, drives the robot (mode drive:
+/// by the scenario's script; mode track: by the MPC tracking the reference, which starts at the
+/// robot's start pose or, for a file, places the robot at its first point) through the skid-steer
+/// mapping while the LiDAR scans (each physics step
 /// casts the rays of that step from the sensor pose of that step), and writes into `output_dir`
 /// (which must exist) `trajectory.csv` (50 Hz), with video on `video.mp4` (the latest LiDAR frame's
 /// points drawn coloured by height) and with `options.record_clouds` the frames as PCD under
 /// `clouds/`. Stops early on rollover or divergence (recorded as the outcome).
 /// @throws common::InputError on bad input (an unreadable robot model); std::runtime_error if
 /// video was asked for and GL or ffmpeg is missing.
-RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_path,
+RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_path,
                        const std::string& output_dir, const RunOptions& options = {},
                        const ProgressCallback& progress = {});
 

@@ -1,4 +1,4 @@
-#include "scenarios/open_loop_run.h"
+#include "scenarios/scenario_run.h"
 
 #include <chrono>
 #include <cmath>
@@ -14,6 +14,7 @@
 #include "renders/renderer.h"
 #include "renders/video_writer.h"
 #include "scenarios/pcd_io.h"
+#include "scenarios/tracking.h"
 #include "sim/lidar/lidar_emulator.h"
 #include "sim/simulation.h"
 #include "sim/terrain_geometry.h"
@@ -91,17 +92,28 @@ std::string RobotModelPath(const Scenario& scenario, const std::string& models_d
                              : (std::filesystem::path(models_dir) / model).string();
 }
 
-RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_path,
+RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_path,
                        const std::string& output_dir, const RunOptions& run_options,
                        const ProgressCallback& progress) {
   const auto wall_start = std::chrono::steady_clock::now();
   const sim::TerrainWorld world =
       sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W});
+
+  // what drives the robot: the script, or the MPC tracking a reference that starts at the robot
+  std::optional<MpcTracker> tracker;
+  common::Pose2 start_W = scenario.start_W;
+  if (scenario.mode == RunMode::kTrack) {
+    tracker.emplace(scenario.mpc, BuildReference(scenario.track, scenario.start_W));
+    const common::TrajectoryPoint first =
+        tracker->reference().Sample(tracker->reference().start_time());
+    start_W.position = first.position_W;
+    start_W.yaw = first.yaw;
+  }
   sim::WorldOptions options;
   options.robot_model_path = robot_model_path;
   options.timestep_s = scenario.physics_timestep_s;
   options.ground_friction = scenario.ground_friction;
-  sim::Simulation simulation(world, scenario.start_W, options);
+  sim::Simulation simulation(world, start_W, options);
 
   // LiDAR: an Embree scene of the same world, scanned every physics step
   std::unique_ptr<lidar::RayScene> ray_scene;
@@ -116,6 +128,18 @@ RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_
     ray_scene = std::make_unique<lidar::RayScene>(sim::RaySceneOf(world));
     lidar = std::make_unique<lidar::LidarEmulator>(scenario.lidar);
     if (run_options.record_clouds) std::filesystem::create_directories(output_dir + "/clouds");
+  }
+  // tracking: the reference path on the ground in videos
+  if (tracker && scenario.video.enabled) {
+    const std::vector<common::TrajectoryPoint>& points = tracker->reference().points();
+    renders::Polyline path;
+    path.rgba = Eigen::Vector4f(0.1f, 0.4f, 1.0f, 1.0f);
+    const std::size_t stride = std::max<std::size_t>(1, points.size() / 400);
+    for (std::size_t i = 0; i < points.size(); i += stride) {
+      const Eigen::Vector2d& p = points[i].position_W;
+      path.points_W.emplace_back(p.x(), p.y(), world.GroundHeight(p) + 0.02);
+    }
+    overlay.polylines.push_back(std::move(path));
   }
   double lidar_cast_s = 0.0;
   double lidar_points = 0.0;
@@ -152,7 +176,8 @@ RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_
   int progress_step = 0;
 
   for (int step = 0; step < total_steps; ++step) {
-    const common::Twist2 command = DriveCommandAt(scenario.drive, simulation.time());
+    const common::Twist2 command =
+        tracker ? tracker->Command(state) : DriveCommandAt(scenario.drive, simulation.time());
     simulation.SetWheelSpeedCommands(controller::ToWheelSpeeds(command, scenario.skid_steer));
 
     if (lidar) {
@@ -245,6 +270,7 @@ RunSummary RunOpenLoop(const Scenario& scenario, const std::string& robot_model_
     summary.lidar_points_per_frame = lidar_points / summary.lidar_frames;
     summary.lidar_ms_per_frame = 1e3 * lidar_cast_s / summary.lidar_frames;
   }
+  if (tracker) summary.tracking = tracker->Metrics();
   summary.mujoco_warning_count = simulation.warning_count();
   summary.mujoco_warnings = simulation.warnings();
   return summary;
@@ -276,6 +302,25 @@ std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
   json["lidar_frames"] = summary.lidar_frames;
   json["lidar_points_per_frame"] = summary.lidar_points_per_frame;
   json["lidar_ms_per_frame"] = summary.lidar_ms_per_frame;
+  if (summary.tracking) {
+    const TrackingMetrics& m = *summary.tracking;
+    json["tracking"] = {
+        {"rms_lateral_error_m", m.rms_lateral_error_m},
+        {"max_lateral_error_m", m.max_lateral_error_m},
+        {"rms_heading_error_rad", m.rms_heading_error_rad},
+        {"max_heading_error_rad", m.max_heading_error_rad},
+        {"rms_speed_error_m_s", m.rms_speed_error_m_s},
+        {"max_speed_error_m_s", m.max_speed_error_m_s},
+        {"rms_acceleration_command_m_s2", m.rms_acceleration_command_m_s2},
+        {"rms_yaw_acceleration_command_rad_s2", m.rms_yaw_acceleration_command_rad_s2},
+        {"solve_time_median_ms", m.solve_time_median_ms},
+        {"solve_time_p99_ms", m.solve_time_p99_ms},
+        {"solve_time_max_ms", m.solve_time_max_ms},
+        {"iterations_mean", m.iterations_mean},
+        {"solves", m.solves},
+        {"failures", m.failures},
+        {"iteration_limits", m.iteration_limits}};
+  }
   return json.dump(2) + "\n";
 }
 

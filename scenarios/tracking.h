@@ -1,0 +1,79 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "common/pose.h"
+#include "common/trajectory.h"
+#include "controller/mpc.h"
+
+namespace trav::scenarios {
+
+/// Reference shapes of tracking scenarios.
+enum class ReferenceShape { kLine, kCircle, kFigureEight, kSlalom, kFile };
+
+/// The reference of a tracking scenario (scenario key `track`).
+struct TrackSettings {
+  ReferenceShape reference{ReferenceShape::kFigureEight};
+  /// Line and slalom: length [m]; circle: radius [m]; figure-eight: half its width [m]. > 0
+  double size_m{3.0};
+  double amplitude_m{1.0};        ///< slalom: lateral amplitude [m]
+  double wavelength_m{6.0};       ///< slalom: distance between two left turns [m], > 0
+  double speed_m_s{1.0};          ///< cruise speed [m/s], > 0
+  double acceleration_m_s2{1.0};  ///< start and stop ramps [m/s^2], > 0
+  /// kFile: CSV with header `t,x,y,yaw,v,omega` (W frame, times strictly increasing).
+  std::string file;
+};
+
+/// The reference trajectory: generated shapes start at `start_W` with their initial tangent along
+/// its yaw; a file is used as it is (in W). @throws common::InputError for an unreadable or
+/// malformed file.
+common::Trajectory BuildReference(const TrackSettings& settings, const common::Pose2& start_W);
+
+/// Tracking quality of a run, from every control tick.
+struct TrackingMetrics {
+  double rms_lateral_error_m{0.0};
+  double max_lateral_error_m{0.0};
+  double rms_heading_error_rad{0.0};
+  double max_heading_error_rad{0.0};
+  double rms_speed_error_m_s{0.0};
+  double max_speed_error_m_s{0.0};
+  double rms_acceleration_command_m_s2{0.0};        ///< control effort: RMS of dv_cmd/dt
+  double rms_yaw_acceleration_command_rad_s2{0.0};  ///< control effort: RMS of domega_cmd/dt
+  double solve_time_median_ms{0.0};
+  double solve_time_p99_ms{0.0};
+  double solve_time_max_ms{0.0};
+  double iterations_mean{0.0};
+  int solves{0};
+  int failures{0};          ///< solves that fell back to braking
+  int iteration_limits{0};  ///< solves stopped by the iteration cap or time budget
+};
+
+/// Tracks a reference with the MPC in closed loop: solves at the control rate from the ground-truth
+/// state, holds the command between solves, and records the tracking errors against the reference
+/// at the same time (lateral and heading errors in the reference's frame).
+class MpcTracker {
+ public:
+  MpcTracker(const controller::MpcConfig& config, common::Trajectory reference);
+
+  /// The command in force at the state's time (a new solve when a control period has passed).
+  common::Twist2 Command(const common::RobotState& state);
+
+  /// Metrics over the solves so far.
+  TrackingMetrics Metrics() const;
+
+  const common::Trajectory& reference() const { return reference_; }
+
+ private:
+  controller::MpcController mpc_;
+  common::Trajectory reference_;
+  double next_solve_s_{0.0};
+  common::Twist2 command_{};
+  std::vector<double> lateral_errors_, heading_errors_, speed_errors_;
+  std::vector<double> accelerations_, yaw_accelerations_, solve_times_ms_;
+  double iterations_{0.0};
+  int failures_{0};
+  int iteration_limits_{0};
+};
+
+}  // namespace trav::scenarios
