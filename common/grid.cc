@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 
 namespace trav::common {
 
@@ -37,6 +39,63 @@ float InterpolateBilinear(const GridGeometry& geometry, const Eigen::MatrixXf& l
   const double bottom = (1 - tx) * layer(x0, y0) + tx * layer(x1, y0);
   const double top = (1 - tx) * layer(x0, y1) + tx * layer(x1, y1);
   return static_cast<float>((1 - ty) * bottom + ty * top);
+}
+
+GridLayers::GridLayers(const GridGeometry& geometry, const std::vector<std::string>& layer_names)
+    : geometry_(geometry) {
+  for (const std::string& name : layer_names) AddLayer(name);
+}
+
+const Eigen::MatrixXf& GridLayers::Layer(const std::string& layer) const {
+  const auto it = layers_.find(layer);
+  if (it == layers_.end()) throw std::out_of_range("grid has no layer '" + layer + "'");
+  return it->second;
+}
+
+Eigen::MatrixXf& GridLayers::Layer(const std::string& layer) {
+  const auto it = layers_.find(layer);
+  if (it == layers_.end()) throw std::out_of_range("grid has no layer '" + layer + "'");
+  return it->second;
+}
+
+void GridLayers::AddLayer(const std::string& layer) {
+  layers_[layer] = Eigen::MatrixXf::Constant(geometry_.num_x, geometry_.num_y,
+                                             std::numeric_limits<float>::quiet_NaN());
+}
+
+std::vector<std::string> GridLayers::LayerNames() const {
+  std::vector<std::string> names;
+  for (const auto& entry : layers_) names.push_back(entry.first);
+  return names;
+}
+
+std::optional<float> GridLayers::At(const std::string& layer, const Eigen::Vector2d& p_W) const {
+  const std::optional<Eigen::Vector2i> cell = geometry_.CellIndex(p_W);
+  if (!cell) return std::nullopt;
+  const float value = Layer(layer)(cell->x(), cell->y());
+  if (std::isnan(value)) return std::nullopt;
+  return value;
+}
+
+void GridLayers::Recenter(const Eigen::Vector2d& center_W) {
+  // the shift in whole cells that brings the grid's centre nearest to center_W
+  const Eigen::Vector2d offset = (center_W - geometry_.Center()) / geometry_.resolution_m;
+  const int dx = static_cast<int>(std::lround(offset.x()));
+  const int dy = static_cast<int>(std::lround(offset.y()));
+  if (dx == 0 && dy == 0) return;
+  geometry_.origin_W += geometry_.resolution_m * Eigen::Vector2d(dx, dy);
+  for (auto& entry : layers_) {
+    Eigen::MatrixXf& layer = entry.second;
+    scratch_.resize(layer.rows(), layer.cols());
+    scratch_.setConstant(std::numeric_limits<float>::quiet_NaN());
+    // new cell (ix, iy) was old cell (ix + dx, iy + dy)
+    const int x0 = std::max(0, -dx), x1 = std::min(geometry_.num_x, geometry_.num_x - dx);
+    const int y0 = std::max(0, -dy), y1 = std::min(geometry_.num_y, geometry_.num_y - dy);
+    if (x1 > x0 && y1 > y0) {
+      scratch_.block(x0, y0, x1 - x0, y1 - y0) = layer.block(x0 + dx, y0 + dy, x1 - x0, y1 - y0);
+    }
+    layer.swap(scratch_);
+  }
 }
 
 }  // namespace trav::common

@@ -1,6 +1,9 @@
 #pragma once
 
+#include <map>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -44,5 +47,43 @@ struct GridGeometry {
 /// Bilinear interpolation of `layer` (on `geometry`) at p_W, clamped to the grid's border.
 float InterpolateBilinear(const GridGeometry& geometry, const Eigen::MatrixXf& layer,
                           const Eigen::Vector2d& p_W);
+
+/// Named layers on one grid geometry: traversability maps, elevation maps and ground truth are all
+/// GridLayers. Every layer is an `Eigen::MatrixXf` of size (num_x, num_y) indexed (ix, iy); NaN
+/// marks an unknown cell. A copyable value.
+class GridLayers {
+ public:
+  GridLayers() = default;
+  /// A grid with `layer_names`, every cell unknown (NaN).
+  GridLayers(const GridGeometry& geometry, const std::vector<std::string>& layer_names);
+
+  const GridGeometry& geometry() const { return geometry_; }
+
+  /// True if the layer exists.
+  bool Has(const std::string& layer) const { return layers_.count(layer) > 0; }
+
+  /// The layer. @throws std::out_of_range naming the layer if it does not exist.
+  const Eigen::MatrixXf& Layer(const std::string& layer) const;
+  Eigen::MatrixXf& Layer(const std::string& layer);
+
+  /// Adds a layer of unknown cells (or resets it if it exists).
+  void AddLayer(const std::string& layer);
+
+  /// Names of the layers, sorted.
+  std::vector<std::string> LayerNames() const;
+
+  /// The value of `layer` in the cell containing p_W, or nothing outside the grid or if unknown.
+  std::optional<float> At(const std::string& layer, const Eigen::Vector2d& p_W) const;
+
+  /// Moves the grid so that it is centred (to the nearest cell) on `center_W`, keeping every cell
+  /// anchored in the world: cells that stay in the grid keep their values, cells that enter it are
+  /// unknown. Costs O(cells); allocates nothing.
+  void Recenter(const Eigen::Vector2d& center_W);
+
+ private:
+  GridGeometry geometry_{};
+  std::map<std::string, Eigen::MatrixXf> layers_;
+  Eigen::MatrixXf scratch_;
+};
 
 }  // namespace trav::common

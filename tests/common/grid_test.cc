@@ -1,5 +1,7 @@
 #include "common/grid.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 namespace trav::common {
@@ -43,6 +45,51 @@ TEST(GridGeometryTest, BilinearInterpolationIsExactOnAPlaneAndClampsOutside) {
   EXPECT_FLOAT_EQ(InterpolateBilinear(geometry, layer, Eigen::Vector2d(2.0, 2.0)), 4.0f);
   // beyond the border the value of the border is used
   EXPECT_FLOAT_EQ(InterpolateBilinear(geometry, layer, Eigen::Vector2d(10.0, 2.0)), 4.0f);
+}
+
+TEST(GridLayersTest, NewLayersAreUnknownAndQueriesFollowTheGeometry) {
+  GridLayers dut(GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(4, 4), 1.0),
+                 {"a", "b"});
+  EXPECT_EQ(dut.LayerNames(), (std::vector<std::string>{"a", "b"}));
+  EXPECT_TRUE(std::isnan(dut.Layer("a")(2, 2)));
+  EXPECT_FALSE(dut.At("a", Eigen::Vector2d(0, 0)).has_value());
+  dut.Layer("a")(3, 1) = 7.0f;
+  EXPECT_EQ(dut.At("a", Eigen::Vector2d(1.1, -0.9)), 7.0f);
+  EXPECT_FALSE(dut.At("a", Eigen::Vector2d(9, 0)).has_value());
+  EXPECT_THROW(dut.Layer("c"), std::out_of_range);
+}
+
+TEST(GridLayersTest, RecenteringKeepsCellsAnchoredInTheWorld) {
+  GridLayers dut(GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(10, 10), 0.5),
+                 {"v"});
+  // mark every cell with a function of its world position
+  auto mark = [](const Eigen::Vector2d& p) { return static_cast<float>(100.0 * p.x() + p.y()); };
+  for (int ix = 0; ix < dut.geometry().num_x; ++ix) {
+    for (int iy = 0; iy < dut.geometry().num_y; ++iy)
+      dut.Layer("v")(ix, iy) = mark(dut.geometry().CellCenter(ix, iy));
+  }
+  dut.Recenter(Eigen::Vector2d(3.1, -1.9));
+  EXPECT_TRUE(dut.geometry().Center().isApprox(Eigen::Vector2d(3.0, -2.0)));
+  int kept = 0, unknown = 0;
+  for (int ix = 0; ix < dut.geometry().num_x; ++ix) {
+    for (int iy = 0; iy < dut.geometry().num_y; ++iy) {
+      const Eigen::Vector2d p = dut.geometry().CellCenter(ix, iy);
+      const float value = dut.Layer("v")(ix, iy);
+      const bool was_inside = std::abs(p.x()) <= 5.0 + 1e-9 && std::abs(p.y()) <= 5.0 + 1e-9;
+      if (was_inside) {
+        ASSERT_FLOAT_EQ(value, mark(p));
+        ++kept;
+      } else {
+        ASSERT_TRUE(std::isnan(value));
+        ++unknown;
+      }
+    }
+  }
+  EXPECT_EQ(kept, 15 * 17);
+  EXPECT_EQ(unknown, 21 * 21 - 15 * 17);
+  // 20 m away: nothing is left
+  dut.Recenter(Eigen::Vector2d(23.0, -2.0));
+  EXPECT_TRUE(dut.Layer("v").array().isNaN().all());
 }
 
 }  // namespace

@@ -1,0 +1,55 @@
+#pragma once
+
+#include <deque>
+#include <vector>
+
+#include "common/random.h"
+#include "mapping/fsgp_config.h"
+#include "mapping/sparse_gp.h"
+#include "mapping/traversability_mapper.h"
+
+namespace trav::mapping {
+
+/// FSGP-BGK (Hou, Tan, Zhang, IROS 2025; mapping/README.md): per frame, feature-based sparse GP
+/// regression of the terrain in a window around the robot, a preliminary traversability score from
+/// curvature, gradient and the analytic slope of the GP mean, recursive precision- and
+/// time-weighted (BGK) fusion per world cell, and normalised Gaussian smoothing. With `fuse =
+/// false` it is the FSGP baseline; with `accumulate_frames > 1` and `fuse = false`,
+/// FSGP-Accumulation.
+class FsgpBgkMapper final : public TraversabilityMapper {
+ public:
+  /// @throws common::InputError for an invalid config.
+  explicit FsgpBgkMapper(const FsgpConfig& config);
+
+  MapUpdateResult Update(const common::PointCloud& points_W, const Eigen::Isometry3d& X_WB,
+                         double t_s) override;
+  const common::GridLayers& map() const override { return map_; }
+
+  const FsgpConfig& config() const { return config_; }
+  /// Hyperparameters in use (updated by the optional L-BFGS steps).
+  const GpHyperparameters& hyperparameters() const { return hyper_; }
+
+ private:
+  void Smooth(const Eigen::Vector2i& low, const Eigen::Vector2i& high);
+
+  FsgpConfig config_;
+  GpHyperparameters hyper_;
+  common::Random random_;
+  common::GridLayers map_;
+  common::GridLayers fused_;              // BGK state M before smoothing, on the map's geometry
+  std::deque<Eigen::Matrix3Xf> history_;  // FSGP-Accumulation
+  SparseGp gp_;
+};
+
+/// The BGK update of one cell (the paper's equations): with w_t = exp(-lambda (t - t0)) and
+/// w_sigma = 1 / (sigma^2 + eps), M <- (w_t w_sigma M + M_pre) / (w_t w_sigma + 1) and
+/// sigma^2 <- (w_t sigma^2 + sigma_pre^2) / (w_t + 1). An unknown cell (NaN) takes the new values.
+void BgkUpdate(double m_pre, double variance_pre, double t_s, double decay_rate, double epsilon,
+               float* m, float* variance, float* t0_s);
+
+/// Normalised preliminary score: w_kappa N(kappa) + w_g N(g) + w_slope N(slope), N(a) = min(a /
+/// max, 1).
+double PreliminaryScore(const FsgpConfig& config, double curvature, double gradient_m,
+                        double slope_rad);
+
+}  // namespace trav::mapping

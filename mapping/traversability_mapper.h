@@ -1,0 +1,67 @@
+#pragma once
+
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "common/grid.h"
+#include "common/point_cloud.h"
+
+namespace trav::mapping {
+
+/// Names of the layers every mapper outputs (1 = untraversable, 0 = easy; NaN = unknown).
+namespace layers {
+inline const std::string kElevation = "elevation";                   ///< [m]
+inline const std::string kElevationVariance = "elevation_variance";  ///< [m^2]
+inline const std::string kSlope = "slope";                           ///< [rad]
+inline const std::string kCurvature = "curvature";                   ///< kappa, dimensionless
+inline const std::string kGradient = "gradient";                     ///< g [m]
+inline const std::string kTraversability = "traversability";         ///< cost in [0, 1]
+inline const std::string kTraversabilityVariance = "traversability_variance";
+inline const std::string kLastObserved = "last_observed";  ///< time of the last update [s]
+}  // namespace layers
+
+/// Outcome of one map update.
+enum class MapUpdateStatus {
+  kUpdated,       ///< the map took the frame
+  kTooFewPoints,  ///< fewer than 10 valid points in the window: the map is unchanged
+  kModelFailed,   ///< the model could not be fitted (ill-conditioned): the map is unchanged
+};
+
+/// Wall time of each stage of an update [ms].
+struct StageTimes {
+  double crop{0.0};
+  double features{0.0};  ///< voxel, neighbours, features, sampling
+  double fit{0.0};
+  double predict{0.0};
+  double fusion{0.0};
+  double smoothing{0.0};
+  double Total() const { return crop + features + fit + predict + fusion + smoothing; }
+};
+
+/// Result of one update.
+struct MapUpdateResult {
+  MapUpdateStatus status{MapUpdateStatus::kUpdated};
+  int input_points{0};
+  int dropped_invalid{0};  ///< NaN or infinite points
+  int window_points{0};    ///< valid points in the window
+  int training_points{0};
+  int observed_cells{0};
+  StageTimes times{};
+};
+
+/// A traversability mapper: world-frame clouds, the robot pose and times in; a world-anchored
+/// rolling grid out. Implementations: FSGP-BGK and its baselines.
+class TraversabilityMapper {
+ public:
+  virtual ~TraversabilityMapper() = default;
+
+  /// Takes one LiDAR frame (points in W) measured around `t_s` with the robot base at X_WB.
+  virtual MapUpdateResult Update(const common::PointCloud& points_W, const Eigen::Isometry3d& X_WB,
+                                 double t_s) = 0;
+
+  /// The map (layers in mapping::layers).
+  virtual const common::GridLayers& map() const = 0;
+};
+
+}  // namespace trav::mapping

@@ -1,0 +1,208 @@
+#include "mapping/fsgp_bgk_mapper.h"
+
+#include <cmath>
+#include <functional>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "common/random.h"
+#include "mapping/features.h"
+
+namespace trav::mapping {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+// A dense cloud of z = height(x, y) over a square of `half` around `centre`, spacing 0.1 m, with a
+// little seeded noise.
+common::PointCloud Surface(const std::function<double(double, double)>& height,
+                           const Eigen::Vector2d& centre, double half = 5.0, double noise = 0.002) {
+  common::Random random(11);
+  std::vector<Eigen::Vector3f> points;
+  for (double x = centre.x() - half; x <= centre.x() + half; x += 0.1) {
+    for (double y = centre.y() - half; y <= centre.y() + half; y += 0.1) {
+      points.emplace_back(static_cast<float>(x), static_cast<float>(y),
+                          static_cast<float>(height(x, y) + noise * random.Normal()));
+    }
+  }
+  return common::MakePointCloud(points);
+}
+
+Eigen::Isometry3d RobotAt(double x, double y, double z = 0.3) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.translation() = Eigen::Vector3d(x, y, z);
+  return X;
+}
+
+// Mean of a layer over known cells within `radius` of p.
+double MeanNear(const common::GridLayers& map, const std::string& layer, const Eigen::Vector2d& p,
+                double radius) {
+  const common::GridGeometry& g = map.geometry();
+  double sum = 0.0;
+  int n = 0;
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const float v = map.Layer(layer)(ix, iy);
+      if (!std::isnan(v) && (g.CellCenter(ix, iy) - p).norm() <= radius) {
+        sum += v;
+        ++n;
+      }
+    }
+  }
+  return n > 0 ? sum / n : std::numeric_limits<double>::quiet_NaN();
+}
+
+TEST(FeaturesTest, FlatGroundHasNoCurvatureOrGradientAndAStepEdgeHasBoth) {
+  FsgpConfig config;
+  common::Random random(1);
+  const common::PointCloud flat = Surface([](double, double) { return 0.0; }, {0, 0}, 3.0, 0.0);
+  const TrainingSet plane = ExtractTrainingSet(flat.points, config, &random);
+  EXPECT_LT(plane.curvature.maxCoeff(), 1e-6);
+  EXPECT_LT(plane.gradient.maxCoeff(), 1e-6);
+  EXPECT_EQ(plane.feature_points, 0);
+
+  const common::PointCloud step =
+      Surface([](double x, double) { return x > 0.05 ? 0.2 : 0.0; }, {0, 0}, 3.0, 0.0);
+  const TrainingSet edge = ExtractTrainingSet(step.points, config, &random);
+  EXPECT_GT(edge.feature_points, 0);
+  for (Eigen::Index i = 0; i < edge.points_W.cols(); ++i) {
+    const double distance_to_edge = std::abs(edge.points_W(0, i) - 0.05);
+    if (distance_to_edge > 0.5) {
+      ASSERT_LT(edge.gradient[i], 1e-6) << "at x = " << edge.points_W(0, i);
+      ASSERT_LT(edge.curvature[i], 1e-6);
+    }
+    if (distance_to_edge < 0.1) {
+      ASSERT_GT(edge.gradient[i], 0.03);
+    }
+  }
+}
+
+TEST(FsgpBgkMapperTest, FlatGroundIsEasyEverywhere) {
+  FsgpBgkMapper dut(FsgpConfig{});
+  const MapUpdateResult result =
+      dut.Update(Surface([](double, double) { return 0.0; }, {0, 0}), RobotAt(0, 0), 0.0);
+  ASSERT_EQ(result.status, MapUpdateStatus::kUpdated);
+  EXPECT_GT(result.observed_cells, 2000);
+  EXPECT_LT(MeanNear(dut.map(), layers::kTraversability, {0, 0}, 4.0), 0.02);
+  EXPECT_LT(MeanNear(dut.map(), layers::kSlope, {0, 0}, 4.0), 1.0 * kDegToRad);
+  EXPECT_NEAR(MeanNear(dut.map(), layers::kElevation, {0, 0}, 4.0), 0.0, 0.005);
+}
+
+TEST(FsgpBgkMapperTest, PlanesAtTenAndTwentyDegreesGiveTheirSlope) {
+  for (double degrees : {10.0, 20.0}) {
+    const double gradient = std::tan(degrees * kDegToRad);
+    FsgpBgkMapper dut(FsgpConfig{});
+    ASSERT_EQ(dut.Update(Surface([=](double x, double) { return gradient * x; }, {0, 0}),
+                         RobotAt(0, 0), 0.0)
+                  .status,
+              MapUpdateStatus::kUpdated);
+    EXPECT_NEAR(MeanNear(dut.map(), layers::kSlope, {0, 0}, 3.0), degrees * kDegToRad,
+                1.0 * kDegToRad)
+        << degrees;
+  }
+}
+
+TEST(FsgpBgkMapperTest, AStepRaisesTheCostAtItsEdgeOnly) {
+  FsgpBgkMapper dut(FsgpConfig{});
+  dut.Update(Surface([](double x, double) { return x > 2.05 ? 0.2 : 0.0; }, {0, 0}), RobotAt(0, 0),
+             0.0);
+  const double edge = MeanNear(dut.map(), layers::kTraversability, {2.05, 0}, 0.2);
+  EXPECT_GT(edge, 0.3);
+  // 1.5 m or more from the edge on either side the cost is low (a GP cannot follow a sharp step:
+  // it leans into the cells next to it)
+  for (double x : {-3.0, -2.0, -1.0, 3.6, 4.2}) {
+    EXPECT_LT(MeanNear(dut.map(), layers::kTraversability, {x, 0}, 0.3), 0.1) << "x = " << x;
+  }
+}
+
+TEST(BgkUpdateTest, MatchesTheEquationsOnTwoFrames) {
+  float m = std::numeric_limits<float>::quiet_NaN(), variance = 0.0f, t0 = 0.0f;
+  BgkUpdate(0.6, 0.04, 10.0, 0.01, 0.1, &m, &variance, &t0);
+  EXPECT_FLOAT_EQ(m, 0.6f);
+  EXPECT_FLOAT_EQ(variance, 0.04f);
+  EXPECT_FLOAT_EQ(t0, 10.0f);
+  BgkUpdate(0.2, 0.09, 15.0, 0.01, 0.1, &m, &variance, &t0);
+  // w_t = exp(-0.05), w_sigma = 1 / 0.14
+  const double w_t = std::exp(-0.05);
+  const double w_s = 1.0 / 0.14;
+  EXPECT_NEAR(m, (w_t * w_s * 0.6 + 0.2) / (w_t * w_s + 1.0), 1e-6);
+  EXPECT_NEAR(variance, (w_t * 0.04 + 0.09) / (w_t + 1.0), 1e-6);
+  EXPECT_FLOAT_EQ(t0, 15.0f);
+}
+
+TEST(BgkUpdateTest, OldValuesDecayWithTime) {
+  float recent_m = 0.8f, recent_v = 0.01f, recent_t = 99.0f;
+  float old_m = 0.8f, old_v = 0.01f, old_t = 0.0f;
+  BgkUpdate(0.0, 0.01, 100.0, 0.01, 0.1, &recent_m, &recent_v, &recent_t);
+  BgkUpdate(0.0, 0.01, 100.0, 0.01, 0.1, &old_m, &old_v, &old_t);
+  EXPECT_GT(recent_m, old_m);  // the one-second-old value weighs more than the 100-second-old one
+  EXPECT_NEAR(old_m, 0.8 * std::exp(-1.0) / 0.11 / (std::exp(-1.0) / 0.11 + 1.0), 1e-6);
+}
+
+TEST(FsgpBgkMapperTest, CellsKeepTheirValuesWhileUnobservedAndStayAlignedWhenTheRobotMoves) {
+  FsgpConfig config;
+  config.map_size_m = 30.0;
+  FsgpBgkMapper dut(config);
+  // a bump at (3, 0) seen from the origin
+  auto bump = [](double x, double y) {
+    return 0.15 * std::exp(-((x - 3) * (x - 3) + y * y) / 0.1);
+  };
+  dut.Update(Surface(bump, {0, 0}), RobotAt(0, 0), 0.0);
+  const float at_bump = *dut.map().At(layers::kTraversability, {3.0, 0.0});
+  EXPECT_GT(at_bump, 0.2);
+  // the robot moves 12 m away: the bump is out of every later window but its cell keeps its value
+  dut.Update(Surface([](double, double) { return 0.0; }, {12, 0}), RobotAt(12, 0), 1.0);
+  EXPECT_EQ(*dut.map().At(layers::kTraversability, {3.0, 0.0}), at_bump);
+  EXPECT_EQ(*dut.map().At(layers::kLastObserved, {3.0, 0.0}), 0.0f);
+  // 20 m away along y: the map has rolled; the world cell (3, 0) is gone, (12, 10) is known
+  dut.Update(Surface([](double, double) { return 0.0; }, {12, 20}), RobotAt(12, 20), 2.0);
+  EXPECT_FALSE(dut.map().At(layers::kTraversability, {3.0, 0.0}).has_value());
+  EXPECT_TRUE(dut.map().At(layers::kTraversability, {12.0, 16.0}).has_value());
+  EXPECT_EQ(*dut.map().At(layers::kLastObserved, {12.0, 22.0}), 2.0f);
+}
+
+TEST(FsgpBgkMapperTest, SeededRunsAreIdentical) {
+  auto hills = [](double x, double y) { return 0.3 * std::sin(0.7 * x) * std::cos(0.5 * y); };
+  FsgpConfig config;
+  config.max_training_points = 200;  // forces the random sampling
+  FsgpBgkMapper a(config), b(config);
+  for (int frame = 0; frame < 3; ++frame) {
+    a.Update(Surface(hills, {0.5 * frame, 0}), RobotAt(0.5 * frame, 0), 0.1 * frame);
+    b.Update(Surface(hills, {0.5 * frame, 0}), RobotAt(0.5 * frame, 0), 0.1 * frame);
+  }
+  const Eigen::MatrixXf& ta = a.map().Layer(layers::kTraversability);
+  const Eigen::MatrixXf& tb = b.map().Layer(layers::kTraversability);
+  EXPECT_TRUE(((ta.array() == tb.array()) || (ta.array().isNaN() && tb.array().isNaN())).all());
+}
+
+TEST(FsgpBgkMapperTest, BadFramesLeaveTheMapUnchanged) {
+  FsgpBgkMapper dut(FsgpConfig{});
+  dut.Update(Surface([](double, double) { return 0.0; }, {0, 0}), RobotAt(0, 0), 0.0);
+  const common::GridLayers before = dut.map();
+  auto unchanged = [&] {
+    const Eigen::MatrixXf& now = dut.map().Layer(layers::kTraversability);
+    const Eigen::MatrixXf& then = before.Layer(layers::kTraversability);
+    return ((now.array() == then.array()) || (now.array().isNaN() && then.array().isNaN())).all();
+  };
+  // empty
+  EXPECT_EQ(dut.Update(common::PointCloud{}, RobotAt(0, 0), 1.0).status,
+            MapUpdateStatus::kTooFewPoints);
+  EXPECT_TRUE(unchanged());
+  // three points
+  common::PointCloud three = common::MakePointCloud({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  EXPECT_EQ(dut.Update(three, RobotAt(0, 0), 2.0).status, MapUpdateStatus::kTooFewPoints);
+  EXPECT_TRUE(unchanged());
+  // NaN and infinite points only
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  common::PointCloud invalid =
+      common::MakePointCloud(std::vector<Eigen::Vector3f>(50, Eigen::Vector3f(nan, 0, inf)));
+  const MapUpdateResult result = dut.Update(invalid, RobotAt(0, 0), 3.0);
+  EXPECT_EQ(result.status, MapUpdateStatus::kTooFewPoints);
+  EXPECT_EQ(result.dropped_invalid, 50);
+  EXPECT_TRUE(unchanged());
+}
+
+}  // namespace
+}  // namespace trav::mapping

@@ -1,0 +1,134 @@
+#include "mapping/sparse_gp.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "common/random.h"
+
+namespace trav::mapping {
+namespace {
+
+// Random inputs in [-1, 1]^dims and smooth heights.
+void MakeData(int n, int dims, Eigen::MatrixXd* inputs, Eigen::VectorXd* heights) {
+  common::Random random(3);
+  inputs->resize(n, dims);
+  heights->resize(n);
+  for (int i = 0; i < n; ++i) {
+    for (int d = 0; d < dims; ++d) (*inputs)(i, d) = random.Uniform(-1.0, 1.0);
+    (*heights)[i] =
+        std::sin(2.0 * (*inputs)(i, 0)) + 0.5 * (*inputs)(i, 1) + 0.05 * random.Normal();
+  }
+}
+
+GpHyperparameters Hyper(KernelType kernel) {
+  GpHyperparameters hyper;
+  hyper.kernel = kernel;
+  hyper.length_scales = Eigen::Vector4d(0.5, 0.7, 0.9, 1.1);
+  hyper.signal_variance_ratio = 1.3;
+  hyper.noise_std_m = 0.1;
+  hyper.rq_alpha = 1.7;
+  return hyper;
+}
+
+// theta = (log l_1..4, log ratio, log s_n^2, log alpha)
+GpHyperparameters Perturbed(GpHyperparameters hyper, int index, double delta) {
+  if (index < 4) hyper.length_scales[index] *= std::exp(delta);
+  if (index == 4) hyper.signal_variance_ratio *= std::exp(delta);
+  if (index == 5) hyper.noise_std_m *= std::exp(0.5 * delta);
+  if (index == 6) hyper.rq_alpha *= std::exp(delta);
+  return hyper;
+}
+
+TEST(SparseGpTest, LikelihoodGradientMatchesFiniteDifferences) {
+  Eigen::MatrixXd inputs;
+  Eigen::VectorXd heights;
+  MakeData(40, 4, &inputs, &heights);
+  for (KernelType kernel : {KernelType::kSquaredExponential, KernelType::kRationalQuadratic}) {
+    const GpHyperparameters hyper = Hyper(kernel);
+    Eigen::VectorXd gradient;
+    SparseGp::LogMarginalLikelihood(inputs, heights, hyper, &gradient);
+    ASSERT_EQ(gradient.size(), 7);
+    const double h = 1e-5;
+    for (int j = 0; j < 7; ++j) {
+      const double up =
+          SparseGp::LogMarginalLikelihood(inputs, heights, Perturbed(hyper, j, h), nullptr);
+      const double down =
+          SparseGp::LogMarginalLikelihood(inputs, heights, Perturbed(hyper, j, -h), nullptr);
+      const double numeric = (up - down) / (2 * h);
+      EXPECT_NEAR(gradient[j], kernel == KernelType::kSquaredExponential && j == 6 ? 0.0 : numeric,
+                  1e-5 * std::max(1.0, std::abs(numeric)))
+          << "parameter " << j;
+    }
+  }
+}
+
+TEST(SparseGpTest, MeanGradientMatchesFiniteDifferences) {
+  Eigen::MatrixXd inputs;
+  Eigen::VectorXd heights;
+  MakeData(60, 4, &inputs, &heights);
+  for (KernelType kernel : {KernelType::kSquaredExponential, KernelType::kRationalQuadratic}) {
+    SparseGp dut;
+    ASSERT_TRUE(dut.Fit(inputs, heights, Hyper(kernel)));
+    Eigen::MatrixXd test(3, 4);
+    test << 0.1, -0.2, 0.3, 0.0, -0.5, 0.4, -0.1, 0.2, 0.7, 0.7, 0.5, -0.5;
+    Eigen::VectorXd mean, variance;
+    Eigen::MatrixXd gradient;
+    dut.Predict(test, &mean, &variance, &gradient);
+    const double h = 1e-6;
+    for (int d = 0; d < 4; ++d) {
+      Eigen::MatrixXd up = test, down = test;
+      up.col(d).array() += h;
+      down.col(d).array() -= h;
+      Eigen::VectorXd mean_up, mean_down, unused;
+      Eigen::MatrixXd unused_gradient;
+      dut.Predict(up, &mean_up, &unused, &unused_gradient);
+      dut.Predict(down, &mean_down, &unused, &unused_gradient);
+      for (int t = 0; t < 3; ++t)
+        EXPECT_NEAR(gradient(t, d), (mean_up[t] - mean_down[t]) / (2 * h), 1e-6);
+    }
+    EXPECT_TRUE((variance.array() >= 0.0).all());
+  }
+}
+
+TEST(SparseGpTest, InterpolatesASmoothSurfaceWithinABound) {
+  // z = 0.3 sin(x) cos(0.5 y) sampled on 300 points over 6 x 6 m, predicted on a grid
+  common::Random random(5);
+  Eigen::MatrixXd inputs(300, 2);
+  Eigen::VectorXd heights(300);
+  auto surface = [](double x, double y) { return 0.3 * std::sin(x) * std::cos(0.5 * y); };
+  for (int i = 0; i < 300; ++i) {
+    inputs.row(i) << random.Uniform(-3, 3), random.Uniform(-3, 3);
+    heights[i] = surface(inputs(i, 0), inputs(i, 1));
+  }
+  GpHyperparameters hyper;
+  hyper.length_scales = Eigen::Vector4d(1.0, 1.0, 1.0, 1.0);
+  hyper.noise_std_m = 0.005;
+  SparseGp dut;
+  ASSERT_TRUE(dut.Fit(inputs, heights, hyper));
+  Eigen::MatrixXd test(121, 2);
+  for (int i = 0; i < 11; ++i) {
+    for (int j = 0; j < 11; ++j) test.row(11 * i + j) << -2.5 + 0.5 * i, -2.5 + 0.5 * j;
+  }
+  Eigen::VectorXd mean, variance;
+  Eigen::MatrixXd gradient;
+  dut.Predict(test, &mean, &variance, &gradient);
+  double worst = 0.0;
+  for (int t = 0; t < 121; ++t)
+    worst = std::max(worst, std::abs(mean[t] - surface(test(t, 0), test(t, 1))));
+  EXPECT_LT(worst, 0.01);  // 1 cm on a 30 cm relief
+}
+
+TEST(SparseGpTest, OptimisingRaisesTheLikelihood) {
+  Eigen::MatrixXd inputs;
+  Eigen::VectorXd heights;
+  MakeData(50, 4, &inputs, &heights);
+  GpHyperparameters hyper = Hyper(KernelType::kSquaredExponential);
+  hyper.length_scales = Eigen::Vector4d(3.0, 3.0, 3.0, 3.0);
+  const double before = SparseGp::LogMarginalLikelihood(inputs, heights, hyper, nullptr);
+  EXPECT_GT(SparseGp::OptimiseHyperparameters(inputs, heights, 5, &hyper), 0);
+  EXPECT_GT(SparseGp::LogMarginalLikelihood(inputs, heights, hyper, nullptr), before);
+}
+
+}  // namespace
+}  // namespace trav::mapping
