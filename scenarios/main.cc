@@ -156,14 +156,15 @@ int Terrain(const ScenarioOptions& options) {
   OutputFolder folder(scenario.output_dir);
   const sim::TerrainWorld world =
       sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W});
-  ExportTerrain(world, folder);
+  ExportTerrain(world, scenario.mapping, scenario.ground_truth, folder);
   folder.Commit();
   std::printf("terrain %s (seed %llu): %d x %d samples, %zu obstacles\n",
               sim::TerrainTypeName(scenario.terrain.type),
               static_cast<unsigned long long>(scenario.terrain.seed), world.geometry.num_x,
               world.geometry.num_y, world.obstacles.size());
   std::printf(
-      "written to %s (heightmap.png, heightmap.raw, cloud.pcd, preview.png, terrain.json)\n",
+      "written to %s (heightmap.png, heightmap.raw, cloud.pcd, preview.png, ground_truth.png, "
+      "ground_truth.raw, terrain.json)\n",
       folder.final_path().c_str());
   return kExitExpected;
 }

@@ -35,6 +35,9 @@ const Names<ReferenceShape> kReferences = {{"line", ReferenceShape::kLine},
                                            {"figure_eight", ReferenceShape::kFigureEight},
                                            {"slalom", ReferenceShape::kSlalom},
                                            {"file", ReferenceShape::kFile}};
+const Names<mapping::KernelType> kKernels = {
+    {"squared_exponential", mapping::KernelType::kSquaredExponential},
+    {"rational_quadratic", mapping::KernelType::kRationalQuadratic}};
 const Names<Outcome> kOutcomes = {{"completed", Outcome::kCompleted},
                                   {"rolled_over", Outcome::kRolledOver},
                                   {"diverged", Outcome::kDiverged}};
@@ -334,6 +337,52 @@ void VisitScenario(Archive& a, Scenario& s) {
     l.Field("threads", &c.threads);
     l.Field("mount", &s.lidar_mount_B);
   });
+  a.Map("mapping", [&](Archive& mp) {
+    mapping::FsgpConfig& c = s.mapping;
+    mp.Field("window", &c.window_m);
+    mp.Field("resolution", &c.resolution_m);
+    mp.Field("map_size", &c.map_size_m);
+    mp.Field("max_height_above_robot", &c.max_height_above_robot_m);
+    mp.Field("pre_voxel", &c.pre_voxel_m);
+    mp.Field("neighbours", &c.neighbours);
+    mp.Field("curvature_threshold", &c.curvature_threshold);
+    mp.Field("gradient_threshold", &c.gradient_threshold_m);
+    mp.Field("feature_voxel", &c.feature_voxel_m);
+    mp.Field("max_training_points", &c.max_training_points);
+    mp.Field("seed", &c.seed);
+    mp.Field("pca", &c.pca);
+    mp.Map("gp", [&](Archive& gp) {
+      gp.Enum("kernel", &c.gp.kernel, kKernels);
+      Eigen::Vector4d& l = c.gp.length_scales;
+      Eigen::Vector2d xy(l[0], l[1]), features(l[2], l[3]);
+      gp.Field("length_scales_xy", &xy);
+      gp.Field("length_scales_features", &features);
+      l << xy, features;
+      gp.Field("signal_variance_ratio", &c.gp.signal_variance_ratio);
+      gp.Field("noise_std", &c.gp.noise_std_m);
+      gp.Field("rq_alpha", &c.gp.rq_alpha);
+    });
+    mp.Field("lbfgs_iterations", &c.lbfgs_iterations);
+    mp.Field("idw_neighbours", &c.idw_neighbours);
+    mp.Field("support_radius", &c.support_radius_m);
+    mp.Field("weight_curvature", &c.weight_curvature);
+    mp.Field("weight_gradient", &c.weight_gradient);
+    mp.Field("weight_slope", &c.weight_slope);
+    mp.Field("curvature_max", &c.curvature_max);
+    mp.Field("gradient_max", &c.gradient_max_m);
+    mp.Field("slope_max", &c.slope_max_rad);
+    mp.Field("fuse", &c.fuse);
+    mp.Field("decay_rate", &c.decay_rate);
+    mp.Field("variance_epsilon", &c.variance_epsilon);
+    mp.Field("smoothing_sigma", &c.smoothing_sigma_m);
+    mp.Field("smoothing_radius", &c.smoothing_radius_m);
+    mp.Field("accumulate_frames", &c.accumulate_frames);
+  });
+  a.Map("ground_truth", [&](Archive& gt) {
+    gt.Field("neighbourhood_radius", &s.ground_truth.neighbourhood_radius_m, Positive, kPositive);
+    gt.Field("clearance", &s.ground_truth.clearance_m, Positive, kPositive);
+    gt.Field("footprint_radius", &s.ground_truth.footprint_radius_m, Positive, kPositive);
+  });
   a.Map("video", [&](Archive& v) {
     v.Field("enabled", &s.video.enabled);
     v.Field("width", &s.video.render.width);
@@ -364,6 +413,7 @@ Scenario LoadScenario(const common::YamlDocument& document) {
     renders::ValidateRenderConfig(scenario.video.render);
     lidar::ValidateLidarConfig(scenario.lidar);
     controller::ValidateMpcConfig(scenario.mpc);
+    mapping::ValidateFsgpConfig(scenario.mapping);
   } catch (const common::InputError& e) {
     throw common::InputError(document.source() + ": " + e.what());
   }

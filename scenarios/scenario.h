@@ -10,6 +10,8 @@
 #include "common/yaml_reader.h"
 #include "controller/mpc.h"
 #include "controller/skid_steer.h"
+#include "mapping/fsgp_config.h"
+#include "mapping/ground_truth.h"
 #include "renders/camera.h"
 #include "renders/renderer.h"
 #include "scenarios/tracking.h"
@@ -70,6 +72,8 @@ struct Scenario {
   /// lidar.mount: pose of the sensor L in the base frame B as [x, y, z, roll, pitch, yaw]
   /// [m, rad]; absent: the robot model's "lidar" site.
   std::optional<Eigen::Matrix<double, 6, 1>> lidar_mount_B;
+  mapping::FsgpConfig mapping{};              ///< scenario key `mapping`
+  mapping::GroundTruthConfig ground_truth{};  ///< scenario key `ground_truth`
   VideoSettings video{};
   std::string output_dir{"out/default"};
   Outcome expected_outcome{Outcome::kCompleted};  ///< exit code 0 iff the run ends this way

@@ -9,7 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "mapping/traversability_mapper.h"
 #include "renders/image.h"
+#include "renders/overlay.h"
 #include "scenarios/pcd_io.h"
 #include "sim/terrain_geometry.h"
 
@@ -99,7 +101,41 @@ void WritePreview(const sim::TerrainWorld& world, const OutputFolder& folder) {
   renders::WritePng(folder.File("preview.png"), image);
 }
 
-void WriteMetadata(const sim::TerrainWorld& world, const OutputFolder& folder) {
+common::GridGeometry WriteGroundTruth(const sim::TerrainWorld& world,
+                                      const mapping::FsgpConfig& score,
+                                      const mapping::GroundTruthConfig& config,
+                                      const OutputFolder& folder) {
+  const common::GridGeometry map_geometry = common::GridGeometry::Centered(
+      world.geometry.Center(), world.geometry.Extent(), score.resolution_m);
+  const common::GridLayers truth = mapping::ComputeGroundTruth(
+      map_geometry, world.geometry, world.height_m, sim::ObstacleHeightGrid(world), score, config);
+  const Eigen::MatrixXf& cost = truth.Layer(mapping::layers::kTraversability);
+  std::ofstream raw(folder.File("ground_truth.raw"), std::ios::binary);
+  raw.write(reinterpret_cast<const char*>(cost.data()),
+            static_cast<std::streamsize>(cost.size() * sizeof(float)));
+  if (!raw) throw std::runtime_error("cannot write " + folder.File("ground_truth.raw"));
+  renders::Image image;
+  image.width = map_geometry.num_x;
+  image.height = map_geometry.num_y;
+  image.rgb.resize(static_cast<std::size_t>(image.width) * image.height * 3);
+  for (int row = 0; row < image.height; ++row) {
+    for (int ix = 0; ix < image.width; ++ix) {
+      const float value = cost(ix, image.height - 1 - row);
+      const Eigen::Vector3f color = std::isnan(value)
+                                        ? Eigen::Vector3f(0.5f, 0.5f, 0.5f)
+                                        : renders::TraversabilityColor(value, 0.0f, 1.0f);
+      std::uint8_t* pixel =
+          image.rgb.data() + 3 * (static_cast<std::size_t>(row) * image.width + ix);
+      for (int c = 0; c < 3; ++c)
+        pixel[c] = static_cast<std::uint8_t>(std::lround(255.0f * color[c]));
+    }
+  }
+  renders::WritePng(folder.File("ground_truth.png"), image);
+  return map_geometry;
+}
+
+void WriteMetadata(const sim::TerrainWorld& world, const common::GridGeometry& truth_geometry,
+                   const OutputFolder& folder) {
   const sim::TerrainStatistics stats = sim::ComputeStatistics(world);
   const common::GridGeometry& g = world.geometry;
   nlohmann::json json;
@@ -109,6 +145,11 @@ void WriteMetadata(const sim::TerrainWorld& world, const OutputFolder& folder) {
                   {"resolution_m", g.resolution_m},
                   {"num_x", g.num_x},
                   {"num_y", g.num_y}};
+  json["ground_truth_grid"] = {
+      {"origin", {truth_geometry.origin_W.x(), truth_geometry.origin_W.y()}},
+      {"resolution_m", truth_geometry.resolution_m},
+      {"num_x", truth_geometry.num_x},
+      {"num_y", truth_geometry.num_y}};
   json["height_min_m"] = world.height_m.minCoeff();
   json["height_max_m"] = world.height_m.maxCoeff();
   json["statistics"] = {
@@ -130,11 +171,12 @@ void WriteMetadata(const sim::TerrainWorld& world, const OutputFolder& folder) {
 
 }  // namespace
 
-void ExportTerrain(const sim::TerrainWorld& world, const OutputFolder& folder) {
+void ExportTerrain(const sim::TerrainWorld& world, const mapping::FsgpConfig& score,
+                   const mapping::GroundTruthConfig& ground_truth, const OutputFolder& folder) {
   WriteHeightmaps(world, folder);
   WriteCloud(world, folder);
   WritePreview(world, folder);
-  WriteMetadata(world, folder);
+  WriteMetadata(world, WriteGroundTruth(world, score, ground_truth, folder), folder);
 }
 
 }  // namespace trav::scenarios

@@ -1,5 +1,7 @@
 #pragma once
 
+#include "mapping/fsgp_config.h"
+#include "mapping/ground_truth.h"
 #include "scenarios/output_folder.h"
 #include "sim/terrain.h"
 
@@ -13,7 +15,12 @@ namespace trav::scenarios {
 ///   the smallest y (num_y rows of num_x values);
 /// - `cloud.pcd`: the dense noise-free point cloud (PCL binary PCD, frame W);
 /// - `preview.png`: a shaded top view with obstacles in their colours (+y up);
+/// - `ground_truth.png` and `ground_truth.raw`: the ground-truth traversability
+/// (docs/ground-truth.md)
+///   on the mapper's grid (`score.resolution_m`), colours green (0) to red (1), and float32 values
+///   with rows along +y (its grid in terrain.json);
 /// - `terrain.json`: grid geometry, height range, statistics and the obstacle list.
-void ExportTerrain(const sim::TerrainWorld& world, const OutputFolder& folder);
+void ExportTerrain(const sim::TerrainWorld& world, const mapping::FsgpConfig& score,
+                   const mapping::GroundTruthConfig& ground_truth, const OutputFolder& folder);
 
 }  // namespace trav::scenarios

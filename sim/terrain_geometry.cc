@@ -1,5 +1,7 @@
 #include "sim/terrain_geometry.h"
 
+#include <algorithm>
+#include <optional>
 #include <vector>
 
 namespace trav::sim {
@@ -56,6 +58,25 @@ common::PointCloud DenseCloud(const TerrainWorld& world, double spacing_m) {
     if (p.z() >= world.GroundHeight(p.head<2>().cast<double>()) - 1e-3) points.push_back(p);
   }
   return common::MakePointCloud(points, "W");
+}
+
+Eigen::MatrixXf ObstacleHeightGrid(const TerrainWorld& world, double max_height_m) {
+  Eigen::MatrixXf heights = Eigen::MatrixXf::Zero(world.geometry.num_x, world.geometry.num_y);
+  for (const Obstacle& obstacle : world.obstacles) {
+    if (obstacle.role != ObstacleRole::kSolid) continue;
+    const common::PointCloud surface = common::SampleSurface(common::PrimitiveMesh(obstacle, 32),
+                                                             0.5 * world.geometry.resolution_m);
+    for (Eigen::Index i = 0; i < surface.size(); ++i) {
+      const Eigen::Vector2d p = surface.points.col(i).head<2>().cast<double>();
+      const std::optional<Eigen::Vector2i> cell = world.geometry.CellIndex(p);
+      if (!cell) continue;
+      const float above = surface.points(2, i) - world.height_m(cell->x(), cell->y());
+      if (above > 0.0f && above <= max_height_m) {
+        heights(cell->x(), cell->y()) = std::max(heights(cell->x(), cell->y()), above);
+      }
+    }
+  }
+  return heights;
 }
 
 lidar::RaySceneDescription RaySceneOf(const TerrainWorld& world) {

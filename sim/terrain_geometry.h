@@ -19,6 +19,12 @@ TriangleMesh ObstacleMesh(const std::vector<Obstacle>& obstacles, int segments =
 /// Used for ground truth and export.
 common::PointCloud DenseCloud(const TerrainWorld& world, double spacing_m);
 
+/// Height above the ground [m] of the solid obstacles' surfaces on the world's height grid: per
+/// cell the highest obstacle surface point up to `max_height_m` above the ground (higher parts,
+/// such as tree crowns and ceilings, do not touch the robot), 0 where there is none. Surfaces are
+/// sampled every half cell. Input of the ground-truth traversability.
+Eigen::MatrixXf ObstacleHeightGrid(const TerrainWorld& world, double max_height_m = 1.0);
+
 /// What the LiDAR sees of the world: the ground at full height-field resolution (object 0) and
 /// every obstacle as a primitive (objects 1.., in the order of `world.obstacles`), tree crowns and
 /// ceilings included. The robot is not part of it, so it never sees itself.

@@ -1,0 +1,31 @@
+#pragma once
+
+#include "common/grid.h"
+#include "mapping/fsgp_config.h"
+
+namespace trav::mapping {
+
+/// Parameters of the ground-truth traversability (docs/ground-truth.md).
+struct GroundTruthConfig {
+  double neighbourhood_radius_m{
+      0.3};  ///< metric neighbourhood of the slope, curvature and gradient terms [m]
+  double clearance_m{0.115};       ///< the Scout Mini's ground clearance [m]
+  double footprint_radius_m{0.3};  ///< half the robot's width [m]
+};
+
+/// Ground-truth traversability on `map_geometry` from the dense noise-free world: `ground_m`
+/// (ground height) and `obstacle_m` (height of obstacle surfaces above the ground, 0 where there is
+/// none), both on `world_geometry`. Per map cell, over the world samples within the neighbourhood
+/// radius (so the result does not depend on point density): slope of the least-squares plane,
+/// curvature lambda_min / (sum lambda + 1e-6) of the samples' covariance and gradient mean |z_j -
+/// z_centre|, on the surface (ground plus obstacles); combined with the mapper's weights and
+/// normalisers (PreliminaryScore). A cell with an obstacle higher than the clearance within the
+/// footprint radius is untraversable (1). Layers: traversability, slope, curvature, gradient,
+/// elevation.
+common::GridLayers ComputeGroundTruth(const common::GridGeometry& map_geometry,
+                                      const common::GridGeometry& world_geometry,
+                                      const Eigen::MatrixXf& ground_m,
+                                      const Eigen::MatrixXf& obstacle_m, const FsgpConfig& score,
+                                      const GroundTruthConfig& config);
+
+}  // namespace trav::mapping
