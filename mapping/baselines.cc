@@ -1,0 +1,281 @@
+#include "mapping/baselines.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/QR>
+
+#include "mapping/fsgp_bgk_mapper.h"
+
+namespace trav::mapping {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr int kMinimumPoints = 10;
+
+double Milliseconds(Clock::time_point since) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
+}
+
+common::GridLayers MakeMap(double size_m, double resolution_m) {
+  return common::GridLayers(
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d::Constant(size_m),
+                                     resolution_m),
+      {layers::kElevation, layers::kElevationVariance, layers::kSlope, layers::kCurvature,
+       layers::kGradient, layers::kTraversability, layers::kTraversabilityVariance,
+       layers::kLastObserved});
+}
+
+// The valid points in the square window around the robot, below the height limit.
+Eigen::Matrix3Xf CropWindow(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
+                            double window_m, double max_height_above_m, MapUpdateResult* result) {
+  const double half = 0.5 * window_m;
+  Eigen::Matrix3Xf window(3, points_W.size());
+  Eigen::Index kept = 0;
+  for (Eigen::Index i = 0; i < points_W.size(); ++i) {
+    const Eigen::Vector3f p = points_W.points.col(i);
+    if (!p.allFinite()) {
+      ++result->dropped_invalid;
+      continue;
+    }
+    if (std::abs(p.x() - p_WB.x()) <= half && std::abs(p.y() - p_WB.y()) <= half &&
+        p.z() <= p_WB.z() + max_height_above_m) {
+      window.col(kept++) = p;
+    }
+  }
+  window.conservativeResize(3, kept);
+  result->window_points = static_cast<int>(kept);
+  return window;
+}
+
+// The window's cells [low, high] on the map.
+std::pair<Eigen::Vector2i, Eigen::Vector2i> WindowCells(const common::GridGeometry& g,
+                                                        const Eigen::Vector3d& p_WB,
+                                                        double window_m) {
+  const Eigen::Vector2d corner = Eigen::Vector2d::Constant(0.5 * window_m);
+  return {*g.CellIndex(g.origin_W.cwiseMax(p_WB.head<2>() - corner)),
+          *g.CellIndex((g.origin_W + g.Extent()).cwiseMin(p_WB.head<2>() + corner))};
+}
+
+}  // namespace
+
+SgpMapper::SgpMapper(const SgpConfig& config)
+    : config_(config), map_(MakeMap(config.map_size_m, config.resolution_m)) {}
+
+MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eigen::Isometry3d& X_WB,
+                                  double t_s) {
+  MapUpdateResult result;
+  result.input_points = static_cast<int>(points_W.size());
+  const Eigen::Vector3d p_WB = X_WB.translation();
+  auto stage = Clock::now();
+  Eigen::Matrix3Xf window =
+      CropWindow(points_W, p_WB, config_.window_m, config_.max_height_above_robot_m, &result);
+  result.times.crop = Milliseconds(stage);
+  if (window.cols() < kMinimumPoints) {
+    result.status = MapUpdateStatus::kTooFewPoints;
+    return result;
+  }
+  // inducing points on a stride of the points sorted by x
+  stage = Clock::now();
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(window.cols()));
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<Eigen::Index>(i);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](Eigen::Index a, Eigen::Index b) { return window(0, a) < window(0, b); });
+  const std::size_t stride =
+      std::max<std::size_t>(1, order.size() / static_cast<std::size_t>(config_.inducing_points));
+  std::vector<Eigen::Index> chosen;
+  for (std::size_t i = 0; i < order.size(); i += stride) chosen.push_back(order[i]);
+  const auto m = static_cast<Eigen::Index>(chosen.size());
+  Eigen::MatrixXd inputs(m, 2);
+  Eigen::VectorXd heights(m);
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const Eigen::Index i = chosen[static_cast<std::size_t>(k)];
+    inputs.row(k) << window(0, i), window(1, i);
+    heights[k] = window(2, i);
+  }
+  result.training_points = static_cast<int>(m);
+  result.times.features = Milliseconds(stage);
+  stage = Clock::now();
+  GpHyperparameters hyper;
+  hyper.length_scales = Eigen::Vector4d::Constant(config_.length_scale_m);
+  hyper.noise_std_m = config_.noise_std_m;
+  if (!gp_.Fit(inputs, heights, hyper)) {
+    result.status = MapUpdateStatus::kModelFailed;
+    return result;
+  }
+  result.times.fit = Milliseconds(stage);
+
+  // predict every window cell near data
+  stage = Clock::now();
+  map_.Recenter(p_WB.head<2>());
+  const common::GridGeometry& g = map_.geometry();
+  const auto [low, high] = WindowCells(g, p_WB, config_.window_m);
+  std::vector<Eigen::Vector2i> cells;
+  for (int ix = low.x(); ix <= high.x(); ++ix) {
+    for (int iy = low.y(); iy <= high.y(); ++iy) {
+      const Eigen::Vector2d c = g.CellCenter(ix, iy);
+      const double nearest =
+          std::sqrt((inputs.rowwise() - c.transpose()).rowwise().squaredNorm().minCoeff());
+      if (nearest <= config_.support_radius_m) cells.emplace_back(ix, iy);
+    }
+  }
+  Eigen::MatrixXd test(static_cast<Eigen::Index>(cells.size()), 2);
+  for (std::size_t k = 0; k < cells.size(); ++k)
+    test.row(static_cast<Eigen::Index>(k)) = g.CellCenter(cells[k].x(), cells[k].y()).transpose();
+  Eigen::VectorXd f, variance;
+  Eigen::MatrixXd gradient;
+  gp_.Predict(test, &f, &variance, &gradient);
+  Eigen::MatrixXf& elevation = map_.Layer(layers::kElevation);
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    elevation(cells[k].x(), cells[k].y()) = static_cast<float>(f[i]);
+    map_.Layer(layers::kElevationVariance)(cells[k].x(), cells[k].y()) =
+        static_cast<float>(variance[i]);
+    map_.Layer(layers::kSlope)(cells[k].x(), cells[k].y()) =
+        static_cast<float>(std::atan(gradient.row(i).norm()));
+    map_.Layer(layers::kLastObserved)(cells[k].x(), cells[k].y()) = static_cast<float>(t_s);
+  }
+  result.times.predict = Milliseconds(stage);
+
+  // step (max - min) and flatness (plane angle) over 5 x 5 cells, then the weighted score
+  stage = Clock::now();
+  const int r = config_.score_window_cells / 2;
+  for (const Eigen::Vector2i& c : cells) {
+    double lowest = 1e9, highest = -1e9;
+    std::vector<Eigen::Vector3d> around;
+    for (int dx = -r; dx <= r; ++dx) {
+      for (int dy = -r; dy <= r; ++dy) {
+        if (!g.Contains(c.x() + dx, c.y() + dy)) continue;
+        const float h = elevation(c.x() + dx, c.y() + dy);
+        if (std::isnan(h)) continue;
+        lowest = std::min(lowest, static_cast<double>(h));
+        highest = std::max(highest, static_cast<double>(h));
+        around.emplace_back(dx * g.resolution_m, dy * g.resolution_m, h);
+      }
+    }
+    double flatness = 0.0;
+    if (around.size() >= 3) {
+      Eigen::MatrixXd design(static_cast<Eigen::Index>(around.size()), 3);
+      Eigen::VectorXd z(static_cast<Eigen::Index>(around.size()));
+      for (std::size_t k = 0; k < around.size(); ++k) {
+        design.row(static_cast<Eigen::Index>(k)) << around[k].x(), around[k].y(), 1.0;
+        z[static_cast<Eigen::Index>(k)] = around[k].z();
+      }
+      flatness = std::atan(design.colPivHouseholderQr().solve(z).head<2>().norm());
+    }
+    const double slope = map_.Layer(layers::kSlope)(c.x(), c.y());
+    const double cost =
+        config_.weight_step * std::min(1.0, (highest - lowest) / config_.step_critical_m) +
+        config_.weight_flatness * std::min(1.0, flatness / config_.flatness_critical_rad) +
+        config_.weight_slope * std::min(1.0, slope / config_.slope_critical_rad);
+    map_.Layer(layers::kGradient)(c.x(), c.y()) = static_cast<float>(highest - lowest);
+    map_.Layer(layers::kTraversability)(c.x(), c.y()) =
+        static_cast<float>(std::clamp(cost, 0.0, 1.0));
+  }
+  result.observed_cells = static_cast<int>(cells.size());
+  result.times.fusion = Milliseconds(stage);
+  return result;
+}
+
+ElevationMapper::ElevationMapper(const ElevationMapConfig& config, const FsgpConfig& score)
+    : config_(config), score_(score), map_(MakeMap(config.map_size_m, config.resolution_m)) {}
+
+MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
+                                        const Eigen::Isometry3d& X_WB, double t_s) {
+  MapUpdateResult result;
+  result.input_points = static_cast<int>(points_W.size());
+  const Eigen::Vector3d p_WB = X_WB.translation();
+  auto stage = Clock::now();
+  const Eigen::Matrix3Xf window =
+      CropWindow(points_W, p_WB, config_.window_m, config_.max_height_above_robot_m, &result);
+  result.times.crop = Milliseconds(stage);
+  if (window.cols() < kMinimumPoints) {
+    result.status = MapUpdateStatus::kTooFewPoints;
+    return result;
+  }
+  // per-cell Kalman fusion of the point heights
+  stage = Clock::now();
+  map_.Recenter(p_WB.head<2>());
+  const common::GridGeometry& g = map_.geometry();
+  Eigen::MatrixXf& h = map_.Layer(layers::kElevation);
+  Eigen::MatrixXf& v = map_.Layer(layers::kElevationVariance);
+  Eigen::MatrixXf& last = map_.Layer(layers::kLastObserved);
+  for (Eigen::Index i = 0; i < window.cols(); ++i) {
+    const Eigen::Vector3f p = window.col(i);
+    const std::optional<Eigen::Vector2i> cell = g.CellIndex(p.head<2>().cast<double>());
+    if (!cell) continue;
+    const double d = (p.cast<double>() - p_WB).norm();
+    const double sigma = config_.range_noise_m + config_.range_noise_growth * d * d;
+    float& height = h(cell->x(), cell->y());
+    float& variance = v(cell->x(), cell->y());
+    if (std::isnan(height) ||
+        p.z() - height > config_.mahalanobis_threshold * std::sqrt(variance + sigma * sigma)) {
+      height = p.z();
+      variance = static_cast<float>(sigma * sigma);
+    } else {
+      const double s2 = sigma * sigma;
+      height = static_cast<float>((variance * p.z() + s2 * height) / (variance + s2));
+      variance = static_cast<float>(variance * s2 / (variance + s2));
+    }
+    last(cell->x(), cell->y()) = static_cast<float>(t_s);
+  }
+  result.times.fusion = Milliseconds(stage);
+
+  // the score's terms on the fused elevation around every known window cell
+  stage = Clock::now();
+  const auto [low, high] = WindowCells(g, p_WB, config_.window_m);
+  const int r =
+      static_cast<int>(std::floor(config_.neighbourhood_radius_m / g.resolution_m + 1e-9));
+  std::vector<Eigen::Vector3d> around;
+  for (int ix = low.x(); ix <= high.x(); ++ix) {
+    for (int iy = low.y(); iy <= high.y(); ++iy) {
+      if (std::isnan(h(ix, iy))) continue;
+      around.clear();
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      double gradient = 0.0;
+      for (int dx = -r; dx <= r; ++dx) {
+        for (int dy = -r; dy <= r; ++dy) {
+          if (!g.Contains(ix + dx, iy + dy) || std::isnan(h(ix + dx, iy + dy))) continue;
+          if ((dx * dx + dy * dy) * g.resolution_m * g.resolution_m >
+              config_.neighbourhood_radius_m * config_.neighbourhood_radius_m + 1e-9)
+            continue;
+          const Eigen::Vector3d q(dx * g.resolution_m, dy * g.resolution_m, h(ix + dx, iy + dy));
+          around.push_back(q);
+          mean += q;
+          gradient += std::abs(q.z() - h(ix, iy));
+        }
+      }
+      if (around.size() < 3) continue;
+      const double n = static_cast<double>(around.size());
+      mean /= n;
+      Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+      Eigen::MatrixXd design(static_cast<Eigen::Index>(around.size()), 3);
+      Eigen::VectorXd z(static_cast<Eigen::Index>(around.size()));
+      for (std::size_t k = 0; k < around.size(); ++k) {
+        covariance += (around[k] - mean) * (around[k] - mean).transpose();
+        design.row(static_cast<Eigen::Index>(k)) << around[k].x(), around[k].y(), 1.0;
+        z[static_cast<Eigen::Index>(k)] = around[k].z();
+      }
+      covariance /= n - 1.0;
+      const Eigen::Vector3d eigenvalues =
+          Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance, Eigen::EigenvaluesOnly)
+              .eigenvalues();
+      const double curvature = std::max(0.0, eigenvalues[0]) / (eigenvalues.sum() + 1e-6);
+      const double slope = std::atan(design.colPivHouseholderQr().solve(z).head<2>().norm());
+      gradient /= n;
+      map_.Layer(layers::kSlope)(ix, iy) = static_cast<float>(slope);
+      map_.Layer(layers::kCurvature)(ix, iy) = static_cast<float>(curvature);
+      map_.Layer(layers::kGradient)(ix, iy) = static_cast<float>(gradient);
+      map_.Layer(layers::kTraversability)(ix, iy) =
+          static_cast<float>(PreliminaryScore(score_, curvature, gradient, slope));
+      ++result.observed_cells;
+    }
+  }
+  result.times.smoothing = Milliseconds(stage);
+  return result;
+}
+
+}  // namespace trav::mapping
