@@ -127,7 +127,8 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
     test.row(static_cast<Eigen::Index>(k)) = g.CellCenter(cells[k].x(), cells[k].y()).transpose();
   Eigen::VectorXd f, variance;
   Eigen::MatrixXd gradient;
-  gp_.Predict(test, &f, &variance, &gradient);
+  gp_.Predict(test, &f, &gradient);
+  gp_.PredictVariance(test, &variance);
   Eigen::MatrixXf& elevation = map_.Layer(layers::kElevation);
   for (std::size_t k = 0; k < cells.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);

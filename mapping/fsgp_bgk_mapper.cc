@@ -196,7 +196,37 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   test = ((test.rowwise() - mean).array().rowwise() / scale.array()).matrix() * rotation;
   Eigen::VectorXd f, variance;
   Eigen::MatrixXd df_du;
-  gp_.Predict(test, &f, &variance, &df_du);
+  gp_.Predict(test, &f, &df_du);
+  // the variance on every n-th cell; the others take it from the cell at the start of their block
+  {
+    const int stride = config_.variance_stride;
+    std::vector<Eigen::Index> sampled;
+    for (Eigen::Index s = 0; s < t_count; ++s) {
+      const Eigen::Vector2i& cell =
+          cell_index[static_cast<std::size_t>(supported[static_cast<std::size_t>(s)])];
+      if (cell.x() % stride == 0 && cell.y() % stride == 0) sampled.push_back(s);
+    }
+    Eigen::MatrixXd sampled_inputs(static_cast<Eigen::Index>(sampled.size()), test.cols());
+    for (std::size_t k = 0; k < sampled.size(); ++k)
+      sampled_inputs.row(static_cast<Eigen::Index>(k)) = test.row(sampled[k]);
+    Eigen::VectorXd sampled_variance;
+    gp_.PredictVariance(sampled_inputs, &sampled_variance);
+    Eigen::MatrixXd block_variance =
+        Eigen::MatrixXd::Constant(g.num_x, g.num_y, std::numeric_limits<double>::quiet_NaN());
+    for (std::size_t k = 0; k < sampled.size(); ++k) {
+      const Eigen::Vector2i& cell =
+          cell_index[static_cast<std::size_t>(supported[static_cast<std::size_t>(sampled[k])])];
+      block_variance(cell.x(), cell.y()) = sampled_variance[static_cast<Eigen::Index>(k)];
+    }
+    variance.resize(t_count);
+    for (Eigen::Index s = 0; s < t_count; ++s) {
+      const Eigen::Vector2i& cell =
+          cell_index[static_cast<std::size_t>(supported[static_cast<std::size_t>(s)])];
+      const double v = block_variance(cell.x() - cell.x() % stride, cell.y() - cell.y() % stride);
+      // a block whose corner cell is unsupported: the prior variance (least certain)
+      variance[s] = std::isnan(v) ? gp_.prior_variance() : v;
+    }
+  }
   // the plane back in, and the slope over x and y only: d f / d x = a + sum_d d f / d u'_d R(x, d)
   // / s_x
   f.array() += plane[0] * raw_test.col(0).array() + plane[1] * raw_test.col(1).array() + plane[2];

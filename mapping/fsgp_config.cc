@@ -35,6 +35,7 @@ void ValidateFsgpConfig(const FsgpConfig& c) {
   Require(c.gp.rq_alpha > 0.0, "gp.rq_alpha", c.gp.rq_alpha, "must be > 0");
   Require(c.lbfgs_iterations >= 0, "lbfgs_iterations", c.lbfgs_iterations, "must be >= 0");
   Require(c.idw_neighbours >= 1, "idw_neighbours", c.idw_neighbours, "must be >= 1");
+  Require(c.variance_stride >= 1, "variance_stride", c.variance_stride, "must be >= 1");
   Require(c.support_radius_m > 0.0, "support_radius", c.support_radius_m, "must be > 0");
   const double weights = c.weight_curvature + c.weight_gradient + c.weight_slope;
   Require(c.weight_curvature >= 0.0 && c.weight_gradient >= 0.0 && c.weight_slope >= 0.0 &&

@@ -48,6 +48,9 @@ struct FsgpConfig {
       0};                 ///< L-BFGS steps maximising the marginal likelihood per frame (0: fixed)
   int idw_neighbours{5};  ///< K for kappa*, g* at the test cells
   double support_radius_m{0.8};  ///< a cell is observed if a training point lies this close [m]
+  /// The predictive variance (O(T M^2), most of an update's time) is computed on every n-th cell
+  /// along x and y and taken by the others from that cell; it only weighs the fusion. >= 1
+  int variance_stride{3};
   // preliminary score: weights sum to 1 (the released code's 0.3/0.3/0.2 rescaled)
   double weight_curvature{0.375};
   double weight_gradient{0.25};

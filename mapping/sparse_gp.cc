@@ -70,18 +70,27 @@ bool SparseGp::Fit(const Eigen::MatrixXd& inputs, const Eigen::VectorXd& heights
   return alpha_.allFinite();
 }
 
+void SparseGp::PredictVariance(const Eigen::MatrixXd& test_inputs,
+                               Eigen::VectorXd* variance) const {
+  Eigen::MatrixXd k_star;
+  KernelFromDistances(
+      hyper_, signal_variance_,
+      ScaledSquaredDistances(test_inputs, inputs_, hyper_.length_scales.head(inputs_.cols())),
+      &k_star, nullptr);
+  // k** - |L^-1 k_M*|^2
+  const Eigen::MatrixXd v = cholesky_.triangularView<Eigen::Lower>().solve(k_star.transpose());
+  *variance =
+      (signal_variance_ - v.colwise().squaredNorm().transpose().array()).cwiseMax(0.0).matrix();
+}
+
 void SparseGp::Predict(const Eigen::MatrixXd& test_inputs, Eigen::VectorXd* mean,
-                       Eigen::VectorXd* variance, Eigen::MatrixXd* mean_gradient) const {
+                       Eigen::MatrixXd* mean_gradient) const {
   const Eigen::VectorXd length_scales = hyper_.length_scales.head(inputs_.cols());
   Eigen::MatrixXd k_star, g_star;
   KernelFromDistances(hyper_, signal_variance_,
                       ScaledSquaredDistances(test_inputs, inputs_, length_scales), &k_star,
                       &g_star);
   *mean = (k_star * alpha_).array() + mean_;
-  // variance: k** - |L^-1 k_M*|^2
-  const Eigen::MatrixXd v = cholesky_.triangularView<Eigen::Lower>().solve(k_star.transpose());
-  *variance =
-      (signal_variance_ - v.colwise().squaredNorm().transpose().array()).cwiseMax(0.0).matrix();
   // d mean / d u_d = -(1 / l_d^2) sum_m alpha_m G_m (u_d - z_md)
   const Eigen::MatrixXd weighted = g_star * alpha_.asDiagonal();
   const Eigen::VectorXd row_sums = weighted.rowwise().sum();

@@ -17,10 +17,13 @@ class SparseGp {
   bool Fit(const Eigen::MatrixXd& inputs, const Eigen::VectorXd& heights,
            const GpHyperparameters& hyper);
 
-  /// Mean and variance at each row of `test_inputs`, and the analytic gradient of the mean with
-  /// respect to every input dimension (standardised units), one row per test point.
-  void Predict(const Eigen::MatrixXd& test_inputs, Eigen::VectorXd* mean, Eigen::VectorXd* variance,
+  /// Mean at each row of `test_inputs` and the analytic gradient of the mean with respect to every
+  /// input dimension (standardised units), one row per test point. O(T M D).
+  void Predict(const Eigen::MatrixXd& test_inputs, Eigen::VectorXd* mean,
                Eigen::MatrixXd* mean_gradient) const;
+
+  /// Predictive variance at each row of `test_inputs`. O(T M^2): the expensive part.
+  void PredictVariance(const Eigen::MatrixXd& test_inputs, Eigen::VectorXd* variance) const;
 
   /// Log marginal likelihood of the training heights under `hyper` and its gradient with respect to
   /// theta = (log l_1..log l_D, log s_f^2, log s_n^2, log alpha (RQ only; 0 for SE)).
@@ -32,6 +35,9 @@ class SparseGp {
   /// `hyper`, which is updated in place when the likelihood improved. @returns the iterations made.
   static int OptimiseHyperparameters(const Eigen::MatrixXd& inputs, const Eigen::VectorXd& heights,
                                      int iterations, GpHyperparameters* hyper);
+
+  /// The prior variance s_f^2 of the fitted model (the variance far from any data).
+  double prior_variance() const { return signal_variance_; }
 
   /// The kernel between two standardised inputs.
   static double Kernel(const GpHyperparameters& hyper, double signal_variance,

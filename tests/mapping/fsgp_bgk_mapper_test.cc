@@ -82,6 +82,49 @@ TEST(FsgpBgkMapperTest, AStepRaisesTheCostAtItsEdgeOnly) {
   }
 }
 
+TEST(FsgpBgkMapperTest, PcaDecorrelationKeepsTheSlope) {
+  FsgpConfig config;
+  config.pca = true;
+  FsgpBgkMapper dut(config);
+  const double gradient = std::tan(15.0 * kDegToRad);
+  ASSERT_EQ(dut.Update(Surface([=](double x, double y) { return gradient * (0.6 * x + 0.8 * y); },
+                               {0, 0}),
+                       RobotAt(0, 0), 0.0)
+                .status,
+            MapUpdateStatus::kUpdated);
+  EXPECT_NEAR(MeanNear(dut.map(), layers::kSlope, {0, 0}, 3.0), 15.0 * kDegToRad, 1.0 * kDegToRad);
+}
+
+TEST(FsgpBgkMapperTest, AccumulationFeedsTheLastFramesTogether) {
+  FsgpConfig config;
+  config.fuse = false;
+  config.accumulate_frames = 3;
+  FsgpBgkMapper dut(config);
+  const common::PointCloud frame = Surface([](double, double) { return 0.0; }, {0, 0}, 2.0);
+  int previous = 0;
+  for (int k = 0; k < 4; ++k) {
+    const MapUpdateResult result = dut.Update(frame, RobotAt(0, 0), k);
+    // the window holds 1, 2, 3, then 3 frames' points
+    EXPECT_EQ(result.window_points, std::min(k + 1, 3) * static_cast<int>(frame.size()));
+    EXPECT_GE(result.window_points, previous);
+    previous = result.window_points;
+  }
+}
+
+TEST(FsgpBgkMapperTest, WithoutFusionTheLatestFrameDecides) {
+  FsgpConfig config;
+  config.fuse = false;
+  config.smoothing_sigma_m = 0.0;
+  FsgpBgkMapper dut(config);
+  auto bump = [](double x, double y) {
+    return 0.15 * std::exp(-((x - 2) * (x - 2) + y * y) / 0.1);
+  };
+  dut.Update(Surface(bump, {0, 0}), RobotAt(0, 0), 0.0);
+  EXPECT_GT(*dut.map().At(layers::kTraversability, {2.0, 0.0}), 0.1);
+  dut.Update(Surface([](double, double) { return 0.0; }, {0, 0}), RobotAt(0, 0), 1.0);
+  EXPECT_LT(*dut.map().At(layers::kTraversability, {2.0, 0.0}), 0.02);
+}
+
 TEST(BgkUpdateTest, MatchesTheEquationsOnTwoFrames) {
   float m = std::numeric_limits<float>::quiet_NaN(), variance = 0.0f, t0 = 0.0f;
   BgkUpdate(0.6, 0.04, 10.0, 0.01, 0.1, &m, &variance, &t0);
