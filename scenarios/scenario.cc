@@ -365,6 +365,7 @@ void VisitScenario(Archive& a, Scenario& s) {
     mp.Field("lbfgs_iterations", &c.lbfgs_iterations);
     mp.Field("idw_neighbours", &c.idw_neighbours);
     mp.Field("support_radius", &c.support_radius_m);
+    mp.Field("variance_stride", &c.variance_stride);
     mp.Field("weight_curvature", &c.weight_curvature);
     mp.Field("weight_gradient", &c.weight_gradient);
     mp.Field("weight_slope", &c.weight_slope);

@@ -116,6 +116,29 @@ TEST(ScenarioTest, BadInputNamesSourceKeyAndValue) {
       ThrowsMessage<common::InputError>(HasSubstr("terrain.parameters.family: unknown key")));
 }
 
+TEST(ScenarioTest, MappingKeysTakeEffectAndAreChecked) {
+  const Scenario dut = Load(R"(
+mapping: {window: 8, resolution: 0.1, fuse: false, accumulate_frames: 4, variance_stride: 1,
+          gp: {kernel: rational_quadratic, length_scales_xy: [0.2, 0.3], rq_alpha: 2.5},
+          weight_curvature: 0.2, weight_gradient: 0.3, weight_slope: 0.5}
+ground_truth: {clearance: 0.1}
+)");
+  EXPECT_EQ(dut.mapping.window_m, 8.0);
+  EXPECT_EQ(dut.mapping.resolution_m, 0.1);
+  EXPECT_FALSE(dut.mapping.fuse);
+  EXPECT_EQ(dut.mapping.accumulate_frames, 4);
+  EXPECT_EQ(dut.mapping.variance_stride, 1);
+  EXPECT_EQ(dut.mapping.gp.kernel, mapping::KernelType::kRationalQuadratic);
+  EXPECT_EQ(dut.mapping.gp.length_scales, Eigen::Vector4d(0.2, 0.3, 3.0, 3.0));
+  EXPECT_EQ(dut.mapping.gp.rq_alpha, 2.5);
+  EXPECT_EQ(dut.mapping.weight_slope, 0.5);
+  EXPECT_EQ(dut.ground_truth.clearance_m, 0.1);
+  EXPECT_THAT([] { Load("mapping: {weight_slope: 0.9}"); },
+              ThrowsMessage<common::InputError>(HasSubstr("test.yaml: mapping.weights: value 1.525000 must be >= 0 and sum to 1")));
+  EXPECT_THAT([] { Load("mapping: {gp: {kernel: matern}}"); },
+              ThrowsMessage<common::InputError>(HasSubstr("mapping.gp.kernel: unknown value 'matern'")));
+}
+
 TEST(ScenarioTest, DriveCommandFollowsTheScriptAndStopsAfterIt) {
   const std::vector<DriveSegment> drive = {{1.0, 0.0, 2.0}, {0.5, -0.3, 1.0}};
   EXPECT_EQ(DriveCommandAt(drive, 0.0).v, 1.0);
