@@ -38,6 +38,11 @@ const Names<ReferenceShape> kReferences = {{"line", ReferenceShape::kLine},
 const Names<mapping::KernelType> kKernels = {
     {"squared_exponential", mapping::KernelType::kSquaredExponential},
     {"rational_quadratic", mapping::KernelType::kRationalQuadratic}};
+const Names<MapperMethod> kMappers = {{"fsgp-bgk", MapperMethod::kFsgpBgk},
+                                      {"fsgp", MapperMethod::kFsgp},
+                                      {"fsgp-accumulation", MapperMethod::kFsgpAccumulation},
+                                      {"sgp", MapperMethod::kSgp},
+                                      {"em", MapperMethod::kElevationMap}};
 const Names<Outcome> kOutcomes = {{"completed", Outcome::kCompleted},
                                   {"rolled_over", Outcome::kRolledOver},
                                   {"diverged", Outcome::kDiverged}};
@@ -339,6 +344,8 @@ void VisitScenario(Archive& a, Scenario& s) {
   });
   a.Map("mapping", [&](Archive& mp) {
     mapping::FsgpConfig& c = s.mapping;
+    mp.Field("enabled", &s.mapping_enabled);
+    mp.Enum("method", &s.mapper, kMappers);
     mp.Field("window", &c.window_m);
     mp.Field("resolution", &c.resolution_m);
     mp.Field("map_size", &c.map_size_m);
@@ -402,6 +409,8 @@ void VisitScenario(Archive& a, Scenario& s) {
 }  // namespace
 
 const char* OutcomeName(Outcome outcome) { return NameOf(kOutcomes, outcome).c_str(); }
+
+const char* MapperMethodName(MapperMethod method) { return NameOf(kMappers, method).c_str(); }
 
 Scenario LoadScenario(const common::YamlDocument& document) {
   Scenario scenario;

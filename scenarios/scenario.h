@@ -30,6 +30,12 @@ enum class Outcome {
 /// Name as written in summaries and scenario files ("completed", "rolled_over", "diverged").
 const char* OutcomeName(Outcome outcome);
 
+/// Which traversability mapper runs on the LiDAR frames (scenario key `mapping.method`).
+enum class MapperMethod { kFsgpBgk, kFsgp, kFsgpAccumulation, kSgp, kElevationMap };
+
+/// Name of a mapper as written in scenario files ("fsgp-bgk", ...).
+const char* MapperMethodName(MapperMethod method);
+
 /// What drives the robot.
 enum class RunMode {
   kDrive,  ///< the open-loop `drive` script
@@ -72,8 +78,10 @@ struct Scenario {
   /// lidar.mount: pose of the sensor L in the base frame B as [x, y, z, roll, pitch, yaw]
   /// [m, rad]; absent: the robot model's "lidar" site.
   std::optional<Eigen::Matrix<double, 6, 1>> lidar_mount_B;
-  mapping::FsgpConfig mapping{};              ///< scenario key `mapping`
-  mapping::GroundTruthConfig ground_truth{};  ///< scenario key `ground_truth`
+  bool mapping_enabled{true};                   ///< mapping.enabled: map every LiDAR frame
+  MapperMethod mapper{MapperMethod::kFsgpBgk};  ///< mapping.method
+  mapping::FsgpConfig mapping{};                ///< the other keys of `mapping`
+  mapping::GroundTruthConfig ground_truth{};    ///< scenario key `ground_truth`
   VideoSettings video{};
   std::string output_dir{"out/default"};
   Outcome expected_outcome{Outcome::kCompleted};  ///< exit code 0 iff the run ends this way

@@ -1,18 +1,22 @@
 #include "scenarios/scenario_run.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <optional>
 
 #include <nlohmann/json.hpp>
 
 #include "controller/skid_steer.h"
+#include "mapping/ground_truth.h"
 #include "renders/renderer.h"
 #include "renders/video_writer.h"
+#include "scenarios/mappers.h"
 #include "scenarios/pcd_io.h"
 #include "scenarios/tracking.h"
 #include "sim/lidar/lidar_emulator.h"
@@ -84,6 +88,22 @@ renders::ColoredPoints DrawablePoints(const lidar::LidarFrame& frame) {
   return drawable;
 }
 
+// The traversability layer as a coloured ground grid at the map's elevation (unknown cells hidden).
+renders::GroundGrid DrawableMap(const common::GridLayers& map) {
+  renders::GroundGrid grid;
+  grid.geometry = map.geometry();
+  grid.values = map.Layer(mapping::layers::kTraversability);
+  grid.heights_m = map.Layer(mapping::layers::kElevation);
+  // cells with a score but no elevation (none today) would float: fall back to hiding them
+  for (Eigen::Index i = 0; i < grid.values.size(); ++i) {
+    if (std::isnan(grid.heights_m.data()[i]))
+      grid.values.data()[i] = std::numeric_limits<float>::quiet_NaN();
+  }
+  grid.alpha = 0.55f;
+  grid.max_cells = 3000;
+  return grid;
+}
+
 }  // namespace
 
 std::string RobotModelPath(const Scenario& scenario, const std::string& models_dir) {
@@ -143,6 +163,10 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   }
   double lidar_cast_s = 0.0;
   double lidar_points = 0.0;
+  // mapping: every LiDAR frame, in W with each point's own sensor pose
+  std::unique_ptr<mapping::TraversabilityMapper> mapper;
+  if (lidar && scenario.mapping_enabled) mapper = MakeMapper(scenario);
+  std::vector<double> mapping_ms;
 
   // video: renderer and encoder only when asked for
   std::unique_ptr<renders::Renderer> renderer;
@@ -198,6 +222,17 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
           WriteLidarFramePcd(output_dir + name, lidar_frame);
         }
         if (video) overlay.points.assign(1, DrawablePoints(lidar_frame));
+        if (mapper) {
+          common::PointCloud cloud_W;
+          cloud_W.points = lidar::PointsInWorld(lidar_frame);
+          cloud_W.stamp_s = lidar_frame.points_L.stamp_s;
+          const auto map_start = std::chrono::steady_clock::now();
+          mapper->Update(cloud_W, state.X_WB, simulation.time());
+          mapping_ms.push_back(std::chrono::duration<double, std::milli>(
+                                   std::chrono::steady_clock::now() - map_start)
+                                   .count());
+          if (video) overlay.grids.assign(1, DrawableMap(mapper->map()));
+        }
         if (run_options.max_lidar_frames > 0 &&
             summary.lidar_frames >= run_options.max_lidar_frames)
           break;
@@ -271,6 +306,34 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
     summary.lidar_ms_per_frame = 1e3 * lidar_cast_s / summary.lidar_frames;
   }
   if (tracker) summary.tracking = tracker->Metrics();
+  if (mapper && !mapping_ms.empty()) {
+    summary.mapping_updates = static_cast<int>(mapping_ms.size());
+    std::sort(mapping_ms.begin(), mapping_ms.end());
+    summary.mapping_ms_median = mapping_ms[mapping_ms.size() / 2];
+    summary.mapping_ms_max = mapping_ms.back();
+    // the final map against the ground truth on the same cells
+    const common::GridLayers& map = mapper->map();
+    const common::GridLayers truth = mapping::ComputeGroundTruth(
+        map.geometry(), world.geometry, world.height_m, sim::ObstacleHeightGrid(world),
+        scenario.mapping, scenario.ground_truth);
+    const Eigen::MatrixXf& predicted = map.Layer(mapping::layers::kTraversability);
+    const Eigen::MatrixXf& expected = truth.Layer(mapping::layers::kTraversability);
+    double sum = 0.0, sum2 = 0.0;
+    int known = 0;
+    for (Eigen::Index i = 0; i < predicted.size(); ++i) {
+      if (std::isnan(predicted.data()[i]) || std::isnan(expected.data()[i])) continue;
+      const double error = std::abs(predicted.data()[i] - expected.data()[i]);
+      sum += error;
+      sum2 += error * error;
+      ++known;
+    }
+    summary.mapping_known_cells = known;
+    if (known > 0) {
+      summary.mapping_mean_error = sum / known;
+      summary.mapping_error_variance =
+          std::max(0.0, sum2 / known - summary.mapping_mean_error * summary.mapping_mean_error);
+    }
+  }
   summary.mujoco_warning_count = simulation.warning_count();
   summary.mujoco_warnings = simulation.warnings();
   return summary;
@@ -302,6 +365,15 @@ std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
   json["lidar_frames"] = summary.lidar_frames;
   json["lidar_points_per_frame"] = summary.lidar_points_per_frame;
   json["lidar_ms_per_frame"] = summary.lidar_ms_per_frame;
+  if (summary.mapping_updates > 0) {
+    json["mapping"] = {{"method", MapperMethodName(scenario.mapper)},
+                       {"updates", summary.mapping_updates},
+                       {"update_ms_median", summary.mapping_ms_median},
+                       {"update_ms_max", summary.mapping_ms_max},
+                       {"known_cells", summary.mapping_known_cells},
+                       {"mean_error", summary.mapping_mean_error},
+                       {"error_variance", summary.mapping_error_variance}};
+  }
   if (summary.tracking) {
     const TrackingMetrics& m = *summary.tracking;
     json["tracking"] = {

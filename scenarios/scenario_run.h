@@ -30,6 +30,14 @@ struct RunSummary {
   double lidar_points_per_frame{0.0};       ///< mean points per frame
   double lidar_ms_per_frame{0.0};           ///< mean wall time spent casting one frame's rays [ms]
   std::optional<TrackingMetrics> tracking;  ///< mode track only
+  /// Mapping on the LiDAR frames (when both are enabled): updates, time per update, and the final
+  /// map's error against the ground truth over its known cells.
+  int mapping_updates{0};
+  double mapping_ms_median{0.0};
+  double mapping_ms_max{0.0};
+  int mapping_known_cells{0};
+  double mapping_mean_error{0.0};      ///< mean |traversability - ground truth|
+  double mapping_error_variance{0.0};  ///< variance of |traversability - ground truth|
 };
 
 /// Options of a run that are not part of the scenario.

@@ -134,9 +134,11 @@ ground_truth: {clearance: 0.1}
   EXPECT_EQ(dut.mapping.weight_slope, 0.5);
   EXPECT_EQ(dut.ground_truth.clearance_m, 0.1);
   EXPECT_THAT([] { Load("mapping: {weight_slope: 0.9}"); },
-              ThrowsMessage<common::InputError>(HasSubstr("test.yaml: mapping.weights: value 1.525000 must be >= 0 and sum to 1")));
-  EXPECT_THAT([] { Load("mapping: {gp: {kernel: matern}}"); },
-              ThrowsMessage<common::InputError>(HasSubstr("mapping.gp.kernel: unknown value 'matern'")));
+              ThrowsMessage<common::InputError>(HasSubstr(
+                  "test.yaml: mapping.weights: value 1.525000 must be >= 0 and sum to 1")));
+  EXPECT_THAT(
+      [] { Load("mapping: {gp: {kernel: matern}}"); },
+      ThrowsMessage<common::InputError>(HasSubstr("mapping.gp.kernel: unknown value 'matern'")));
 }
 
 TEST(ScenarioTest, DriveCommandFollowsTheScriptAndStopsAfterIt) {

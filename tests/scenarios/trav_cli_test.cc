@@ -198,6 +198,25 @@ TEST_F(TravCliTest, RunReportsLidarFramesAndRecordsClouds) {
   EXPECT_TRUE(fs::exists(root_ / "run" / "clouds" / "frame_000019.pcd"));
 }
 
+TEST_F(TravCliTest, RunMapsTheLidarFramesAndScoresTheMapAgainstTheGroundTruth) {
+  const std::string scenario = WriteScenario("short.yaml", kShortRun);
+  for (const char* method : {"fsgp-bgk", "em"}) {
+    const CommandResult result = RunTrav("run " + scenario + " --set mapping.method=" + method +
+                                         " --out " + (root_ / method).string());
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    const nlohmann::json summary = nlohmann::json::parse(ReadFile(root_ / method / "summary.json"));
+    const nlohmann::json& mapping = summary["mapping"];
+    EXPECT_EQ(mapping["method"], method);
+    EXPECT_EQ(mapping["updates"], 20);
+    EXPECT_GT(mapping["known_cells"].get<int>(), 500);
+    EXPECT_LT(mapping["mean_error"].get<double>(), 0.15) << method;
+  }
+  const CommandResult off =
+      RunTrav("run " + scenario + " --set mapping.enabled=false --out " + (root_ / "off").string());
+  ASSERT_EQ(off.exit_code, 0);
+  EXPECT_FALSE(nlohmann::json::parse(ReadFile(root_ / "off" / "summary.json")).contains("mapping"));
+}
+
 TEST_F(TravCliTest, ScanWritesTheRequestedFrames) {
   const std::string scenario = WriteScenario("short.yaml", kShortRun);
   const CommandResult result =

@@ -1,0 +1,15 @@
+#pragma once
+
+#include <memory>
+
+#include "mapping/traversability_mapper.h"
+#include "scenarios/scenario.h"
+
+namespace trav::scenarios {
+
+/// The mapper a scenario asks for (`mapping.method`), configured from its `mapping` keys: fsgp-bgk;
+/// fsgp (no fusion); fsgp-accumulation (no fusion, `accumulate_frames` frames, 5 if left at 1); sgp
+/// and em with the same window, resolution and map size.
+std::unique_ptr<mapping::TraversabilityMapper> MakeMapper(const Scenario& scenario);
+
+}  // namespace trav::scenarios
