@@ -18,4 +18,10 @@ InputError::InputError(const std::string& file, const std::string& key_path,
                        const std::string& what)
     : std::runtime_error(Compose(file, key_path, what)) {}
 
+void RequireValue(bool condition, const std::string& key_path, double value,
+                  const std::string& expectation) {
+  if (!condition)
+    throw InputError("", key_path, "value " + std::to_string(value) + " " + expectation);
+}
+
 }  // namespace trav::common

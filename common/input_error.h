@@ -16,4 +16,9 @@ class InputError : public std::runtime_error {
   InputError(const std::string& file, const std::string& key_path, const std::string& what);
 };
 
+/// Throws InputError "<key_path>: value <value> <expectation>" unless `condition` holds: the one
+/// check every config validator uses (the caller adds the file when it knows it).
+void RequireValue(bool condition, const std::string& key_path, double value,
+                  const std::string& expectation);
+
 }  // namespace trav::common

@@ -12,13 +12,6 @@
 namespace trav::controller {
 namespace {
 
-void Require(bool condition, const char* key, double value, const char* expectation) {
-  if (!condition) {
-    throw common::InputError("", std::string("controller.mpc.") + key,
-                             "value " + std::to_string(value) + " " + expectation);
-  }
-}
-
 // Residuals per predicted step: x, y, yaw errors; input deviations; input rates; rate-limit excess.
 constexpr int kResidualsPerStep = 9;
 // Weight of the rate-limit excess penalty (per unit of excess acceleration).
@@ -27,27 +20,34 @@ constexpr double kRateLimitWeight = 30.0;
 }  // namespace
 
 void ValidateMpcConfig(const MpcConfig& c) {
-  Require(c.horizon >= 2 && c.horizon <= 200, "horizon", c.horizon, "must be in [2, 200]");
-  Require(c.step_s >= 0.005 && c.step_s <= 0.2, "step", c.step_s, "must be in [0.005, 0.2]");
-  Require(c.control_period_s > 0.0 && c.control_period_s <= 0.2, "control_period",
-          c.control_period_s, "must be in (0, 0.2]");
-  Require((c.state_weights.array() >= 0.0).all(), "state_weights", c.state_weights.minCoeff(),
-          "must be >= 0");
-  Require((c.input_weights.array() >= 0.0).all(), "input_weights", c.input_weights.minCoeff(),
-          "must be >= 0");
-  Require((c.rate_weights.array() >= 0.0).all(), "rate_weights", c.rate_weights.minCoeff(),
-          "must be >= 0");
-  Require(c.max_speed_m_s > 0.0, "max_speed", c.max_speed_m_s, "must be > 0");
-  Require(c.min_speed_m_s <= 0.0, "min_speed", c.min_speed_m_s, "must be <= 0");
-  Require(c.max_yaw_rate_rad_s > 0.0, "max_yaw_rate", c.max_yaw_rate_rad_s, "must be > 0");
-  Require(c.max_acceleration_m_s2 > 0.0, "max_acceleration", c.max_acceleration_m_s2,
-          "must be > 0");
-  Require(c.max_yaw_acceleration_rad_s2 > 0.0, "max_yaw_acceleration",
-          c.max_yaw_acceleration_rad_s2, "must be > 0");
-  Require(c.actuator_time_constant_s >= 0.0, "actuator_time_constant", c.actuator_time_constant_s,
-          "must be >= 0");
-  Require(c.max_iterations >= 1, "max_iterations", c.max_iterations, "must be >= 1");
-  Require(c.time_budget_s > 0.0, "time_budget", c.time_budget_s, "must be > 0");
+  common::RequireValue(c.horizon >= 2 && c.horizon <= 200, "controller.mpc.horizon", c.horizon,
+                       "must be in [2, 200]");
+  common::RequireValue(c.step_s >= 0.005 && c.step_s <= 0.2, "controller.mpc.step", c.step_s,
+                       "must be in [0.005, 0.2]");
+  common::RequireValue(c.control_period_s > 0.0 && c.control_period_s <= 0.2,
+                       "controller.mpc.control_period", c.control_period_s, "must be in (0, 0.2]");
+  common::RequireValue((c.state_weights.array() >= 0.0).all(), "controller.mpc.state_weights",
+                       c.state_weights.minCoeff(), "must be >= 0");
+  common::RequireValue((c.input_weights.array() >= 0.0).all(), "controller.mpc.input_weights",
+                       c.input_weights.minCoeff(), "must be >= 0");
+  common::RequireValue((c.rate_weights.array() >= 0.0).all(), "controller.mpc.rate_weights",
+                       c.rate_weights.minCoeff(), "must be >= 0");
+  common::RequireValue(c.max_speed_m_s > 0.0, "controller.mpc.max_speed", c.max_speed_m_s,
+                       "must be > 0");
+  common::RequireValue(c.min_speed_m_s <= 0.0, "controller.mpc.min_speed", c.min_speed_m_s,
+                       "must be <= 0");
+  common::RequireValue(c.max_yaw_rate_rad_s > 0.0, "controller.mpc.max_yaw_rate",
+                       c.max_yaw_rate_rad_s, "must be > 0");
+  common::RequireValue(c.max_acceleration_m_s2 > 0.0, "controller.mpc.max_acceleration",
+                       c.max_acceleration_m_s2, "must be > 0");
+  common::RequireValue(c.max_yaw_acceleration_rad_s2 > 0.0, "controller.mpc.max_yaw_acceleration",
+                       c.max_yaw_acceleration_rad_s2, "must be > 0");
+  common::RequireValue(c.actuator_time_constant_s >= 0.0, "controller.mpc.actuator_time_constant",
+                       c.actuator_time_constant_s, "must be >= 0");
+  common::RequireValue(c.max_iterations >= 1, "controller.mpc.max_iterations", c.max_iterations,
+                       "must be >= 1");
+  common::RequireValue(c.time_budget_s > 0.0, "controller.mpc.time_budget", c.time_budget_s,
+                       "must be > 0");
 }
 
 // The horizon's data, shared by the cost functor and the controller; the Ceres problem is built

@@ -13,12 +13,6 @@ using common::InputError;
 
 constexpr double kDegToRad = M_PI / 180.0;
 
-void Require(bool condition, const std::string& field, double value, const std::string& what) {
-  if (!condition) {
-    throw InputError("", "terrain." + field, "value " + std::to_string(value) + " " + what);
-  }
-}
-
 // Slope magnitude |grad h| at every interior sample, by central differences.
 std::vector<double> SlopeMagnitudes(const TerrainWorld& world) {
   std::vector<double> slopes;
@@ -128,65 +122,79 @@ namespace {
 
 void ValidateHilly(const TerrainConfig& c) {
   const HillyParams& h = c.hilly;
-  Require(h.fractal.octaves >= 1 && h.fractal.octaves <= 12, "parameters.octaves",
-          h.fractal.octaves, "must be in [1, 12]");
-  Require(h.fractal.lacunarity > 1.0, "parameters.lacunarity", h.fractal.lacunarity, "must be > 1");
-  Require(h.fractal.gain > 0.0 && h.fractal.gain < 1.0, "parameters.gain", h.fractal.gain,
-          "must be in (0, 1)");
-  Require(h.fractal.warp >= 0.0, "parameters.warp", h.fractal.warp, "must be >= 0");
-  Require(h.wavelength_m > 0.0, "parameters.wavelength", h.wavelength_m, "must be > 0");
-  Require(h.slope_p95_deg >= 0.0 && h.slope_p95_deg < 45.0, "parameters.slope_p95_deg",
-          h.slope_p95_deg, "must be in [0, 45)");
-  Require(h.roughness_m >= 0.0, "parameters.roughness", h.roughness_m, "must be >= 0");
-  Require(h.roughness_cell_m >= c.resolution_m, "parameters.roughness_cell", h.roughness_cell_m,
-          "must be >= the resolution");
+  common::RequireValue(h.fractal.octaves >= 1 && h.fractal.octaves <= 12,
+                       "terrain.parameters.octaves", h.fractal.octaves, "must be in [1, 12]");
+  common::RequireValue(h.fractal.lacunarity > 1.0, "terrain.parameters.lacunarity",
+                       h.fractal.lacunarity, "must be > 1");
+  common::RequireValue(h.fractal.gain > 0.0 && h.fractal.gain < 1.0, "terrain.parameters.gain",
+                       h.fractal.gain, "must be in (0, 1)");
+  common::RequireValue(h.fractal.warp >= 0.0, "terrain.parameters.warp", h.fractal.warp,
+                       "must be >= 0");
+  common::RequireValue(h.wavelength_m > 0.0, "terrain.parameters.wavelength", h.wavelength_m,
+                       "must be > 0");
+  common::RequireValue(h.slope_p95_deg >= 0.0 && h.slope_p95_deg < 45.0,
+                       "terrain.parameters.slope_p95_deg", h.slope_p95_deg, "must be in [0, 45)");
+  common::RequireValue(h.roughness_m >= 0.0, "terrain.parameters.roughness", h.roughness_m,
+                       "must be >= 0");
+  common::RequireValue(h.roughness_cell_m >= c.resolution_m, "terrain.parameters.roughness_cell",
+                       h.roughness_cell_m, "must be >= the resolution");
 }
 
 void ValidateForest(const ForestParams& f) {
-  Require(f.tree_density_per_m2 > 0.0 && f.tree_density_per_m2 <= 1.0, "parameters.tree_density",
-          f.tree_density_per_m2, "must be in (0, 1]");
-  Require(f.trunk_radius_m[0] > 0.0 && f.trunk_radius_m[0] <= f.trunk_radius_m[1],
-          "parameters.trunk_radius", f.trunk_radius_m[0],
-          "must be a range [min, max] with min > 0");
-  Require(f.trunk_height_m[0] > 0.0 && f.trunk_height_m[0] <= f.trunk_height_m[1],
-          "parameters.trunk_height", f.trunk_height_m[0],
-          "must be a range [min, max] with min > 0");
+  common::RequireValue(f.tree_density_per_m2 > 0.0 && f.tree_density_per_m2 <= 1.0,
+                       "terrain.parameters.tree_density", f.tree_density_per_m2,
+                       "must be in (0, 1]");
+  common::RequireValue(f.trunk_radius_m[0] > 0.0 && f.trunk_radius_m[0] <= f.trunk_radius_m[1],
+                       "terrain.parameters.trunk_radius", f.trunk_radius_m[0],
+                       "must be a range [min, max] with min > 0");
+  common::RequireValue(f.trunk_height_m[0] > 0.0 && f.trunk_height_m[0] <= f.trunk_height_m[1],
+                       "terrain.parameters.trunk_height", f.trunk_height_m[0],
+                       "must be a range [min, max] with min > 0");
 }
 
 void ValidateRuin(const RuinParams& r) {
-  Require(r.num_boxes >= 0 && r.num_columns >= 0 && r.num_walls >= 0 && r.num_rubble >= 0,
-          "parameters", std::min({r.num_boxes, r.num_columns, r.num_walls, r.num_rubble}),
-          "obstacle counts must be >= 0");
-  Require(r.burial_fraction_max >= 0.0 && r.burial_fraction_max <= 0.9,
-          "parameters.burial_fraction_max", r.burial_fraction_max, "must be in [0, 0.9]");
+  common::RequireValue(
+      r.num_boxes >= 0 && r.num_columns >= 0 && r.num_walls >= 0 && r.num_rubble >= 0,
+      "terrain.parameters", std::min({r.num_boxes, r.num_columns, r.num_walls, r.num_rubble}),
+      "obstacle counts must be >= 0");
+  common::RequireValue(r.burial_fraction_max >= 0.0 && r.burial_fraction_max <= 0.9,
+                       "terrain.parameters.burial_fraction_max", r.burial_fraction_max,
+                       "must be in [0, 0.9]");
 }
 
 void ValidateRoad(const RoadParams& road) {
-  Require(road.street_width_m > 0.0, "parameters.street_width", road.street_width_m, "must be > 0");
-  Require(road.block_size_m > road.street_width_m + 2.0 * road.sidewalk_width_m + 1.0,
-          "parameters.block_size", road.block_size_m,
-          "must exceed street_width + 2 sidewalk_width + 1 m");
-  Require(road.curb_height_m >= 0.0, "parameters.curb_height", road.curb_height_m, "must be >= 0");
+  common::RequireValue(road.street_width_m > 0.0, "terrain.parameters.street_width",
+                       road.street_width_m, "must be > 0");
+  common::RequireValue(road.block_size_m > road.street_width_m + 2.0 * road.sidewalk_width_m + 1.0,
+                       "terrain.parameters.block_size", road.block_size_m,
+                       "must exceed street_width + 2 sidewalk_width + 1 m");
+  common::RequireValue(road.curb_height_m >= 0.0, "terrain.parameters.curb_height",
+                       road.curb_height_m, "must be >= 0");
 }
 
 void ValidateIndoor(const IndoorParams& in) {
-  Require(in.door_width_m >= 0.8, "parameters.door_width", in.door_width_m,
-          "must be >= 0.8 m (the robot is 0.58 m wide)");
-  Require(in.min_room_size_m >= 2.0 * in.door_width_m, "parameters.min_room_size",
-          in.min_room_size_m, "must be >= twice the door width");
-  Require(in.wall_height_m > 0.5, "parameters.wall_height", in.wall_height_m, "must be > 0.5 m");
-  Require(in.wall_thickness_m > 0.0, "parameters.wall_thickness", in.wall_thickness_m,
-          "must be > 0");
+  common::RequireValue(in.door_width_m >= 0.8, "terrain.parameters.door_width", in.door_width_m,
+                       "must be >= 0.8 m (the robot is 0.58 m wide)");
+  common::RequireValue(in.min_room_size_m >= 2.0 * in.door_width_m,
+                       "terrain.parameters.min_room_size", in.min_room_size_m,
+                       "must be >= twice the door width");
+  common::RequireValue(in.wall_height_m > 0.5, "terrain.parameters.wall_height", in.wall_height_m,
+                       "must be > 0.5 m");
+  common::RequireValue(in.wall_thickness_m > 0.0, "terrain.parameters.wall_thickness",
+                       in.wall_thickness_m, "must be > 0");
 }
 
 }  // namespace
 
 void ValidateTerrainConfig(const TerrainConfig& c) {
-  Require(c.resolution_m > 0.0, "resolution", c.resolution_m, "must be > 0");
-  Require(c.size_m.x() >= c.resolution_m, "size[0]", c.size_m.x(), "must be at least one cell");
-  Require(c.size_m.y() >= c.resolution_m, "size[1]", c.size_m.y(), "must be at least one cell");
-  Require(c.size_m.x() / c.resolution_m <= 8192 && c.size_m.y() / c.resolution_m <= 8192,
-          "resolution", c.resolution_m, "gives more than 8192 samples along an axis");
+  common::RequireValue(c.resolution_m > 0.0, "terrain.resolution", c.resolution_m, "must be > 0");
+  common::RequireValue(c.size_m.x() >= c.resolution_m, "terrain.size[0]", c.size_m.x(),
+                       "must be at least one cell");
+  common::RequireValue(c.size_m.y() >= c.resolution_m, "terrain.size[1]", c.size_m.y(),
+                       "must be at least one cell");
+  common::RequireValue(
+      c.size_m.x() / c.resolution_m <= 8192 && c.size_m.y() / c.resolution_m <= 8192,
+      "terrain.resolution", c.resolution_m, "gives more than 8192 samples along an axis");
   const bool hilly = c.type == TerrainType::kHilly || c.type == TerrainType::kForest ||
                      c.type == TerrainType::kRuin;
   if (hilly) ValidateHilly(c);
@@ -195,18 +203,20 @@ void ValidateTerrainConfig(const TerrainConfig& c) {
   if (c.type == TerrainType::kRoad) ValidateRoad(c.road);
   if (c.type == TerrainType::kIndoor) ValidateIndoor(c.indoor);
   if (c.type == TerrainType::kSlope) {
-    Require(c.slope.angle_deg >= 0.0 && c.slope.angle_deg <= 60.0, "parameters.angle_deg",
-            c.slope.angle_deg, "must be in [0, 60]");
+    common::RequireValue(c.slope.angle_deg >= 0.0 && c.slope.angle_deg <= 60.0,
+                         "terrain.parameters.angle_deg", c.slope.angle_deg, "must be in [0, 60]");
   }
   if (c.type == TerrainType::kStep) {
-    Require(c.step.height_m >= 0.0, "parameters.height", c.step.height_m, "must be >= 0");
+    common::RequireValue(c.step.height_m >= 0.0, "terrain.parameters.height", c.step.height_m,
+                         "must be >= 0");
   }
   if (c.type == TerrainType::kStairs) {
-    Require(c.stairs.step_depth_m > 0.0, "parameters.step_depth", c.stairs.step_depth_m,
-            "must be > 0");
-    Require(c.stairs.num_steps >= 1, "parameters.num_steps", c.stairs.num_steps, "must be >= 1");
-    Require(c.stairs.step_height_m >= 0.0, "parameters.step_height", c.stairs.step_height_m,
-            "must be >= 0");
+    common::RequireValue(c.stairs.step_depth_m > 0.0, "terrain.parameters.step_depth",
+                         c.stairs.step_depth_m, "must be > 0");
+    common::RequireValue(c.stairs.num_steps >= 1, "terrain.parameters.num_steps",
+                         c.stairs.num_steps, "must be >= 1");
+    common::RequireValue(c.stairs.step_height_m >= 0.0, "terrain.parameters.step_height",
+                         c.stairs.step_height_m, "must be >= 0");
   }
 }
 
