@@ -9,6 +9,7 @@
 #include <Eigen/QR>
 
 #include "mapping/fsgp_bgk_mapper.h"
+#include "mapping/window.h"
 
 namespace trav::mapping {
 namespace {
@@ -29,37 +30,6 @@ common::GridLayers MakeMap(double size_m, double resolution_m) {
        layers::kLastObserved});
 }
 
-// The valid points in the square window around the robot, below the height limit.
-Eigen::Matrix3Xf CropWindow(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
-                            double window_m, double max_height_above_m, MapUpdateResult* result) {
-  const double half = 0.5 * window_m;
-  Eigen::Matrix3Xf window(3, points_W.size());
-  Eigen::Index kept = 0;
-  for (Eigen::Index i = 0; i < points_W.size(); ++i) {
-    const Eigen::Vector3f p = points_W.points.col(i);
-    if (!p.allFinite()) {
-      ++result->dropped_invalid;
-      continue;
-    }
-    if (std::abs(p.x() - p_WB.x()) <= half && std::abs(p.y() - p_WB.y()) <= half &&
-        p.z() <= p_WB.z() + max_height_above_m) {
-      window.col(kept++) = p;
-    }
-  }
-  window.conservativeResize(3, kept);
-  result->window_points = static_cast<int>(kept);
-  return window;
-}
-
-// The window's cells [low, high] on the map.
-std::pair<Eigen::Vector2i, Eigen::Vector2i> WindowCells(const common::GridGeometry& g,
-                                                        const Eigen::Vector3d& p_WB,
-                                                        double window_m) {
-  const Eigen::Vector2d corner = Eigen::Vector2d::Constant(0.5 * window_m);
-  return {*g.CellIndex(g.origin_W.cwiseMax(p_WB.head<2>() - corner)),
-          *g.CellIndex((g.origin_W + g.Extent()).cwiseMin(p_WB.head<2>() + corner))};
-}
-
 }  // namespace
 
 SgpMapper::SgpMapper(const SgpConfig& config)
@@ -68,7 +38,6 @@ SgpMapper::SgpMapper(const SgpConfig& config)
 MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eigen::Isometry3d& X_WB,
                                   double t_s) {
   MapUpdateResult result;
-  result.input_points = static_cast<int>(points_W.size());
   const Eigen::Vector3d p_WB = X_WB.translation();
   auto stage = Clock::now();
   Eigen::Matrix3Xf window =
@@ -187,7 +156,6 @@ ElevationMapper::ElevationMapper(const ElevationMapConfig& config, const FsgpCon
 MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
                                         const Eigen::Isometry3d& X_WB, double t_s) {
   MapUpdateResult result;
-  result.input_points = static_cast<int>(points_W.size());
   const Eigen::Vector3d p_WB = X_WB.translation();
   auto stage = Clock::now();
   const Eigen::Matrix3Xf window =

@@ -9,6 +9,7 @@
 #include <Eigen/QR>
 
 #include "mapping/features.h"
+#include "mapping/window.h"
 
 namespace trav::mapping {
 namespace {
@@ -61,27 +62,13 @@ FsgpBgkMapper::FsgpBgkMapper(const FsgpConfig& config)
 MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
                                       const Eigen::Isometry3d& X_WB, double t_s) {
   MapUpdateResult result;
-  result.input_points = static_cast<int>(points_W.size());
   const Eigen::Vector3d p_WB = X_WB.translation();
   const double half = 0.5 * config_.window_m;
 
   // 1. crop to the window (and drop invalid points and overhangs such as tree crowns)
   auto stage = Clock::now();
-  Eigen::Matrix3Xf window(3, points_W.size());
-  Eigen::Index kept = 0;
-  for (Eigen::Index i = 0; i < points_W.size(); ++i) {
-    const Eigen::Vector3f p = points_W.points.col(i);
-    if (!p.allFinite()) {
-      ++result.dropped_invalid;
-      continue;
-    }
-    if (std::abs(p.x() - p_WB.x()) > half || std::abs(p.y() - p_WB.y()) > half ||
-        p.z() > p_WB.z() + config_.max_height_above_robot_m) {
-      continue;
-    }
-    window.col(kept++) = p;
-  }
-  window.conservativeResize(3, kept);
+  Eigen::Matrix3Xf window =
+      CropWindow(points_W, p_WB, config_.window_m, config_.max_height_above_robot_m, &result);
   // FSGP-Accumulation: the last N frames' clouds together
   if (config_.accumulate_frames > 1) {
     history_.push_back(window);
@@ -160,10 +147,7 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   map_.Recenter(p_WB.head<2>());
   fused_.Recenter(p_WB.head<2>());
   const common::GridGeometry& g = map_.geometry();
-  const Eigen::Vector2d corner = Eigen::Vector2d::Constant(half);
-  const Eigen::Vector2i low = *g.CellIndex(g.origin_W.cwiseMax(p_WB.head<2>() - corner));
-  const Eigen::Vector2i high =
-      *g.CellIndex((g.origin_W + g.Extent()).cwiseMin(p_WB.head<2>() + corner));
+  const auto [low, high] = WindowCells(g, p_WB, config_.window_m);
   Eigen::Matrix2Xd cells(2, (high - low + Eigen::Vector2i::Ones()).prod());
   std::vector<Eigen::Vector2i> cell_index;
   for (int ix = low.x(); ix <= high.x(); ++ix) {
