@@ -49,8 +49,9 @@ class SparseGp {
   double signal_variance_{1.0};
   double mean_{0.0};
   Eigen::MatrixXd inputs_;
-  Eigen::MatrixXd cholesky_;  // lower factor L of K_MM + s_n^2 I
-  Eigen::VectorXd alpha_;     // (K_MM + s_n^2 I)^-1 (z - m)
+  Eigen::MatrixXd cholesky_;        // lower factor L of K_MM + s_n^2 I
+  Eigen::VectorXd alpha_;           // (K_MM + s_n^2 I)^-1 (z - m)
+  mutable Eigen::MatrixXd kernel_;  // K_*M of the last prediction, reused between frames
 };
 
 }  // namespace trav::mapping
