@@ -128,34 +128,69 @@ TrainingSet ExtractTrainingSet(const Eigen::Matrix3Xf& points_W, const FsgpConfi
 void InverseDistanceWeights(const Eigen::Matrix3Xd& training_W, const Eigen::Matrix2Xd& queries_W,
                             int k, Eigen::MatrixXi* indices, Eigen::MatrixXd* weights,
                             Eigen::VectorXd* nearest_m) {
-  // a 2-D kd-tree: the training points flattened to z = 0
-  pcl::PointCloud<pcl::PointXYZ>::Ptr flat(new pcl::PointCloud<pcl::PointXYZ>);
-  flat->resize(static_cast<std::size_t>(training_W.cols()));
-  for (Eigen::Index j = 0; j < training_W.cols(); ++j) {
-    (*flat)[static_cast<std::size_t>(j)] = pcl::PointXYZ(
-        static_cast<float>(training_W(0, j)), static_cast<float>(training_W(1, j)), 0.0f);
-  }
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(flat);
-  const int kk = static_cast<int>(std::min<Eigen::Index>(k, training_W.cols()));
+  // the training points in square buckets of about two points each; a query searches rings of
+  // buckets outwards until the ring cannot hold anything closer than its K-th neighbour (a kd-tree
+  // costs more to build and query at a few hundred points)
+  const Eigen::Index m = training_W.cols();
+  const int kk = static_cast<int>(std::min<Eigen::Index>(k, m));
   indices->resize(kk, queries_W.cols());
   weights->resize(kk, queries_W.cols());
   nearest_m->resize(queries_W.cols());
-  std::vector<int> found(static_cast<std::size_t>(kk));
-  std::vector<float> squared(static_cast<std::size_t>(kk));
+  const Eigen::Vector2d low = training_W.topRows<2>().rowwise().minCoeff();
+  const Eigen::Vector2d high = training_W.topRows<2>().rowwise().maxCoeff();
+  const Eigen::Vector2d extent = (high - low).cwiseMax(1e-3);
+  const double bucket = std::max(1e-3, std::sqrt(2.0 * extent.prod() / static_cast<double>(m)));
+  const int nx = static_cast<int>(extent.x() / bucket) + 1;
+  const int ny = static_cast<int>(extent.y() / bucket) + 1;
+  std::vector<std::vector<int>> buckets(static_cast<std::size_t>(nx) * ny);
+  auto bucket_of = [&](double x, double y) {
+    const int bx = std::clamp(static_cast<int>((x - low.x()) / bucket), 0, nx - 1);
+    const int by = std::clamp(static_cast<int>((y - low.y()) / bucket), 0, ny - 1);
+    return std::pair<int, int>(bx, by);
+  };
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const auto [bx, by] = bucket_of(training_W(0, j), training_W(1, j));
+    buckets[static_cast<std::size_t>(by) * nx + bx].push_back(static_cast<int>(j));
+  }
+  std::vector<std::pair<double, int>> found;  // (distance, index), sorted, at most kk
   for (Eigen::Index q = 0; q < queries_W.cols(); ++q) {
-    const pcl::PointXYZ query(static_cast<float>(queries_W(0, q)),
-                              static_cast<float>(queries_W(1, q)), 0.0f);
-    tree.nearestKSearch(query, kk, found, squared);
+    const Eigen::Vector2d p = queries_W.col(q);
+    const auto [qx, qy] = bucket_of(p.x(), p.y());
+    // distance from the query to the outside of its bucket neighbourhood of `ring` rings
+    const double inside_x =
+        std::min(p.x() - (low.x() + qx * bucket), low.x() + (qx + 1) * bucket - p.x());
+    const double inside_y =
+        std::min(p.y() - (low.y() + qy * bucket), low.y() + (qy + 1) * bucket - p.y());
+    const double inside = std::max(0.0, std::min(inside_x, inside_y));
+    found.clear();
+    for (int ring = 0;; ++ring) {
+      for (int by = qy - ring; by <= qy + ring; ++by) {
+        for (int bx = qx - ring; bx <= qx + ring; ++bx) {
+          if (std::max(std::abs(bx - qx), std::abs(by - qy)) != ring) continue;  // the ring only
+          if (bx < 0 || by < 0 || bx >= nx || by >= ny) continue;
+          for (int j : buckets[static_cast<std::size_t>(by) * nx + bx]) {
+            const double d = (training_W.col(j).head<2>() - p).norm();
+            if (static_cast<int>(found.size()) == kk && d >= found.back().first) continue;
+            found.insert(std::upper_bound(found.begin(), found.end(), std::make_pair(d, j)),
+                         {d, j});
+            if (static_cast<int>(found.size()) > kk) found.pop_back();
+          }
+        }
+      }
+      // every point beyond this ring is at least `inside + ring * bucket` away
+      const bool covered = ring >= nx + ny;
+      if (covered ||
+          (static_cast<int>(found.size()) == kk && found.back().first <= inside + ring * bucket))
+        break;
+    }
     double total = 0.0;
     for (int j = 0; j < kk; ++j) {
-      const double distance = std::sqrt(static_cast<double>(squared[static_cast<std::size_t>(j)]));
-      (*indices)(j, q) = found[static_cast<std::size_t>(j)];
-      (*weights)(j, q) = 1.0 / (distance + 1e-6);
+      (*indices)(j, q) = found[static_cast<std::size_t>(j)].second;
+      (*weights)(j, q) = 1.0 / (found[static_cast<std::size_t>(j)].first + 1e-6);
       total += (*weights)(j, q);
     }
     weights->col(q) /= total;
-    (*nearest_m)[q] = std::sqrt(static_cast<double>(squared[0]));
+    (*nearest_m)[q] = found[0].first;
   }
 }
 

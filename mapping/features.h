@@ -25,7 +25,8 @@ TrainingSet ExtractTrainingSet(const Eigen::Matrix3Xf& points_W, const FsgpConfi
                                common::Random* random);
 
 /// Inverse-distance weights (1 / (d + 1e-6), normalised) of the K nearest training points in
-/// (x, y) for every query, with the distance to the nearest (a PCL kd-tree over the training set).
+/// (x, y) for every query, with the distance to the nearest (buckets searched ring by ring; ties go
+/// to the lower index).
 void InverseDistanceWeights(const Eigen::Matrix3Xd& training_W, const Eigen::Matrix2Xd& queries_W,
                             int k, Eigen::MatrixXi* indices, Eigen::MatrixXd* weights,
                             Eigen::VectorXd* nearest_m);

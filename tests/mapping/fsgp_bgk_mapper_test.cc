@@ -1,8 +1,10 @@
 #include "mapping/fsgp_bgk_mapper.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -41,6 +43,30 @@ TEST(FeaturesTest, FlatGroundHasNoCurvatureOrGradientAndAStepEdgeHasBoth) {
     if (distance_to_edge < 0.1) {
       ASSERT_GT(edge.gradient[i], 0.03);
     }
+  }
+}
+
+TEST(FeaturesTest, InverseDistanceWeightsMatchABruteForceSearch) {
+  common::Random random(4);
+  Eigen::Matrix3Xd training(3, 300);
+  for (int j = 0; j < 300; ++j)
+    training.col(j) << random.Uniform(-5, 5), random.Uniform(-3, 3), 0.0;
+  Eigen::Matrix2Xd queries(2, 200);
+  for (int q = 0; q < 200; ++q) queries.col(q) << random.Uniform(-7, 7), random.Uniform(-5, 5);
+  Eigen::MatrixXi indices;
+  Eigen::MatrixXd weights;
+  Eigen::VectorXd nearest;
+  InverseDistanceWeights(training, queries, 5, &indices, &weights, &nearest);
+  for (int q = 0; q < 200; ++q) {
+    std::vector<std::pair<double, int>> all;
+    for (int j = 0; j < 300; ++j)
+      all.emplace_back((training.col(j).head<2>() - queries.col(q)).norm(), j);
+    std::sort(all.begin(), all.end());
+    for (int j = 0; j < 5; ++j)
+      ASSERT_EQ(indices(j, q), all[static_cast<std::size_t>(j)].second) << "query " << q;
+    EXPECT_DOUBLE_EQ(nearest[q], all[0].first);
+    EXPECT_NEAR(weights.col(q).sum(), 1.0, 1e-12);
+    EXPECT_GT(weights(0, q), weights(4, q));
   }
 }
 
