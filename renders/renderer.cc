@@ -67,7 +67,7 @@ void DrawGrid(const GroundGrid& grid, mjvScene* scene) {
   for (int iy = 0; iy < g.num_y; iy += stride) {
     for (int ix = 0; ix < g.num_x; ix += stride) {
       const float value = grid.values(ix, iy);
-      if (std::isnan(value)) continue;
+      if (std::isnan(value) || std::isnan(grid.heights_m(ix, iy))) continue;
       mjvGeom* geom = NextGeom(scene);
       if (geom == nullptr) return;
       const Eigen::Vector3f color = TraversabilityColor(value, grid.value_min, grid.value_max);

@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <limits>
 #include <memory>
 #include <optional>
 
@@ -88,17 +87,12 @@ renders::ColoredPoints DrawablePoints(const lidar::LidarFrame& frame) {
   return drawable;
 }
 
-// The traversability layer as a coloured ground grid at the map's elevation (unknown cells hidden).
+// The traversability layer as a coloured ground grid at the map's elevation.
 renders::GroundGrid DrawableMap(const common::GridLayers& map) {
   renders::GroundGrid grid;
   grid.geometry = map.geometry();
   grid.values = map.Layer(mapping::layers::kTraversability);
   grid.heights_m = map.Layer(mapping::layers::kElevation);
-  // cells with a score but no elevation (none today) would float: fall back to hiding them
-  for (Eigen::Index i = 0; i < grid.values.size(); ++i) {
-    if (std::isnan(grid.heights_m.data()[i]))
-      grid.values.data()[i] = std::numeric_limits<float>::quiet_NaN();
-  }
   grid.alpha = 0.55f;
   grid.max_cells = 3000;
   return grid;

@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <memory>
 
 #include <gtest/gtest.h>
@@ -93,6 +94,28 @@ TEST_F(RendererTest, OverlaysAreDrawnInTheScene) {
   ASSERT_GT(text_count, 10);
   EXPECT_LT(text.x(), 80);
   EXPECT_LT(text.y(), 40);
+}
+
+TEST_F(RendererTest, GroundGridsShowTheirKnownCellsOnly) {
+  GroundGrid grid;
+  grid.geometry =
+      common::GridGeometry::Centered(Eigen::Vector2d(-1.5, 1.0), Eigen::Vector2d(1.0, 1.0), 0.1);
+  grid.values = Eigen::MatrixXf::Zero(grid.geometry.num_x, grid.geometry.num_y);  // easy: green
+  grid.heights_m = Eigen::MatrixXf::Zero(grid.geometry.num_x, grid.geometry.num_y);
+  grid.values.rightCols(5).setConstant(
+      std::numeric_limits<float>::quiet_NaN());  // unknown: not drawn
+  grid.alpha = 1.0f;
+  Overlay overlay;
+  overlay.grids.push_back(grid);
+  Image image;
+  renderer_->Render(*simulation_, TopDownView(Eigen::Vector3d(0, 0, 0), 6.0), overlay, &image);
+  const auto [green, count] =
+      Centroid(image, [](int r, int g, int b) { return g > r + 60 && g > b + 60; });
+  // the known half of the patch: x in [-2, -1], y in [0.5, 0.9]: left of and above the centre
+  ASSERT_GT(count, 100);
+  EXPECT_LT(green.x(), 160 - 40);
+  EXPECT_LT(green.y(), 120 - 20);
+  EXPECT_GT(green.y(), 120 - 60);
 }
 
 TEST_F(RendererTest, ChaseCameraLooksAtTheRobotFromBehind) {
