@@ -189,6 +189,9 @@ int Main(int argc, char** argv) {
   CLI::App app{"trav: physics-simulated navigation testbed for the Scout Mini on uneven terrain"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every command");
+  bool verbose = false;
+  app.add_flag("-v,--verbose", verbose,
+               "Log debug messages (MuJoCo warnings as they happen) to stderr");
 
   ScenarioOptions run_options;
   std::optional<bool> video;
@@ -228,6 +231,7 @@ int Main(int argc, char** argv) {
     return code == 0 ? kExitExpected : kExitBadInput;
   }
 
+  if (verbose) common::SetLogLevel(common::LogLevel::kDebug);
   try {
     if (run->parsed()) return Run(run_options, video, record_clouds);
     if (scan->parsed()) return Scan(scan_options, scan_frames);
