@@ -179,6 +179,7 @@ TEST_F(TravCliTest, MissingFilesAreBadInput) {
 TEST_F(TravCliTest, UsageErrorsExitWithTwo) {
   EXPECT_EQ(RunTrav("run --no-such-flag").exit_code, 2);
   EXPECT_EQ(RunTrav("fly").exit_code, 2);
+  EXPECT_EQ(RunTrav("-v terrain --help").exit_code, 0);
   EXPECT_EQ(RunTrav("run --set nokeyvalue --out " + (root_ / "run").string()).exit_code, 2);
   const CommandResult help = RunTrav("run --help");
   EXPECT_EQ(help.exit_code, 0);
