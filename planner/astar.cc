@@ -1,0 +1,175 @@
+#include "planner/astar.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+
+namespace trav::planner {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr int kMoves[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {1, -1}, {-1, 1}, {-1, -1}};
+
+// Per-cell cost for the search (infinity = blocked), with the inflation applied.
+Eigen::MatrixXd SearchCosts(const common::GridLayers& map, const AStarConfig& config) {
+  const common::GridGeometry& g = map.geometry();
+  const Eigen::MatrixXf& layer = map.Layer(config.cost_layer);
+  Eigen::MatrixXd costs(g.num_x, g.num_y);
+  std::vector<Eigen::Vector2i> lethal;
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const float c = layer(ix, iy);
+      if (std::isnan(c)) {
+        costs(ix, iy) =
+            config.unknown_policy == UnknownPolicy::kBlocked ? kInfinity : config.unknown_cost;
+      } else if (c >= config.lethal_threshold) {
+        costs(ix, iy) = kInfinity;
+        lethal.emplace_back(ix, iy);
+      } else {
+        costs(ix, iy) = std::max(0.0f, c);
+      }
+    }
+  }
+  // grow the lethal cells by the footprint radius (a disc of cells)
+  const int r = static_cast<int>(std::floor(config.inflation_radius_m / g.resolution_m + 1e-9));
+  for (const Eigen::Vector2i& cell : lethal) {
+    for (int dx = -r; dx <= r; ++dx) {
+      for (int dy = -r; dy <= r; ++dy) {
+        if (dx * dx + dy * dy > r * r || !g.Contains(cell.x() + dx, cell.y() + dy)) continue;
+        costs(cell.x() + dx, cell.y() + dy) = kInfinity;
+      }
+    }
+  }
+  return costs;
+}
+
+struct Search {
+  Eigen::MatrixXd g_cost;  // cost from the start
+  Eigen::MatrixXi parent;  // linear index of the parent, -1 none
+  int expansions{0};
+};
+
+// A* (or Dijkstra when `goal` is null) from `start` over finite costs.
+Search Run(const common::GridGeometry& g, const Eigen::MatrixXd& costs, const AStarConfig& config,
+           const Eigen::Vector2i& start, const Eigen::Vector2i* goal) {
+  Search search;
+  search.g_cost = Eigen::MatrixXd::Constant(g.num_x, g.num_y, kInfinity);
+  search.parent = Eigen::MatrixXi::Constant(g.num_x, g.num_y, -1);
+  auto heuristic = [&](int ix, int iy) {
+    if (goal == nullptr) return 0.0;
+    const double dx = std::abs(ix - goal->x()), dy = std::abs(iy - goal->y());
+    return g.resolution_m * (std::max(dx, dy) + (std::sqrt(2.0) - 1.0) * std::min(dx, dy));
+  };
+  using Entry = std::pair<double, int>;  // (f, linear index): ties go to the lower index
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
+  search.g_cost(start.x(), start.y()) = 0.0;
+  open.emplace(heuristic(start.x(), start.y()), start.x() + start.y() * g.num_x);
+  while (!open.empty()) {
+    const auto [f, index] = open.top();
+    open.pop();
+    const int ix = index % g.num_x, iy = index / g.num_x;
+    if (f > search.g_cost(ix, iy) + heuristic(ix, iy) + 1e-12) continue;  // stale entry
+    ++search.expansions;
+    if (goal != nullptr && ix == goal->x() && iy == goal->y()) break;
+    for (const auto& move : kMoves) {
+      const int jx = ix + move[0], jy = iy + move[1];
+      if (!g.Contains(jx, jy) || !std::isfinite(costs(jx, jy))) continue;
+      const double length = g.resolution_m * (move[0] != 0 && move[1] != 0 ? std::sqrt(2.0) : 1.0);
+      const double step =
+          length * (1.0 + config.cost_weight * 0.5 * (costs(ix, iy) + costs(jx, jy)));
+      const double candidate = search.g_cost(ix, iy) + step;
+      if (candidate < search.g_cost(jx, jy)) {
+        search.g_cost(jx, jy) = candidate;
+        search.parent(jx, jy) = index;
+        open.emplace(candidate + heuristic(jx, jy), jx + jy * g.num_x);
+      }
+    }
+  }
+  return search;
+}
+
+}  // namespace
+
+GridPath PlanAStar(const common::GridLayers& map, const Eigen::Vector2d& start_W,
+                   const Eigen::Vector2d& goal_W, const AStarConfig& config) {
+  GridPath path;
+  const common::GridGeometry& g = map.geometry();
+  const Eigen::MatrixXd costs = SearchCosts(map, config);
+  const std::optional<Eigen::Vector2i> start = g.CellIndex(start_W);
+  if (!start || !std::isfinite(costs(start->x(), start->y()))) {
+    path.status = PlanStatus::kStartBlocked;
+    return path;
+  }
+  std::optional<Eigen::Vector2i> goal = g.CellIndex(goal_W);
+  Search search;
+  if (goal && std::isfinite(costs(goal->x(), goal->y()))) {
+    search = Run(g, costs, config, *start, &*goal);
+    path.status = PlanStatus::kFound;
+  } else {
+    // a blocked, unknown-and-blocked or outside goal: the reachable cell nearest to it
+    search = Run(g, costs, config, *start, nullptr);
+    double best = kInfinity;
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      for (int ix = 0; ix < g.num_x; ++ix) {
+        if (!std::isfinite(search.g_cost(ix, iy))) continue;
+        const double d = (g.CellCenter(ix, iy) - goal_W).norm();
+        if (d < best) {
+          best = d;
+          goal = Eigen::Vector2i(ix, iy);
+        }
+      }
+    }
+    path.status = PlanStatus::kGoalMoved;
+  }
+  path.expansions = search.expansions;
+  if (!goal || !std::isfinite(search.g_cost(goal->x(), goal->y()))) {
+    path.status = PlanStatus::kNoPath;
+    return path;
+  }
+  path.cost = search.g_cost(goal->x(), goal->y());
+  path.goal_W = g.CellCenter(goal->x(), goal->y());
+  for (int index = goal->x() + goal->y() * g.num_x; index >= 0;
+       index = search.parent(index % g.num_x, index / g.num_x)) {
+    path.points_W.push_back(g.CellCenter(index % g.num_x, index / g.num_x));
+  }
+  std::reverse(path.points_W.begin(), path.points_W.end());
+  return path;
+}
+
+std::vector<Eigen::Vector2d> SimplifyPath(const std::vector<Eigen::Vector2d>& path,
+                                          const common::GridLayers& map, const AStarConfig& config,
+                                          double cost_tolerance) {
+  if (path.size() <= 2) return path;
+  const common::GridGeometry& g = map.geometry();
+  const Eigen::MatrixXd costs = SearchCosts(map, config);
+  auto cost_at = [&](const Eigen::Vector2d& p) {
+    const std::optional<Eigen::Vector2i> cell = g.CellIndex(p);
+    return cell ? costs(cell->x(), cell->y()) : kInfinity;
+  };
+  // the straight segment a-b stays on free cells no costlier than `limit`
+  auto visible = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b, double limit) {
+    const int samples = static_cast<int>(std::ceil((b - a).norm() / (0.5 * g.resolution_m))) + 1;
+    for (int k = 0; k <= samples; ++k) {
+      if (cost_at(a + (b - a) * (static_cast<double>(k) / samples)) > limit) return false;
+    }
+    return true;
+  };
+  std::vector<Eigen::Vector2d> waypoints = {path.front()};
+  std::size_t anchor = 0;
+  while (anchor + 1 < path.size()) {
+    // the farthest point visible from the anchor within the cost of the skipped stretch
+    std::size_t next = anchor + 1;
+    double stretch_cost = std::max(cost_at(path[anchor]), cost_at(path[next]));
+    for (std::size_t j = anchor + 2; j < path.size(); ++j) {
+      stretch_cost = std::max(stretch_cost, cost_at(path[j]));
+      if (!visible(path[anchor], path[j], stretch_cost + cost_tolerance)) break;
+      next = j;
+    }
+    waypoints.push_back(path[next]);
+    anchor = next;
+  }
+  return waypoints;
+}
+
+}  // namespace trav::planner

@@ -1,0 +1,61 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "common/grid.h"
+
+namespace trav::planner {
+
+/// How A* treats cells whose cost is unknown (NaN).
+enum class UnknownPolicy {
+  kCost,     ///< traversable at `unknown_cost`
+  kBlocked,  ///< never entered
+};
+
+/// Settings of the grid search.
+struct AStarConfig {
+  std::string cost_layer{"traversability"};  ///< layer of costs in [0, 1]
+  double cost_weight{5.0};                   ///< w in the edge cost L (1 + w c), >= 0
+  double lethal_threshold{0.8};              ///< cells at or above this cost are blocked
+  double inflation_radius_m{0.3};  ///< blocked cells grow by the robot's footprint radius [m]
+  UnknownPolicy unknown_policy{UnknownPolicy::kCost};
+  double unknown_cost{0.5};  ///< cost of an unknown cell under kCost
+};
+
+/// Outcome of a search.
+enum class PlanStatus {
+  kFound,         ///< a path to the goal
+  kGoalMoved,     ///< the goal was blocked or unknown: a path to the nearest reachable cell instead
+  kStartBlocked,  ///< the start cell is blocked (or outside the map)
+  kNoPath,        ///< nothing reachable
+};
+
+/// A path on the grid.
+struct GridPath {
+  PlanStatus status{PlanStatus::kNoPath};
+  std::vector<Eigen::Vector2d> points_W;            ///< cell centres from start to goal [m]
+  Eigen::Vector2d goal_W{Eigen::Vector2d::Zero()};  ///< the goal reached (moved if kGoalMoved)
+  double cost{0.0};                                 ///< sum of L (1 + w c) over the edges
+  int expansions{0};                                ///< cells taken from the open list
+};
+
+/// A* on an 8-connected grid (Hart, Nilsson, Raphael 1968). Edge cost L (1 + w c), L the edge
+/// length [m] and c the mean cost of its two cells; the octile distance is an admissible heuristic
+/// because every edge costs at least its length. Blocked cells: cost at or above the lethal
+/// threshold, grown by the inflation radius; unknown cells per the policy. A blocked goal is moved
+/// to the reachable cell nearest to it. Deterministic (ties broken by cell index). No-path is a
+/// status, not an error.
+GridPath PlanAStar(const common::GridLayers& map, const Eigen::Vector2d& start_W,
+                   const Eigen::Vector2d& goal_W, const AStarConfig& config);
+
+/// Waypoints of `path` with every point dropped that the straight segment between its neighbours
+/// can skip without crossing a blocked cell or a cell costlier than the path's own cells by more
+/// than `cost_tolerance` (line of sight on the grid). Keeps the first and last points.
+std::vector<Eigen::Vector2d> SimplifyPath(const std::vector<Eigen::Vector2d>& path,
+                                          const common::GridLayers& map, const AStarConfig& config,
+                                          double cost_tolerance = 0.1);
+
+}  // namespace trav::planner

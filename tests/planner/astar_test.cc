@@ -1,0 +1,138 @@
+#include "planner/astar.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+namespace trav::planner {
+namespace {
+
+// A 10 x 10 m map at 0.1 m, every cell easy (cost 0).
+common::GridLayers EmptyMap() {
+  common::GridLayers map(
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(10, 10), 0.1),
+      {"traversability"});
+  map.Layer("traversability").setZero();
+  return map;
+}
+
+// Sets the cost of every cell whose centre satisfies `inside`.
+template <typename Inside>
+void Paint(common::GridLayers* map, float value, Inside inside) {
+  const common::GridGeometry& g = map->geometry();
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      if (inside(g.CellCenter(ix, iy))) map->Layer("traversability")(ix, iy) = value;
+    }
+  }
+}
+
+double Length(const std::vector<Eigen::Vector2d>& points) {
+  double length = 0.0;
+  for (std::size_t i = 1; i < points.size(); ++i) length += (points[i] - points[i - 1]).norm();
+  return length;
+}
+
+TEST(AStarTest, OnAnEmptyGridThePathIsTheStraightLine) {
+  const GridPath dut = PlanAStar(EmptyMap(), {-4, 0}, {4, 0}, AStarConfig{});
+  ASSERT_EQ(dut.status, PlanStatus::kFound);
+  EXPECT_NEAR(dut.cost, 8.0, 1e-9);
+  EXPECT_EQ(dut.points_W.size(), 81u);
+  for (const Eigen::Vector2d& p : dut.points_W) EXPECT_NEAR(p.y(), 0.0, 1e-9);
+  // diagonal: octile moves only
+  const GridPath diagonal = PlanAStar(EmptyMap(), {-4, -4}, {4, 4}, AStarConfig{});
+  EXPECT_NEAR(diagonal.cost, 8.0 * std::sqrt(2.0), 1e-9);
+}
+
+TEST(AStarTest, GoesThroughTheGapOfAWall) {
+  common::GridLayers map = EmptyMap();
+  // a wall at x = 0 with a 1 m gap at y in [2, 3]
+  Paint(&map, 1.0f, [](const Eigen::Vector2d& p) {
+    return std::abs(p.x()) < 0.15 && !(p.y() > 2.0 && p.y() < 3.0);
+  });
+  AStarConfig config;
+  config.inflation_radius_m = 0.2;
+  const GridPath dut = PlanAStar(map, {-3, 0}, {3, 0}, config);
+  ASSERT_EQ(dut.status, PlanStatus::kFound);
+  bool through_gap = false;
+  for (const Eigen::Vector2d& p : dut.points_W) {
+    if (std::abs(p.x()) < 0.05) through_gap = p.y() > 2.0 && p.y() < 3.0;
+  }
+  EXPECT_TRUE(through_gap);
+  // an inflation of 0.5 m closes the 1 m gap: the goal is free but unreachable
+  config.inflation_radius_m = 0.5;
+  EXPECT_EQ(PlanAStar(map, {-3, 0}, {3, 0}, config).status, PlanStatus::kNoPath);
+}
+
+TEST(AStarTest, CostlyTerrainIsAvoidedInProportionToItsWeight) {
+  common::GridLayers map = EmptyMap();
+  // a rough band across the direct route, passable; a detour around it at y > 3
+  Paint(&map, 0.6f, [](const Eigen::Vector2d& p) { return std::abs(p.x()) < 1.0 && p.y() < 3.0; });
+  AStarConfig config;
+  config.cost_weight = 0.0;  // cost ignored: straight through
+  const GridPath ignoring = PlanAStar(map, {-4, 0}, {4, 0}, config);
+  EXPECT_NEAR(Length(ignoring.points_W), 8.0, 1e-9);
+  config.cost_weight = 10.0;  // 2 m at 1 + 6 = 7 per metre: the detour is cheaper
+  const GridPath avoiding = PlanAStar(map, {-4, 0}, {4, 0}, config);
+  double highest = -10.0;
+  for (const Eigen::Vector2d& p : avoiding.points_W) highest = std::max(highest, p.y());
+  EXPECT_GE(highest, 3.0 - 1e-9);
+  EXPECT_LT(avoiding.cost, 8.0 * (1.0 + 10.0 * 0.6 * 2.0 / 8.0) + 1e-9);
+}
+
+TEST(AStarTest, UnknownCellsFollowThePolicy) {
+  common::GridLayers map = EmptyMap();
+  Paint(&map, std::numeric_limits<float>::quiet_NaN(),
+        [](const Eigen::Vector2d& p) { return std::abs(p.x()) < 1.0; });
+  AStarConfig config;
+  config.unknown_policy = UnknownPolicy::kCost;
+  EXPECT_EQ(PlanAStar(map, {-4, 0}, {4, 0}, config).status, PlanStatus::kFound);
+  config.unknown_policy = UnknownPolicy::kBlocked;
+  EXPECT_EQ(PlanAStar(map, {-4, 0}, {4, 0}, config).status, PlanStatus::kNoPath);
+  // a goal inside the unknown band moves to its nearest reachable cell, at the band's edge
+  const GridPath moved = PlanAStar(map, {-4, 0}, {0.5, 0}, config);
+  EXPECT_EQ(moved.status, PlanStatus::kGoalMoved);
+  EXPECT_NEAR(moved.goal_W.x(), -1.0, 0.05);
+  EXPECT_NEAR(moved.goal_W.y(), 0.0, 1e-9);
+}
+
+TEST(AStarTest, ABlockedGoalMovesToTheNearestReachableCellAndABlockedStartIsAStatus) {
+  common::GridLayers map = EmptyMap();
+  Paint(&map, 1.0f,
+        [](const Eigen::Vector2d& p) { return (p - Eigen::Vector2d(3, 0)).norm() < 0.5; });
+  AStarConfig config;
+  config.inflation_radius_m = 0.0;
+  const GridPath dut = PlanAStar(map, {-3, 0}, {3, 0}, config);
+  EXPECT_EQ(dut.status, PlanStatus::kGoalMoved);
+  EXPECT_NEAR((dut.goal_W - Eigen::Vector2d(3, 0)).norm(), 0.5, 0.1);
+  EXPECT_EQ(dut.points_W.back(), dut.goal_W);
+  EXPECT_EQ(PlanAStar(map, {3, 0}, {-3, 0}, config).status, PlanStatus::kStartBlocked);
+  EXPECT_EQ(PlanAStar(map, {30, 0}, {-3, 0}, config).status, PlanStatus::kStartBlocked);
+}
+
+TEST(AStarTest, SimplificationKeepsLineOfSightAndTheEnds) {
+  common::GridLayers map = EmptyMap();
+  Paint(&map, 1.0f, [](const Eigen::Vector2d& p) { return std::abs(p.x()) < 0.15 && p.y() < 2.0; });
+  AStarConfig config;
+  config.inflation_radius_m = 0.2;
+  const GridPath path = PlanAStar(map, {-3, 0}, {3, 0}, config);
+  const std::vector<Eigen::Vector2d> waypoints = SimplifyPath(path.points_W, map, config);
+  EXPECT_EQ(waypoints.front(), path.points_W.front());
+  EXPECT_EQ(waypoints.back(), path.points_W.back());
+  EXPECT_LT(waypoints.size(), 6u);
+  EXPECT_GE(waypoints.size(), 3u);  // it must turn around the wall's end
+  // every segment keeps clear of the wall's cells (|x| <= 0.1, y <= 1.9) by the inflation less a
+  // cell
+  for (std::size_t i = 1; i < waypoints.size(); ++i) {
+    for (double t = 0.0; t <= 1.0; t += 0.01) {
+      const Eigen::Vector2d p = waypoints[i - 1] + t * (waypoints[i] - waypoints[i - 1]);
+      const Eigen::Vector2d nearest(std::clamp(p.x(), -0.1, 0.1), std::min(p.y(), 1.9));
+      EXPECT_GE((p - nearest).norm(), 0.1) << p.transpose();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace trav::planner
