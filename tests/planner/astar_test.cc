@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "common/random.h"
+
 namespace trav::planner {
 namespace {
 
@@ -44,6 +46,56 @@ TEST(AStarTest, OnAnEmptyGridThePathIsTheStraightLine) {
   // diagonal: octile moves only
   const GridPath diagonal = PlanAStar(EmptyMap(), {-4, -4}, {4, 4}, AStarConfig{});
   EXPECT_NEAR(diagonal.cost, 8.0 * std::sqrt(2.0), 1e-9);
+}
+
+// Dijkstra over the same edge costs, written independently of the planner, for the optimal cost.
+double DijkstraCost(const common::GridLayers& map, const Eigen::Vector2i& start,
+                    const Eigen::Vector2i& goal, double w) {
+  const common::GridGeometry& g = map.geometry();
+  const Eigen::MatrixXf& c = map.Layer("traversability");
+  Eigen::MatrixXd best = Eigen::MatrixXd::Constant(g.num_x, g.num_y, 1e18);
+  Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> done =
+      Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>::Constant(g.num_x, g.num_y, false);
+  best(start.x(), start.y()) = 0.0;
+  for (int round = 0; round < g.num_x * g.num_y; ++round) {
+    int bx = -1, by = -1;
+    for (int ix = 0; ix < g.num_x; ++ix) {
+      for (int iy = 0; iy < g.num_y; ++iy) {
+        if (!done(ix, iy) && (bx < 0 || best(ix, iy) < best(bx, by))) bx = ix, by = iy;
+      }
+    }
+    done(bx, by) = true;
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        const int jx = bx + dx, jy = by + dy;
+        if ((dx == 0 && dy == 0) || !g.Contains(jx, jy)) continue;
+        const double length = g.resolution_m * std::hypot(dx, dy);
+        best(jx, jy) = std::min(
+            best(jx, jy),
+            best(bx, by) + length * (1.0 + w * 0.5 * (double{c(bx, by)} + double{c(jx, jy)})));
+      }
+    }
+  }
+  return best(goal.x(), goal.y());
+}
+
+TEST(AStarTest, FindsTheOptimalCostOnRandomMaps) {
+  common::Random random(9);
+  for (int trial = 0; trial < 3; ++trial) {
+    common::GridLayers map(
+        common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(3, 3), 0.1),
+        {"traversability"});
+    Eigen::MatrixXf& c = map.Layer("traversability");
+    for (Eigen::Index i = 0; i < c.size(); ++i)
+      c.data()[i] = static_cast<float>(0.2 + 0.5 * random.Uniform());
+    AStarConfig config;
+    config.lethal_threshold = 2.0;  // nothing blocked
+    const GridPath dut = PlanAStar(map, {-1.5, -1.5}, {1.4, 1.2}, config);
+    ASSERT_EQ(dut.status, PlanStatus::kFound);
+    EXPECT_NEAR(
+        dut.cost,
+        DijkstraCost(map, {0, 0}, *map.geometry().CellIndex({1.4, 1.2}), config.cost_weight), 1e-9);
+  }
 }
 
 TEST(AStarTest, GoesThroughTheGapOfAWall) {
