@@ -103,7 +103,9 @@ TrainingSet ExtractTrainingSet(const Eigen::Matrix3Xf& points_W, const FsgpConfi
     from->resize(std::min(count, from->size()));
   };
   const auto budget = static_cast<std::size_t>(config.max_training_points);
-  sample(&features, budget);
+  // features take at most half of the budget when there are enough other points: the rest keeps
+  // the ground covered (indoors, wall points alone would otherwise fill M)
+  sample(&features, std::max(budget / 2, budget - std::min(budget, rest.size())));
   sample(&rest, budget - features.size());
   std::vector<int> selected = features;
   selected.insert(selected.end(), rest.begin(), rest.end());

@@ -19,8 +19,10 @@ struct TrainingSet {
 /// Steps 2-3 of FSGP: voxel pre-downsampling (PCL), k-nearest neighbours (PCL kd-tree), curvature
 /// and gradient per point, feature points kept whole, the rest voxel-downsampled (one point per
 /// voxel, keeping its own kappa and g: the released code zeroes them), and seeded random sampling
-/// down to M points, features first (the released code samples all alike, which thins out exactly
-/// the points that carry structure). Deterministic for a given `random` state.
+/// down to M points, features first but at most half of M when enough other points remain (the
+/// released code samples all alike, which thins out exactly the points that carry structure; taking
+/// features only would leave the ground uncovered next to walls). Deterministic for a given
+/// `random` state.
 TrainingSet ExtractTrainingSet(const Eigen::Matrix3Xf& points_W, const FsgpConfig& config,
                                common::Random* random);
 

@@ -2,9 +2,12 @@
 
 #include <png.h>
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
+
+#include "renders/overlay.h"
 
 namespace trav::renders {
 namespace {
@@ -41,6 +44,25 @@ void WriteRows(const std::string& path, int width, int height, int bit_depth, in
 }
 
 }  // namespace
+
+Image TraversabilityImage(const Eigen::MatrixXf& values) {
+  Image image;
+  image.width = static_cast<int>(values.rows());
+  image.height = static_cast<int>(values.cols());
+  image.rgb.resize(static_cast<std::size_t>(image.width) * image.height * 3);
+  for (int row = 0; row < image.height; ++row) {
+    for (int ix = 0; ix < image.width; ++ix) {
+      const float value = values(ix, image.height - 1 - row);
+      const Eigen::Vector3f color = std::isnan(value) ? Eigen::Vector3f(0.5f, 0.5f, 0.5f)
+                                                      : TraversabilityColor(value, 0.0f, 1.0f);
+      std::uint8_t* pixel =
+          image.rgb.data() + 3 * (static_cast<std::size_t>(row) * image.width + ix);
+      for (int c = 0; c < 3; ++c)
+        pixel[c] = static_cast<std::uint8_t>(std::lround(255.0f * color[c]));
+    }
+  }
+  return image;
+}
 
 void WritePng(const std::string& path, const Image& image) {
   std::vector<png_bytep> rows(static_cast<std::size_t>(image.height));

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 namespace trav::renders {
 
 /// An 8-bit RGB image, rows top to bottom, pixels left to right.
@@ -15,6 +17,10 @@ struct Image {
   /// Pointer to the pixel at column x, row y (row 0 at the top).
   const std::uint8_t* Pixel(int x, int y) const { return rgb.data() + 3 * (y * width + x); }
 };
+
+/// A grid layer (num_x, num_y), values in [0, 1], as an image with +y up: green (0) through yellow
+/// to red (1), unknown (NaN) grey. One pixel per cell.
+Image TraversabilityImage(const Eigen::MatrixXf& values);
 
 /// Writes an 8-bit RGB PNG. @throws std::runtime_error if the file cannot be written.
 void WritePng(const std::string& path, const Image& image);

@@ -13,6 +13,7 @@
 
 #include "controller/skid_steer.h"
 #include "mapping/ground_truth.h"
+#include "renders/image.h"
 #include "renders/renderer.h"
 #include "renders/video_writer.h"
 #include "scenarios/mappers.h"
@@ -322,6 +323,8 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
       ++known;
     }
     summary.mapping_known_cells = known;
+    renders::WritePng(output_dir + "/map.png", renders::TraversabilityImage(predicted));
+    renders::WritePng(output_dir + "/map_ground_truth.png", renders::TraversabilityImage(expected));
     if (known > 0) {
       summary.mapping_mean_error = sum / known;
       summary.mapping_error_variance =

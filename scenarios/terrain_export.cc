@@ -114,23 +114,7 @@ common::GridGeometry WriteGroundTruth(const sim::TerrainWorld& world,
   raw.write(reinterpret_cast<const char*>(cost.data()),
             static_cast<std::streamsize>(cost.size() * sizeof(float)));
   if (!raw) throw std::runtime_error("cannot write " + folder.File("ground_truth.raw"));
-  renders::Image image;
-  image.width = map_geometry.num_x;
-  image.height = map_geometry.num_y;
-  image.rgb.resize(static_cast<std::size_t>(image.width) * image.height * 3);
-  for (int row = 0; row < image.height; ++row) {
-    for (int ix = 0; ix < image.width; ++ix) {
-      const float value = cost(ix, image.height - 1 - row);
-      const Eigen::Vector3f color = std::isnan(value)
-                                        ? Eigen::Vector3f(0.5f, 0.5f, 0.5f)
-                                        : renders::TraversabilityColor(value, 0.0f, 1.0f);
-      std::uint8_t* pixel =
-          image.rgb.data() + 3 * (static_cast<std::size_t>(row) * image.width + ix);
-      for (int c = 0; c < 3; ++c)
-        pixel[c] = static_cast<std::uint8_t>(std::lround(255.0f * color[c]));
-    }
-  }
-  renders::WritePng(folder.File("ground_truth.png"), image);
+  renders::WritePng(folder.File("ground_truth.png"), renders::TraversabilityImage(cost));
   return map_geometry;
 }
 

@@ -211,6 +211,8 @@ TEST_F(TravCliTest, RunMapsTheLidarFramesAndScoresTheMapAgainstTheGroundTruth) {
     EXPECT_EQ(mapping["updates"], 20);
     EXPECT_GT(mapping["known_cells"].get<int>(), 500);
     EXPECT_LT(mapping["mean_error"].get<double>(), 0.15) << method;
+    EXPECT_TRUE(fs::exists(root_ / method / "map.png"));
+    EXPECT_TRUE(fs::exists(root_ / method / "map_ground_truth.png"));
   }
   const CommandResult off =
       RunTrav("run " + scenario + " --set mapping.enabled=false --out " + (root_ / "off").string());
