@@ -68,7 +68,8 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   // 1. crop to the window (and drop invalid points and overhangs such as tree crowns)
   auto stage = Clock::now();
   Eigen::Matrix3Xf window =
-      CropWindow(points_W, p_WB, config_.window_m, config_.max_height_above_robot_m, &result);
+      CropWindow(points_W, p_WB, config_.window_m, config_.max_height_above_robot_m, &result,
+                 config_.max_height_above_ground_m);
   // FSGP-Accumulation: the last N frames' clouds together
   if (config_.accumulate_frames > 1) {
     history_.push_back(window);

@@ -13,6 +13,8 @@ void ValidateFsgpConfig(const FsgpConfig& c) {
                        "must be > 0 and at most a quarter of the window");
   common::RequireValue(c.map_size_m >= c.window_m, "mapping.map_size", c.map_size_m,
                        "must be >= the window");
+  common::RequireValue(c.max_height_above_ground_m > 0.0, "mapping.max_height_above_ground",
+                       c.max_height_above_ground_m, "must be > 0");
   common::RequireValue(c.pre_voxel_m > 0.0, "mapping.pre_voxel", c.pre_voxel_m, "must be > 0");
   common::RequireValue(c.neighbours >= 3, "mapping.neighbours", c.neighbours, "must be >= 3");
   common::RequireValue(c.feature_voxel_m > 0.0, "mapping.feature_voxel", c.feature_voxel_m,

@@ -31,8 +31,11 @@ struct FsgpConfig {
   double window_m{10.0};     ///< side of the square window around the robot [m]
   double resolution_m{0.2};  ///< map cell size [m]
   double map_size_m{30.0};   ///< side of the world-anchored rolling map [m], >= window
-  double max_height_above_robot_m{
-      1.0};  ///< points higher above the base are ignored (canopies) [m]
+  /// Points higher than this above the base are ignored (tree crowns, ceilings) [m].
+  double max_height_above_robot_m{1.0};
+  /// Points higher than this above the lowest point of their 1 m column are ignored [m] (> 0):
+  /// walls and trunks keep only their foot, which is what a height regression can use.
+  double max_height_above_ground_m{0.3};
   // features
   double pre_voxel_m{0.1};            ///< voxel pre-downsampling [m]
   int neighbours{20};                 ///< k for curvature and gradient, >= 3
@@ -48,9 +51,9 @@ struct FsgpConfig {
       0};                 ///< L-BFGS steps maximising the marginal likelihood per frame (0: fixed)
   int idw_neighbours{5};  ///< K for kappa*, g* at the test cells
   double support_radius_m{0.8};  ///< a cell is observed if a training point lies this close [m]
-  /// The predictive variance (O(T M^2), most of an update's time) is computed on every n-th cell
+  /// The predictive variance (O(T M^2), the costliest part) is computed on every n-th cell
   /// along x and y and taken by the others from that cell; it only weighs the fusion. >= 1
-  int variance_stride{3};
+  int variance_stride{4};
   // preliminary score: weights sum to 1 (the released code's 0.3/0.3/0.2 rescaled)
   double weight_curvature{0.375};
   double weight_gradient{0.25};

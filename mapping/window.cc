@@ -1,11 +1,15 @@
 #include "mapping/window.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 namespace trav::mapping {
 
 Eigen::Matrix3Xf CropWindow(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
-                            double window_m, double max_height_above_m, MapUpdateResult* result) {
+                            double window_m, double max_height_above_m, MapUpdateResult* result,
+                            double max_height_above_ground_m) {
   const double half = 0.5 * window_m;
   Eigen::Matrix3Xf window(3, points_W.size());
   Eigen::Index kept = 0;
@@ -21,6 +25,31 @@ Eigen::Matrix3Xf CropWindow(const common::PointCloud& points_W, const Eigen::Vec
     }
   }
   window.conservativeResize(3, kept);
+  if (std::isfinite(max_height_above_ground_m) && kept > 0) {
+    // the lowest point of each 1 m column stands for the ground there
+    constexpr double kColumn_m = 1.0;
+    const int columns = static_cast<int>(std::ceil(window_m / kColumn_m)) + 1;
+    std::vector<float> ground(static_cast<std::size_t>(columns * columns),
+                              std::numeric_limits<float>::infinity());
+    auto column_of = [&](const Eigen::Vector3f& p) {
+      const int cx =
+          std::clamp(static_cast<int>((p.x() - p_WB.x() + half) / kColumn_m), 0, columns - 1);
+      const int cy =
+          std::clamp(static_cast<int>((p.y() - p_WB.y() + half) / kColumn_m), 0, columns - 1);
+      return static_cast<std::size_t>(cy * columns + cx);
+    };
+    for (Eigen::Index i = 0; i < kept; ++i) {
+      float& lowest = ground[column_of(window.col(i))];
+      lowest = std::min(lowest, window(2, i));
+    }
+    Eigen::Index low = 0;
+    for (Eigen::Index i = 0; i < kept; ++i) {
+      if (window(2, i) <= ground[column_of(window.col(i))] + max_height_above_ground_m)
+        window.col(low++) = window.col(i);
+    }
+    kept = low;
+    window.conservativeResize(3, kept);
+  }
   result->input_points = static_cast<int>(points_W.size());
   result->window_points = static_cast<int>(kept);
   return window;

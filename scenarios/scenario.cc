@@ -350,6 +350,7 @@ void VisitScenario(Archive& a, Scenario& s) {
     mp.Field("resolution", &c.resolution_m);
     mp.Field("map_size", &c.map_size_m);
     mp.Field("max_height_above_robot", &c.max_height_above_robot_m);
+    mp.Field("max_height_above_ground", &c.max_height_above_ground_m);
     mp.Field("pre_voxel", &c.pre_voxel_m);
     mp.Field("neighbours", &c.neighbours);
     mp.Field("curvature_threshold", &c.curvature_threshold);
