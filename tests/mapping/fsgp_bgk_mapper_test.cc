@@ -10,6 +10,7 @@
 
 #include "common/random.h"
 #include "mapping/features.h"
+#include "mapping/window.h"
 #include "tests/mapping/mapping_test_util.h"
 
 namespace trav::mapping {
@@ -68,6 +69,28 @@ TEST(FeaturesTest, InverseDistanceWeightsMatchABruteForceSearch) {
     EXPECT_NEAR(weights.col(q).sum(), 1.0, 1e-12);
     EXPECT_GT(weights(0, q), weights(4, q));
   }
+}
+
+TEST(CropWindowTest, KeepsTheWindowAndOnlyTheFootOfTallStructures) {
+  std::vector<Eigen::Vector3f> points;
+  for (double x = -6.0; x <= 6.0; x += 0.25)
+    points.emplace_back(static_cast<float>(x), 0.0f, 0.0f);  // floor
+  for (int k = 0; k <= 20; ++k)
+    points.emplace_back(2.1f, 0.0f, 0.1f * static_cast<float>(k) + 0.05f);  // a wall
+  points.emplace_back(std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f);
+  MapUpdateResult result;
+  const Eigen::Matrix3Xf kept = CropWindow(common::MakePointCloud(points),
+                                           Eigen::Vector3d(0, 0, 0.1), 10.0, 1.0, &result, 0.3);
+  EXPECT_EQ(result.dropped_invalid, 1);
+  for (Eigen::Index i = 0; i < kept.cols(); ++i) {
+    EXPECT_LE(std::abs(kept(0, i)), 5.0f);
+    EXPECT_LE(kept(2, i), 0.3f + 1e-6f);
+  }
+  // the floor inside the window (41 points) and the wall's foot: 0.05, 0.15 and 0.25 m above its
+  // lowest point, which stands for the ground of its column (the floor at x = 2.0 and 2.25 is
+  // lower)
+  EXPECT_EQ(kept.cols(), 41 + 3);
+  EXPECT_EQ(result.window_points, 44);
 }
 
 TEST(FsgpBgkMapperTest, FlatGroundIsEasyEverywhere) {
