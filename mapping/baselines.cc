@@ -30,6 +30,16 @@ common::GridLayers MakeMap(double size_m, double resolution_m) {
        layers::kLastObserved});
 }
 
+// The window's points, timed; a status of kTooFewPoints when there are fewer than the minimum.
+Eigen::Matrix3Xf CropOrRefuse(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
+                              double window_m, double max_height_above_m, MapUpdateResult* result) {
+  const auto start = Clock::now();
+  Eigen::Matrix3Xf window = CropWindow(points_W, p_WB, window_m, max_height_above_m, result);
+  result->times.crop = Milliseconds(start);
+  if (window.cols() < kMinimumPoints) result->status = MapUpdateStatus::kTooFewPoints;
+  return window;
+}
+
 }  // namespace
 
 SgpMapper::SgpMapper(const SgpConfig& config)
@@ -39,16 +49,11 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
                                   double t_s) {
   MapUpdateResult result;
   const Eigen::Vector3d p_WB = X_WB.translation();
-  auto stage = Clock::now();
-  Eigen::Matrix3Xf window =
-      CropWindow(points_W, p_WB, config_.window_m, config_.max_height_above_robot_m, &result);
-  result.times.crop = Milliseconds(stage);
-  if (window.cols() < kMinimumPoints) {
-    result.status = MapUpdateStatus::kTooFewPoints;
-    return result;
-  }
+  const Eigen::Matrix3Xf window =
+      CropOrRefuse(points_W, p_WB, config_.window_m, config_.max_height_above_robot_m, &result);
+  if (result.status != MapUpdateStatus::kUpdated) return result;
   // inducing points on a stride of the points sorted by x
-  stage = Clock::now();
+  auto stage = Clock::now();
   std::vector<Eigen::Index> order(static_cast<std::size_t>(window.cols()));
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<Eigen::Index>(i);
   std::stable_sort(order.begin(), order.end(),
@@ -157,16 +162,11 @@ MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
                                         const Eigen::Isometry3d& X_WB, double t_s) {
   MapUpdateResult result;
   const Eigen::Vector3d p_WB = X_WB.translation();
-  auto stage = Clock::now();
   const Eigen::Matrix3Xf window =
-      CropWindow(points_W, p_WB, config_.window_m, config_.max_height_above_robot_m, &result);
-  result.times.crop = Milliseconds(stage);
-  if (window.cols() < kMinimumPoints) {
-    result.status = MapUpdateStatus::kTooFewPoints;
-    return result;
-  }
+      CropOrRefuse(points_W, p_WB, config_.window_m, config_.max_height_above_robot_m, &result);
+  if (result.status != MapUpdateStatus::kUpdated) return result;
   // per-cell Kalman fusion of the point heights
-  stage = Clock::now();
+  auto stage = Clock::now();
   map_.Recenter(p_WB.head<2>());
   const common::GridGeometry& g = map_.geometry();
   Eigen::MatrixXf& h = map_.Layer(layers::kElevation);
