@@ -60,10 +60,10 @@ class VideoCamera {
 constexpr Eigen::Index kMaxDrawnPoints = 1200;
 constexpr float kDrawnPointRange_m = 15.0f;
 
-// The latest LiDAR frame's points near the sensor in W, coloured by height (blue low, red high),
-// evenly subsampled.
-renders::ColoredPoints DrawablePoints(const lidar::LidarFrame& frame) {
-  const Eigen::Matrix3Xf points_W = lidar::PointsInWorld(frame);
+// The latest LiDAR frame's points (`points_W`: the frame placed in W) near the sensor, coloured by
+// height (blue low, red high), evenly subsampled.
+renders::ColoredPoints DrawablePoints(const lidar::LidarFrame& frame,
+                                      const Eigen::Matrix3Xf& points_W) {
   std::vector<Eigen::Index> near;
   for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
     if (frame.points_L.points.col(i).norm() < kDrawnPointRange_m) near.push_back(i);
@@ -216,11 +216,14 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
                         static_cast<long long>(lidar_frame.index));
           WriteLidarFramePcd(output_dir + name, lidar_frame);
         }
-        if (video) overlay.points.assign(1, DrawablePoints(lidar_frame));
-        if (mapper) {
-          common::PointCloud cloud_W;
+        // the frame in W, each point placed with its own sensor pose: once for video and mapping
+        common::PointCloud cloud_W;
+        if (video || mapper) {
           cloud_W.points = lidar::PointsInWorld(lidar_frame);
           cloud_W.stamp_s = lidar_frame.points_L.stamp_s;
+        }
+        if (video) overlay.points.assign(1, DrawablePoints(lidar_frame, cloud_W.points));
+        if (mapper) {
           const auto map_start = std::chrono::steady_clock::now();
           mapper->Update(cloud_W, state.X_WB, simulation.time());
           mapping_ms.push_back(std::chrono::duration<double, std::milli>(
