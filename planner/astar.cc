@@ -97,11 +97,14 @@ Search Run(const common::GridGeometry& g, const Eigen::MatrixXd& costs, const AS
 
 }  // namespace
 
-GridPath PlanAStar(const common::GridLayers& map, const Eigen::Vector2d& start_W,
-                   const Eigen::Vector2d& goal_W, const AStarConfig& config) {
+GridPlanner::GridPlanner(const common::GridLayers& map, const AStarConfig& config)
+    : geometry_(map.geometry()), config_(config), costs_(SearchCosts(map, config)) {}
+
+GridPath GridPlanner::Plan(const Eigen::Vector2d& start_W, const Eigen::Vector2d& goal_W) const {
   GridPath path;
-  const common::GridGeometry& g = map.geometry();
-  const Eigen::MatrixXd costs = SearchCosts(map, config);
+  const common::GridGeometry& g = geometry_;
+  const Eigen::MatrixXd& costs = costs_;
+  const AStarConfig& config = config_;
   const std::optional<Eigen::Vector2i> start = g.CellIndex(start_W);
   if (!start || !std::isfinite(costs(start->x(), start->y()))) {
     path.status = PlanStatus::kStartBlocked;
@@ -143,12 +146,11 @@ GridPath PlanAStar(const common::GridLayers& map, const Eigen::Vector2d& start_W
   return path;
 }
 
-std::vector<Eigen::Vector2d> SimplifyPath(const std::vector<Eigen::Vector2d>& path,
-                                          const common::GridLayers& map, const AStarConfig& config,
-                                          double cost_tolerance) {
+std::vector<Eigen::Vector2d> GridPlanner::Simplify(const std::vector<Eigen::Vector2d>& path,
+                                                   double cost_tolerance) const {
   if (path.size() <= 2) return path;
-  const common::GridGeometry& g = map.geometry();
-  const Eigen::MatrixXd costs = SearchCosts(map, config);
+  const common::GridGeometry& g = geometry_;
+  const Eigen::MatrixXd& costs = costs_;
   auto cost_at = [&](const Eigen::Vector2d& p) {
     const std::optional<Eigen::Vector2i> cell = g.CellIndex(p);
     return cell ? costs(cell->x(), cell->y()) : kInfinity;

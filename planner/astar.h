@@ -42,20 +42,32 @@ struct GridPath {
   int expansions{0};                                ///< cells taken from the open list
 };
 
-/// A* on an 8-connected grid (Hart, Nilsson, Raphael 1968). Edge cost L (1 + w c), L the edge
-/// length [m] and c the mean cost of its two cells; the octile distance is an admissible heuristic
-/// because every edge costs at least its length. Blocked cells: cost at or above the lethal
-/// threshold, grown by the inflation radius; unknown cells per the policy. A blocked goal is moved
-/// to the reachable cell nearest to it. Deterministic (ties broken by cell index). No-path is a
-/// status, not an error.
-GridPath PlanAStar(const common::GridLayers& map, const Eigen::Vector2d& start_W,
-                   const Eigen::Vector2d& goal_W, const AStarConfig& config);
+/// A* on an 8-connected grid (Hart, Nilsson, Raphael 1968) over one map. The constructor turns the
+/// map into search costs once (lethal cells grown by the inflation radius, unknown cells per the
+/// policy), so replanning and simplifying on the same map cost no more. Edge cost L (1 + w c), L
+/// the edge length [m] and c the mean cost of its two cells; the heuristic is the octile distance
+/// times (1 + w c_min), admissible because every edge costs at least that per metre. A blocked goal
+/// is moved to the reachable cell nearest to it. Deterministic (ties broken by cell index). No path
+/// is a status, not an error.
+class GridPlanner {
+ public:
+  /// @throws std::out_of_range if the map lacks `config.cost_layer`.
+  GridPlanner(const common::GridLayers& map, const AStarConfig& config);
 
-/// Waypoints of `path` with every point dropped that the straight segment between its neighbours
-/// can skip without crossing a blocked cell or a cell costlier than the path's own cells by more
-/// than `cost_tolerance` (line of sight on the grid). Keeps the first and last points.
-std::vector<Eigen::Vector2d> SimplifyPath(const std::vector<Eigen::Vector2d>& path,
-                                          const common::GridLayers& map, const AStarConfig& config,
-                                          double cost_tolerance = 0.1);
+  /// A path from start_W to goal_W.
+  GridPath Plan(const Eigen::Vector2d& start_W, const Eigen::Vector2d& goal_W) const;
+
+  /// Waypoints of `path` with every point dropped that the straight segment between its neighbours
+  /// can skip without crossing a blocked cell or a cell costlier than the skipped stretch's own
+  /// cells by more than `cost_tolerance` (line of sight on the grid). Keeps the first and last
+  /// points.
+  std::vector<Eigen::Vector2d> Simplify(const std::vector<Eigen::Vector2d>& path,
+                                        double cost_tolerance = 0.1) const;
+
+ private:
+  common::GridGeometry geometry_;
+  AStarConfig config_;
+  Eigen::MatrixXd costs_;  // per cell; infinity = blocked
+};
 
 }  // namespace trav::planner

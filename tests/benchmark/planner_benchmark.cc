@@ -1,6 +1,6 @@
 // A* across a 50 x 50 m traversability map at 0.1 m (501 x 501 cells) with smooth random costs and
-// lethal blobs, corner to corner, plus path simplification. Budget (with the trajectory optimiser,
-// which is not built yet): 50 ms.
+// lethal blobs, corner to corner: search costs, A* and path simplification. Budget (with the
+// trajectory optimiser, which is not built yet): 50 ms.
 #include <cmath>
 
 #include <benchmark/benchmark.h>
@@ -42,9 +42,9 @@ void BM_AStarAcrossTheMap(benchmark::State& state) {
   int expansions = 0;
   std::size_t waypoints = 0;
   for (auto _ : state) {
-    const trav::planner::GridPath path =
-        trav::planner::PlanAStar(map, {-24, -24}, {24, 24}, config);
-    waypoints = trav::planner::SimplifyPath(path.points_W, map, config).size();
+    const trav::planner::GridPlanner planner(map, config);
+    const trav::planner::GridPath path = planner.Plan({-24, -24}, {24, 24});
+    waypoints = planner.Simplify(path.points_W).size();
     expansions = path.expansions;
     benchmark::DoNotOptimize(path.cost);
   }

@@ -38,13 +38,13 @@ double Length(const std::vector<Eigen::Vector2d>& points) {
 }
 
 TEST(AStarTest, OnAnEmptyGridThePathIsTheStraightLine) {
-  const GridPath dut = PlanAStar(EmptyMap(), {-4, 0}, {4, 0}, AStarConfig{});
+  const GridPath dut = GridPlanner(EmptyMap(), AStarConfig{}).Plan({-4, 0}, {4, 0});
   ASSERT_EQ(dut.status, PlanStatus::kFound);
   EXPECT_NEAR(dut.cost, 8.0, 1e-9);
   EXPECT_EQ(dut.points_W.size(), 81u);
   for (const Eigen::Vector2d& p : dut.points_W) EXPECT_NEAR(p.y(), 0.0, 1e-9);
   // diagonal: octile moves only
-  const GridPath diagonal = PlanAStar(EmptyMap(), {-4, -4}, {4, 4}, AStarConfig{});
+  const GridPath diagonal = GridPlanner(EmptyMap(), AStarConfig{}).Plan({-4, -4}, {4, 4});
   EXPECT_NEAR(diagonal.cost, 8.0 * std::sqrt(2.0), 1e-9);
 }
 
@@ -90,7 +90,7 @@ TEST(AStarTest, FindsTheOptimalCostOnRandomMaps) {
       c.data()[i] = static_cast<float>(0.2 + 0.5 * random.Uniform());
     AStarConfig config;
     config.lethal_threshold = 2.0;  // nothing blocked
-    const GridPath dut = PlanAStar(map, {-1.5, -1.5}, {1.4, 1.2}, config);
+    const GridPath dut = GridPlanner(map, config).Plan({-1.5, -1.5}, {1.4, 1.2});
     ASSERT_EQ(dut.status, PlanStatus::kFound);
     EXPECT_NEAR(
         dut.cost,
@@ -106,7 +106,7 @@ TEST(AStarTest, GoesThroughTheGapOfAWall) {
   });
   AStarConfig config;
   config.inflation_radius_m = 0.2;
-  const GridPath dut = PlanAStar(map, {-3, 0}, {3, 0}, config);
+  const GridPath dut = GridPlanner(map, config).Plan({-3, 0}, {3, 0});
   ASSERT_EQ(dut.status, PlanStatus::kFound);
   bool through_gap = false;
   for (const Eigen::Vector2d& p : dut.points_W) {
@@ -115,7 +115,7 @@ TEST(AStarTest, GoesThroughTheGapOfAWall) {
   EXPECT_TRUE(through_gap);
   // an inflation of 0.5 m closes the 1 m gap: the goal is free but unreachable
   config.inflation_radius_m = 0.5;
-  EXPECT_EQ(PlanAStar(map, {-3, 0}, {3, 0}, config).status, PlanStatus::kNoPath);
+  EXPECT_EQ(GridPlanner(map, config).Plan({-3, 0}, {3, 0}).status, PlanStatus::kNoPath);
 }
 
 TEST(AStarTest, CostlyTerrainIsAvoidedInProportionToItsWeight) {
@@ -124,10 +124,10 @@ TEST(AStarTest, CostlyTerrainIsAvoidedInProportionToItsWeight) {
   Paint(&map, 0.6f, [](const Eigen::Vector2d& p) { return std::abs(p.x()) < 1.0 && p.y() < 3.0; });
   AStarConfig config;
   config.cost_weight = 0.0;  // cost ignored: straight through
-  const GridPath ignoring = PlanAStar(map, {-4, 0}, {4, 0}, config);
+  const GridPath ignoring = GridPlanner(map, config).Plan({-4, 0}, {4, 0});
   EXPECT_NEAR(Length(ignoring.points_W), 8.0, 1e-9);
   config.cost_weight = 10.0;  // 2 m at 1 + 6 = 7 per metre: the detour is cheaper
-  const GridPath avoiding = PlanAStar(map, {-4, 0}, {4, 0}, config);
+  const GridPath avoiding = GridPlanner(map, config).Plan({-4, 0}, {4, 0});
   double highest = -10.0;
   for (const Eigen::Vector2d& p : avoiding.points_W) highest = std::max(highest, p.y());
   EXPECT_GE(highest, 3.0 - 1e-9);
@@ -140,11 +140,11 @@ TEST(AStarTest, UnknownCellsFollowThePolicy) {
         [](const Eigen::Vector2d& p) { return std::abs(p.x()) < 1.0; });
   AStarConfig config;
   config.unknown_policy = UnknownPolicy::kCost;
-  EXPECT_EQ(PlanAStar(map, {-4, 0}, {4, 0}, config).status, PlanStatus::kFound);
+  EXPECT_EQ(GridPlanner(map, config).Plan({-4, 0}, {4, 0}).status, PlanStatus::kFound);
   config.unknown_policy = UnknownPolicy::kBlocked;
-  EXPECT_EQ(PlanAStar(map, {-4, 0}, {4, 0}, config).status, PlanStatus::kNoPath);
+  EXPECT_EQ(GridPlanner(map, config).Plan({-4, 0}, {4, 0}).status, PlanStatus::kNoPath);
   // a goal inside the unknown band moves to its nearest reachable cell, at the band's edge
-  const GridPath moved = PlanAStar(map, {-4, 0}, {0.5, 0}, config);
+  const GridPath moved = GridPlanner(map, config).Plan({-4, 0}, {0.5, 0});
   EXPECT_EQ(moved.status, PlanStatus::kGoalMoved);
   EXPECT_NEAR(moved.goal_W.x(), -1.0, 0.05);
   EXPECT_NEAR(moved.goal_W.y(), 0.0, 1e-9);
@@ -156,12 +156,12 @@ TEST(AStarTest, ABlockedGoalMovesToTheNearestReachableCellAndABlockedStartIsASta
         [](const Eigen::Vector2d& p) { return (p - Eigen::Vector2d(3, 0)).norm() < 0.5; });
   AStarConfig config;
   config.inflation_radius_m = 0.0;
-  const GridPath dut = PlanAStar(map, {-3, 0}, {3, 0}, config);
+  const GridPath dut = GridPlanner(map, config).Plan({-3, 0}, {3, 0});
   EXPECT_EQ(dut.status, PlanStatus::kGoalMoved);
   EXPECT_NEAR((dut.goal_W - Eigen::Vector2d(3, 0)).norm(), 0.5, 0.1);
   EXPECT_EQ(dut.points_W.back(), dut.goal_W);
-  EXPECT_EQ(PlanAStar(map, {3, 0}, {-3, 0}, config).status, PlanStatus::kStartBlocked);
-  EXPECT_EQ(PlanAStar(map, {30, 0}, {-3, 0}, config).status, PlanStatus::kStartBlocked);
+  EXPECT_EQ(GridPlanner(map, config).Plan({3, 0}, {-3, 0}).status, PlanStatus::kStartBlocked);
+  EXPECT_EQ(GridPlanner(map, config).Plan({30, 0}, {-3, 0}).status, PlanStatus::kStartBlocked);
 }
 
 TEST(AStarTest, SimplificationKeepsLineOfSightAndTheEnds) {
@@ -169,8 +169,9 @@ TEST(AStarTest, SimplificationKeepsLineOfSightAndTheEnds) {
   Paint(&map, 1.0f, [](const Eigen::Vector2d& p) { return std::abs(p.x()) < 0.15 && p.y() < 2.0; });
   AStarConfig config;
   config.inflation_radius_m = 0.2;
-  const GridPath path = PlanAStar(map, {-3, 0}, {3, 0}, config);
-  const std::vector<Eigen::Vector2d> waypoints = SimplifyPath(path.points_W, map, config);
+  const GridPlanner planner(map, config);
+  const GridPath path = planner.Plan({-3, 0}, {3, 0});
+  const std::vector<Eigen::Vector2d> waypoints = planner.Simplify(path.points_W);
   EXPECT_EQ(waypoints.front(), path.points_W.front());
   EXPECT_EQ(waypoints.back(), path.points_W.back());
   EXPECT_LT(waypoints.size(), 6u);
