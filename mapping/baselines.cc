@@ -21,10 +21,10 @@ double Milliseconds(Clock::time_point since) {
   return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
 }
 
-common::GridLayers MakeMap(double size_m, double resolution_m) {
+common::GridLayers MakeMap(const MapArea& area) {
   return common::GridLayers(
-      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d::Constant(size_m),
-                                     resolution_m),
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(),
+                                     Eigen::Vector2d::Constant(area.map_size_m), area.resolution_m),
       {layers::kElevation, layers::kElevationVariance, layers::kSlope, layers::kCurvature,
        layers::kGradient, layers::kTraversability, layers::kTraversabilityVariance,
        layers::kLastObserved});
@@ -32,9 +32,10 @@ common::GridLayers MakeMap(double size_m, double resolution_m) {
 
 // The window's points, timed; a status of kTooFewPoints when there are fewer than the minimum.
 Eigen::Matrix3Xf CropOrRefuse(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
-                              double window_m, double max_height_above_m, MapUpdateResult* result) {
+                              const MapArea& area, MapUpdateResult* result) {
   const auto start = Clock::now();
-  Eigen::Matrix3Xf window = CropWindow(points_W, p_WB, window_m, max_height_above_m, result);
+  Eigen::Matrix3Xf window =
+      CropWindow(points_W, p_WB, area.window_m, area.max_height_above_robot_m, result);
   result->times.crop = Milliseconds(start);
   if (window.cols() < kMinimumPoints) result->status = MapUpdateStatus::kTooFewPoints;
   return window;
@@ -42,15 +43,13 @@ Eigen::Matrix3Xf CropOrRefuse(const common::PointCloud& points_W, const Eigen::V
 
 }  // namespace
 
-SgpMapper::SgpMapper(const SgpConfig& config)
-    : config_(config), map_(MakeMap(config.map_size_m, config.resolution_m)) {}
+SgpMapper::SgpMapper(const SgpConfig& config) : config_(config), map_(MakeMap(config.area)) {}
 
 MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eigen::Isometry3d& X_WB,
                                   double t_s) {
   MapUpdateResult result;
   const Eigen::Vector3d p_WB = X_WB.translation();
-  const Eigen::Matrix3Xf window =
-      CropOrRefuse(points_W, p_WB, config_.window_m, config_.max_height_above_robot_m, &result);
+  const Eigen::Matrix3Xf window = CropOrRefuse(points_W, p_WB, config_.area, &result);
   if (result.status != MapUpdateStatus::kUpdated) return result;
   // inducing points on a stride of the points sorted by x
   auto stage = Clock::now();
@@ -86,7 +85,7 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
   stage = Clock::now();
   map_.Recenter(p_WB.head<2>());
   const common::GridGeometry& g = map_.geometry();
-  const auto [low, high] = WindowCells(g, p_WB, config_.window_m);
+  const auto [low, high] = WindowCells(g, p_WB, config_.area.window_m);
   std::vector<Eigen::Vector2i> cells;
   for (int ix = low.x(); ix <= high.x(); ++ix) {
     for (int iy = low.y(); iy <= high.y(); ++iy) {
@@ -156,14 +155,13 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
 }
 
 ElevationMapper::ElevationMapper(const ElevationMapConfig& config, const FsgpConfig& score)
-    : config_(config), score_(score), map_(MakeMap(config.map_size_m, config.resolution_m)) {}
+    : config_(config), score_(score), map_(MakeMap(config.area)) {}
 
 MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
                                         const Eigen::Isometry3d& X_WB, double t_s) {
   MapUpdateResult result;
   const Eigen::Vector3d p_WB = X_WB.translation();
-  const Eigen::Matrix3Xf window =
-      CropOrRefuse(points_W, p_WB, config_.window_m, config_.max_height_above_robot_m, &result);
+  const Eigen::Matrix3Xf window = CropOrRefuse(points_W, p_WB, config_.area, &result);
   if (result.status != MapUpdateStatus::kUpdated) return result;
   // per-cell Kalman fusion of the point heights
   auto stage = Clock::now();
@@ -195,7 +193,7 @@ MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
 
   // the score's terms on the fused elevation around every known window cell
   stage = Clock::now();
-  const auto [low, high] = WindowCells(g, p_WB, config_.window_m);
+  const auto [low, high] = WindowCells(g, p_WB, config_.area.window_m);
   const int r =
       static_cast<int>(std::floor(config_.neighbourhood_radius_m / g.resolution_m + 1e-9));
   std::vector<Eigen::Vector3d> around;

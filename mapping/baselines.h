@@ -9,10 +9,7 @@ namespace trav::mapping {
 
 /// Settings of the SGP baseline (Leininger et al., ICRA 2024; reference/mapping.md section 3).
 struct SgpConfig {
-  double window_m{10.0};
-  double resolution_m{0.2};
-  double map_size_m{30.0};
-  double max_height_above_robot_m{1.0};
+  MapArea area{};
   int inducing_points{500};    ///< every floor(N / M)-th point after sorting by x
   double length_scale_m{0.7};  ///< SE kernel over (x, y) in metres
   double noise_std_m{0.03};
@@ -41,10 +38,7 @@ class SgpMapper final : public TraversabilityMapper {
 
 /// Settings of the elevation-map baseline (Fankhauser et al., RA-L 2018; reference/mapping.md 4.1).
 struct ElevationMapConfig {
-  double window_m{10.0};
-  double resolution_m{0.2};
-  double map_size_m{30.0};
-  double max_height_above_robot_m{1.0};
+  MapArea area{};
   double range_noise_m{0.02};  ///< height noise of a point: range_noise + range_noise_growth d^2
   double range_noise_growth{0.001};    ///< [1/m]
   double mahalanobis_threshold{2.5};   ///< a point this many sigmas above the cell replaces it

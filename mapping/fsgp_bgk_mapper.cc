@@ -51,7 +51,8 @@ FsgpBgkMapper::FsgpBgkMapper(const FsgpConfig& config)
     : config_(config), hyper_(config.gp), random_(config.seed) {
   ValidateFsgpConfig(config_);
   const common::GridGeometry geometry = common::GridGeometry::Centered(
-      Eigen::Vector2d::Zero(), Eigen::Vector2d::Constant(config_.map_size_m), config_.resolution_m);
+      Eigen::Vector2d::Zero(), Eigen::Vector2d::Constant(config_.area.map_size_m),
+      config_.area.resolution_m);
   map_ =
       common::GridLayers(geometry, {layers::kElevation, layers::kElevationVariance, layers::kSlope,
                                     layers::kCurvature, layers::kGradient, layers::kTraversability,
@@ -63,13 +64,13 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
                                       const Eigen::Isometry3d& X_WB, double t_s) {
   MapUpdateResult result;
   const Eigen::Vector3d p_WB = X_WB.translation();
-  const double half = 0.5 * config_.window_m;
+  const double half = 0.5 * config_.area.window_m;
 
   // 1. crop to the window (and drop invalid points and overhangs such as tree crowns)
   auto stage = Clock::now();
   Eigen::Matrix3Xf window =
-      CropWindow(points_W, p_WB, config_.window_m, config_.max_height_above_robot_m, &result,
-                 config_.max_height_above_ground_m);
+      CropWindow(points_W, p_WB, config_.area.window_m, config_.area.max_height_above_robot_m,
+                 &result, config_.max_height_above_ground_m);
   // FSGP-Accumulation: the last N frames' clouds together
   if (config_.accumulate_frames > 1) {
     history_.push_back(window);
@@ -148,7 +149,7 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   map_.Recenter(p_WB.head<2>());
   fused_.Recenter(p_WB.head<2>());
   const common::GridGeometry& g = map_.geometry();
-  const auto [low, high] = WindowCells(g, p_WB, config_.window_m);
+  const auto [low, high] = WindowCells(g, p_WB, config_.area.window_m);
   Eigen::Matrix2Xd cells(2, (high - low + Eigen::Vector2i::Ones()).prod());
   std::vector<Eigen::Vector2i> cell_index;
   for (int ix = low.x(); ix <= high.x(); ++ix) {

@@ -7,11 +7,12 @@
 
 namespace trav::mapping {
 void ValidateFsgpConfig(const FsgpConfig& c) {
-  common::RequireValue(c.window_m > 0.0, "mapping.window", c.window_m, "must be > 0");
-  common::RequireValue(c.resolution_m > 0.0 && c.resolution_m <= c.window_m / 4,
-                       "mapping.resolution", c.resolution_m,
+  const MapArea& a = c.area;
+  common::RequireValue(a.window_m > 0.0, "mapping.window", a.window_m, "must be > 0");
+  common::RequireValue(a.resolution_m > 0.0 && a.resolution_m <= a.window_m / 4,
+                       "mapping.resolution", a.resolution_m,
                        "must be > 0 and at most a quarter of the window");
-  common::RequireValue(c.map_size_m >= c.window_m, "mapping.map_size", c.map_size_m,
+  common::RequireValue(a.map_size_m >= a.window_m, "mapping.map_size", a.map_size_m,
                        "must be >= the window");
   common::RequireValue(c.max_height_above_ground_m > 0.0, "mapping.max_height_above_ground",
                        c.max_height_above_ground_m, "must be > 0");

@@ -25,14 +25,19 @@ struct GpHyperparameters {
   double rq_alpha{1.0};               ///< rational-quadratic shape, > 0
 };
 
-/// Everything FSGP-BGK does per frame (mapping/README.md gives the equations and the choices).
-struct FsgpConfig {
-  // local window and grids
+/// Where every mapper looks and what it keeps: the local window, the rolling map's grid, the height
+/// crop. Shared by FSGP-BGK and the baselines so that they map the same cells.
+struct MapArea {
   double window_m{10.0};     ///< side of the square window around the robot [m]
   double resolution_m{0.2};  ///< map cell size [m]
   double map_size_m{30.0};   ///< side of the world-anchored rolling map [m], >= window
   /// Points higher than this above the base are ignored (tree crowns, ceilings) [m].
   double max_height_above_robot_m{1.0};
+};
+
+/// Everything FSGP-BGK does per frame (mapping/README.md gives the equations and the choices).
+struct FsgpConfig {
+  MapArea area{};  ///< window, grid and height crop
   /// Points higher than this above the lowest point of their 1 m column are ignored [m] (> 0):
   /// walls and trunks keep only their foot, which is what a height regression can use.
   double max_height_above_ground_m{0.3};

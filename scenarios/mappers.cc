@@ -19,18 +19,12 @@ std::unique_ptr<mapping::TraversabilityMapper> MakeMapper(const Scenario& scenar
       return std::make_unique<mapping::FsgpBgkMapper>(fsgp);
     case MapperMethod::kSgp: {
       mapping::SgpConfig sgp;
-      sgp.window_m = fsgp.window_m;
-      sgp.resolution_m = fsgp.resolution_m;
-      sgp.map_size_m = fsgp.map_size_m;
-      sgp.max_height_above_robot_m = fsgp.max_height_above_robot_m;
+      sgp.area = fsgp.area;
       return std::make_unique<mapping::SgpMapper>(sgp);
     }
     case MapperMethod::kElevationMap: {
       mapping::ElevationMapConfig em;
-      em.window_m = fsgp.window_m;
-      em.resolution_m = fsgp.resolution_m;
-      em.map_size_m = fsgp.map_size_m;
-      em.max_height_above_robot_m = fsgp.max_height_above_robot_m;
+      em.area = fsgp.area;
       return std::make_unique<mapping::ElevationMapper>(em, fsgp);
     }
   }

@@ -346,10 +346,10 @@ void VisitScenario(Archive& a, Scenario& s) {
     mapping::FsgpConfig& c = s.mapping;
     mp.Field("enabled", &s.mapping_enabled);
     mp.Enum("method", &s.mapper, kMappers);
-    mp.Field("window", &c.window_m);
-    mp.Field("resolution", &c.resolution_m);
-    mp.Field("map_size", &c.map_size_m);
-    mp.Field("max_height_above_robot", &c.max_height_above_robot_m);
+    mp.Field("window", &c.area.window_m);
+    mp.Field("resolution", &c.area.resolution_m);
+    mp.Field("map_size", &c.area.map_size_m);
+    mp.Field("max_height_above_robot", &c.area.max_height_above_robot_m);
     mp.Field("max_height_above_ground", &c.max_height_above_ground_m);
     mp.Field("pre_voxel", &c.pre_voxel_m);
     mp.Field("neighbours", &c.neighbours);

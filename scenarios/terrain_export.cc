@@ -106,7 +106,7 @@ common::GridGeometry WriteGroundTruth(const sim::TerrainWorld& world,
                                       const mapping::GroundTruthConfig& config,
                                       const OutputFolder& folder) {
   const common::GridGeometry map_geometry = common::GridGeometry::Centered(
-      world.geometry.Center(), world.geometry.Extent(), score.resolution_m);
+      world.geometry.Center(), world.geometry.Extent(), score.area.resolution_m);
   const common::GridLayers truth = mapping::ComputeGroundTruth(
       map_geometry, world.geometry, world.height_m, sim::ObstacleHeightGrid(world), score, config);
   const Eigen::MatrixXf& cost = truth.Layer(mapping::layers::kTraversability);

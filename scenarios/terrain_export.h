@@ -17,8 +17,8 @@ namespace trav::scenarios {
 /// - `preview.png`: a shaded top view with obstacles in their colours (+y up);
 /// - `ground_truth.png` and `ground_truth.raw`: the ground-truth traversability
 /// (docs/ground-truth.md)
-///   on the mapper's grid (`score.resolution_m`), colours green (0) to red (1), and float32 values
-///   with rows along +y (its grid in terrain.json);
+///   on the mapper's grid (`score.area.resolution_m`), colours green (0) to red (1), and float32
+///   values with rows along +y (its grid in terrain.json);
 /// - `terrain.json`: grid geometry, height range, statistics and the obstacle list.
 void ExportTerrain(const sim::TerrainWorld& world, const mapping::FsgpConfig& score,
                    const mapping::GroundTruthConfig& ground_truth, const OutputFolder& folder);

@@ -200,7 +200,7 @@ TEST(BgkUpdateTest, OldValuesDecayWithTime) {
 
 TEST(FsgpBgkMapperTest, CellsKeepTheirValuesWhileUnobservedAndStayAlignedWhenTheRobotMoves) {
   FsgpConfig config;
-  config.map_size_m = 30.0;
+  config.area.map_size_m = 30.0;
   FsgpBgkMapper dut(config);
   // a bump at (3, 0) seen from the origin
   auto bump = [](double x, double y) {

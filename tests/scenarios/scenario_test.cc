@@ -123,8 +123,8 @@ mapping: {window: 8, resolution: 0.1, fuse: false, accumulate_frames: 4, varianc
           weight_curvature: 0.2, weight_gradient: 0.3, weight_slope: 0.5}
 ground_truth: {clearance: 0.1}
 )");
-  EXPECT_EQ(dut.mapping.window_m, 8.0);
-  EXPECT_EQ(dut.mapping.resolution_m, 0.1);
+  EXPECT_EQ(dut.mapping.area.window_m, 8.0);
+  EXPECT_EQ(dut.mapping.area.resolution_m, 0.1);
   EXPECT_FALSE(dut.mapping.fuse);
   EXPECT_EQ(dut.mapping.accumulate_frames, 4);
   EXPECT_EQ(dut.mapping.variance_stride, 1);
