@@ -11,39 +11,6 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr int kMoves[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {1, -1}, {-1, 1}, {-1, -1}};
 
-// Per-cell cost for the search (infinity = blocked), with the inflation applied.
-Eigen::MatrixXd SearchCosts(const common::GridLayers& map, const AStarConfig& config) {
-  const common::GridGeometry& g = map.geometry();
-  const Eigen::MatrixXf& layer = map.Layer(config.cost_layer);
-  Eigen::MatrixXd costs(g.num_x, g.num_y);
-  std::vector<Eigen::Vector2i> lethal;
-  for (int ix = 0; ix < g.num_x; ++ix) {
-    for (int iy = 0; iy < g.num_y; ++iy) {
-      const float c = layer(ix, iy);
-      if (std::isnan(c)) {
-        costs(ix, iy) =
-            config.unknown_policy == UnknownPolicy::kBlocked ? kInfinity : config.unknown_cost;
-      } else if (c >= config.lethal_threshold) {
-        costs(ix, iy) = kInfinity;
-        lethal.emplace_back(ix, iy);
-      } else {
-        costs(ix, iy) = std::max(0.0f, c);
-      }
-    }
-  }
-  // grow the lethal cells by the footprint radius (a disc of cells)
-  const int r = static_cast<int>(std::floor(config.inflation_radius_m / g.resolution_m + 1e-9));
-  for (const Eigen::Vector2i& cell : lethal) {
-    for (int dx = -r; dx <= r; ++dx) {
-      for (int dy = -r; dy <= r; ++dy) {
-        if (dx * dx + dy * dy > r * r || !g.Contains(cell.x() + dx, cell.y() + dy)) continue;
-        costs(cell.x() + dx, cell.y() + dy) = kInfinity;
-      }
-    }
-  }
-  return costs;
-}
-
 struct Search {
   Eigen::MatrixXd g_cost;  // cost from the start
   Eigen::MatrixXi parent;  // linear index of the parent, -1 none
@@ -51,17 +18,15 @@ struct Search {
 };
 
 // A* (or Dijkstra when `goal` is null) from `start` over finite costs.
-Search Run(const common::GridGeometry& g, const Eigen::MatrixXd& costs, const AStarConfig& config,
-           const Eigen::Vector2i& start, const Eigen::Vector2i* goal) {
+Search Run(const SearchCostMap& costs, const Eigen::Vector2i& start, const Eigen::Vector2i* goal) {
+  const common::GridGeometry& g = costs.geometry();
   Search search;
   search.g_cost = Eigen::MatrixXd::Constant(g.num_x, g.num_y, kInfinity);
   search.parent = Eigen::MatrixXi::Constant(g.num_x, g.num_y, -1);
   // every edge costs at least its length times (1 + w c_min): the octile distance scaled by that
   // stays admissible and is much tighter on maps without free cells
-  double cheapest = kInfinity;
-  for (Eigen::Index i = 0; i < costs.size(); ++i) cheapest = std::min(cheapest, costs.data()[i]);
-  const double scale =
-      g.resolution_m * (1.0 + config.cost_weight * (std::isfinite(cheapest) ? cheapest : 0.0));
+  const double w = costs.config().cost_weight;
+  const double scale = g.resolution_m * (1.0 + w * costs.min_cost());
   auto heuristic = [&](int ix, int iy) {
     if (goal == nullptr) return 0.0;
     const double dx = std::abs(ix - goal->x()), dy = std::abs(iy - goal->y());
@@ -80,10 +45,9 @@ Search Run(const common::GridGeometry& g, const Eigen::MatrixXd& costs, const AS
     if (goal != nullptr && ix == goal->x() && iy == goal->y()) break;
     for (const auto& move : kMoves) {
       const int jx = ix + move[0], jy = iy + move[1];
-      if (!g.Contains(jx, jy) || !std::isfinite(costs(jx, jy))) continue;
+      if (!g.Contains(jx, jy) || !std::isfinite(costs.cost(jx, jy))) continue;
       const double length = g.resolution_m * (move[0] != 0 && move[1] != 0 ? std::sqrt(2.0) : 1.0);
-      const double step =
-          length * (1.0 + config.cost_weight * 0.5 * (costs(ix, iy) + costs(jx, jy)));
+      const double step = length * (1.0 + w * 0.5 * (costs.cost(ix, iy) + costs.cost(jx, jy)));
       const double candidate = search.g_cost(ix, iy) + step;
       if (candidate < search.g_cost(jx, jy)) {
         search.g_cost(jx, jy) = candidate;
@@ -98,26 +62,24 @@ Search Run(const common::GridGeometry& g, const Eigen::MatrixXd& costs, const AS
 }  // namespace
 
 GridPlanner::GridPlanner(const common::GridLayers& map, const AStarConfig& config)
-    : geometry_(map.geometry()), config_(config), costs_(SearchCosts(map, config)) {}
+    : costs_(map, config) {}
 
 GridPath GridPlanner::Plan(const Eigen::Vector2d& start_W, const Eigen::Vector2d& goal_W) const {
   GridPath path;
-  const common::GridGeometry& g = geometry_;
-  const Eigen::MatrixXd& costs = costs_;
-  const AStarConfig& config = config_;
+  const common::GridGeometry& g = costs_.geometry();
   const std::optional<Eigen::Vector2i> start = g.CellIndex(start_W);
-  if (!start || !std::isfinite(costs(start->x(), start->y()))) {
+  if (!start || !std::isfinite(costs_.cost(start->x(), start->y()))) {
     path.status = PlanStatus::kStartBlocked;
     return path;
   }
   std::optional<Eigen::Vector2i> goal = g.CellIndex(goal_W);
   Search search;
-  if (goal && std::isfinite(costs(goal->x(), goal->y()))) {
-    search = Run(g, costs, config, *start, &*goal);
+  if (goal && std::isfinite(costs_.cost(goal->x(), goal->y()))) {
+    search = Run(costs_, *start, &*goal);
     path.status = PlanStatus::kFound;
   } else {
     // a blocked, unknown-and-blocked or outside goal: the reachable cell nearest to it
-    search = Run(g, costs, config, *start, nullptr);
+    search = Run(costs_, *start, nullptr);
     double best = kInfinity;
     for (int iy = 0; iy < g.num_y; ++iy) {
       for (int ix = 0; ix < g.num_x; ++ix) {
@@ -149,17 +111,12 @@ GridPath GridPlanner::Plan(const Eigen::Vector2d& start_W, const Eigen::Vector2d
 std::vector<Eigen::Vector2d> GridPlanner::Simplify(const std::vector<Eigen::Vector2d>& path,
                                                    double cost_tolerance) const {
   if (path.size() <= 2) return path;
-  const common::GridGeometry& g = geometry_;
-  const Eigen::MatrixXd& costs = costs_;
-  auto cost_at = [&](const Eigen::Vector2d& p) {
-    const std::optional<Eigen::Vector2i> cell = g.CellIndex(p);
-    return cell ? costs(cell->x(), cell->y()) : kInfinity;
-  };
+  const common::GridGeometry& g = costs_.geometry();
   // the straight segment a-b stays on free cells no costlier than `limit`
   auto visible = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b, double limit) {
     const int samples = static_cast<int>(std::ceil((b - a).norm() / (0.5 * g.resolution_m))) + 1;
     for (int k = 0; k <= samples; ++k) {
-      if (cost_at(a + (b - a) * (static_cast<double>(k) / samples)) > limit) return false;
+      if (costs_.CostAt(a + (b - a) * (static_cast<double>(k) / samples)) > limit) return false;
     }
     return true;
   };
@@ -168,9 +125,9 @@ std::vector<Eigen::Vector2d> GridPlanner::Simplify(const std::vector<Eigen::Vect
   while (anchor + 1 < path.size()) {
     // the farthest point visible from the anchor within the cost of the skipped stretch
     std::size_t next = anchor + 1;
-    double stretch_cost = std::max(cost_at(path[anchor]), cost_at(path[next]));
+    double stretch_cost = std::max(costs_.CostAt(path[anchor]), costs_.CostAt(path[next]));
     for (std::size_t j = anchor + 2; j < path.size(); ++j) {
-      stretch_cost = std::max(stretch_cost, cost_at(path[j]));
+      stretch_cost = std::max(stretch_cost, costs_.CostAt(path[j]));
       if (!visible(path[anchor], path[j], stretch_cost + cost_tolerance)) break;
       next = j;
     }

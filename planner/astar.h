@@ -1,29 +1,16 @@
 #pragma once
 
-#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "common/grid.h"
+#include "planner/cost_map.h"
 
 namespace trav::planner {
 
-/// How A* treats cells whose cost is unknown (NaN).
-enum class UnknownPolicy {
-  kCost,     ///< traversable at `unknown_cost`
-  kBlocked,  ///< never entered
-};
-
-/// Settings of the grid search.
-struct AStarConfig {
-  std::string cost_layer{"traversability"};  ///< layer of costs in [0, 1]
-  double cost_weight{5.0};                   ///< w in the edge cost L (1 + w c), >= 0
-  double lethal_threshold{0.8};              ///< cells at or above this cost are blocked
-  double inflation_radius_m{0.3};  ///< blocked cells grow by the robot's footprint radius [m]
-  UnknownPolicy unknown_policy{UnknownPolicy::kCost};
-  double unknown_cost{0.5};  ///< cost of an unknown cell under kCost
-};
+/// Settings of the grid search: how the map becomes search costs (see CostMapConfig).
+using AStarConfig = CostMapConfig;
 
 /// Outcome of a search.
 enum class PlanStatus {
@@ -43,12 +30,12 @@ struct GridPath {
 };
 
 /// A* on an 8-connected grid (Hart, Nilsson, Raphael 1968) over one map. The constructor turns the
-/// map into search costs once (lethal cells grown by the inflation radius, unknown cells per the
-/// policy), so replanning and simplifying on the same map cost no more. Edge cost L (1 + w c), L
-/// the edge length [m] and c the mean cost of its two cells; the heuristic is the octile distance
-/// times (1 + w c_min), admissible because every edge costs at least that per metre. A blocked goal
-/// is moved to the reachable cell nearest to it. Deterministic (ties broken by cell index). No path
-/// is a status, not an error.
+/// map into search costs once (a SearchCostMap: lethal cells grown by the inflation radius, unknown
+/// cells per the policy), so replanning and simplifying on the same map cost no more. Edge cost
+/// L (1 + w c), L the edge length [m] and c the mean cost of its two cells; the heuristic is the
+/// octile distance times (1 + w c_min), admissible because every edge costs at least that per
+/// metre. A blocked goal is moved to the reachable cell nearest to it. Deterministic (ties broken
+/// by cell index). No path is a status, not an error.
 class GridPlanner {
  public:
   /// @throws std::out_of_range if the map lacks `config.cost_layer`.
@@ -65,9 +52,7 @@ class GridPlanner {
                                         double cost_tolerance = 0.1) const;
 
  private:
-  common::GridGeometry geometry_;
-  AStarConfig config_;
-  Eigen::MatrixXd costs_;  // per cell; infinity = blocked
+  SearchCostMap costs_;
 };
 
 }  // namespace trav::planner

@@ -1,0 +1,118 @@
+#include "planner/cost_map.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace trav::planner {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::ThrowsMessage;
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// A map of `size_m` x `size_m` at 0.1 m centred on the origin, every cell of cost `value`.
+common::GridLayers ConstantMap(double size_m, float value) {
+  common::GridLayers map(
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(size_m, size_m), 0.1),
+      {"traversability"});
+  map.Layer("traversability").setConstant(value);
+  return map;
+}
+
+TEST(CostMapTest, SegmentCostOnAConstantMapIsTheLengthTimesOnePlusTheWeightedCost) {
+  // 0.25 is exact in float and double, so the mean of the samples is exactly 0.25
+  const SearchCostMap dut(ConstantMap(10.0, 0.25f), CostMapConfig{});
+  const double per_metre = 1.0 + 5.0 * 0.25;
+  EXPECT_DOUBLE_EQ(dut.SegmentCost({-4, 0}, {4, 0}), 8.0 * per_metre);
+  const Eigen::Vector2d a(-3.0, -2.0), b(2.7, 3.1);
+  EXPECT_DOUBLE_EQ(dut.SegmentCost(a, b), (b - a).norm() * per_metre);
+  EXPECT_EQ(dut.SegmentCost(a, b), dut.SegmentCost(b, a));
+  EXPECT_EQ(dut.SegmentCost(a, a), 0.0);
+  EXPECT_EQ(dut.min_cost(), 0.25);
+}
+
+TEST(CostMapTest, SegmentCostAveragesSamplesHalfACellApart) {
+  // cells with centres at x >= 0.1 cost 0.5, the others 0
+  common::GridLayers map = ConstantMap(10.0, 0.0f);
+  const common::GridGeometry& g = map.geometry();
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      if (g.CellCenter(ix, iy).x() > 0.05) map.Layer("traversability")(ix, iy) = 0.5f;
+    }
+  }
+  CostMapConfig config;
+  config.cost_weight = 6.0;
+  const SearchCostMap dut(map, config);
+  // 0.38 m at 0.05 m: 8 intervals of 0.0475 m, samples at x = -0.21 + 0.0475 k, k = 0..8, in the
+  // cells -0.2, -0.2, -0.1, -0.1, 0, 0, 0.1, 0.1, 0.2: three of nine cost 0.5, mean 1/6
+  EXPECT_DOUBLE_EQ(dut.SegmentCost({-0.21, 0.0}, {0.17, 0.0}), 0.38 * (1.0 + 6.0 / 6.0));
+  EXPECT_EQ(dut.min_cost(), 0.0);
+}
+
+TEST(CostMapTest, ASegmentOverABlockedCellOrOffTheMapIsInfinite) {
+  common::GridLayers map = ConstantMap(4.0, 0.0f);
+  map.Layer("traversability")(20, 20) = 1.0f;  // the cell at the origin
+  CostMapConfig config;
+  config.inflation_radius_m = 0.0;
+  const SearchCostMap dut(map, config);
+  EXPECT_EQ(dut.CostAt({0.04, -0.04}), kInfinity);
+  EXPECT_EQ(dut.CostAt({0.06, 0.0}), 0.0);
+  EXPECT_EQ(dut.CostAt({2.1, 0.0}), kInfinity);  // outside the grid
+  // the ends are free, a sample in the middle is not
+  EXPECT_EQ(dut.SegmentCost({-1, 0}, {1, 0}), kInfinity);
+  EXPECT_EQ(dut.SegmentCost({-1, 0.1}, {1, 0.1}), 2.0);
+  EXPECT_EQ(dut.SegmentCost({-1, 0.1}, {2.5, 0.1}), kInfinity);
+  EXPECT_EQ(dut.SegmentCost({-1, 0.1}, {std::nan(""), 0.1}), kInfinity);
+}
+
+TEST(CostMapTest, InflationGrowsLethalCellsByADiscOfCells) {
+  common::GridLayers map = ConstantMap(2.0, 0.25f);
+  map.Layer("traversability")(10, 10) = 0.8f;    // at the threshold: lethal
+  map.Layer("traversability")(13, 10) = 0.125f;  // cheaper, but inside the inflation
+  for (const double radius_m : {0.3, 0.25}) {
+    CostMapConfig config;
+    config.inflation_radius_m = radius_m;
+    const SearchCostMap dut(map, config);
+    const int r = radius_m == 0.3 ? 3 : 2;
+    int blocked = 0;
+    for (int ix = 0; ix < 21; ++ix) {
+      for (int iy = 0; iy < 21; ++iy) {
+        const int d2 = (ix - 10) * (ix - 10) + (iy - 10) * (iy - 10);
+        EXPECT_EQ(std::isinf(dut.cost(ix, iy)), d2 <= r * r) << ix << ", " << iy;
+        blocked += std::isinf(dut.cost(ix, iy)) ? 1 : 0;
+      }
+    }
+    EXPECT_EQ(blocked, r == 3 ? 29 : 13);
+    EXPECT_EQ(dut.min_cost(), r == 3 ? 0.25 : 0.125);
+  }
+}
+
+TEST(CostMapTest, UnknownCellsFollowThePolicyAndCostsAreClampedAtZero) {
+  common::GridLayers map = ConstantMap(2.0, 0.25f);
+  map.Layer("traversability")(3, 4) = std::numeric_limits<float>::quiet_NaN();
+  map.Layer("traversability")(5, 6) = -0.5f;
+  CostMapConfig config;
+  config.unknown_cost = 0.75;
+  EXPECT_EQ(SearchCostMap(map, config).cost(3, 4), 0.75);
+  EXPECT_EQ(SearchCostMap(map, config).cost(5, 6), 0.0);
+  config.unknown_policy = UnknownPolicy::kBlocked;
+  EXPECT_EQ(SearchCostMap(map, config).cost(3, 4), kInfinity);
+  // blocked unknown cells are not lethal: they do not grow
+  EXPECT_EQ(SearchCostMap(map, config).cost(3, 5), 0.25);
+}
+
+TEST(CostMapTest, AMapWithoutFreeCellsHasMinimumCostZeroAndAMissingLayerThrows) {
+  EXPECT_EQ(SearchCostMap(ConstantMap(1.0, 1.0f), CostMapConfig{}).min_cost(), 0.0);
+  CostMapConfig config;
+  config.cost_layer = "roughness";
+  EXPECT_THAT([&] { SearchCostMap(ConstantMap(1.0, 0.0f), config); },
+              ThrowsMessage<std::out_of_range>(HasSubstr("roughness")));
+}
+
+}  // namespace
+}  // namespace trav::planner
