@@ -9,3 +9,5 @@ find_package(Threads REQUIRED)
 # OSMesa and EGL are loaded at run time with dlopen (renders/gl_context.cc), so only their headers are needed.
 find_path(TRAV_OSMESA_INCLUDE_DIR GL/osmesa.h REQUIRED)
 find_path(TRAV_EGL_INCLUDE_DIR EGL/egl.h REQUIRED)
+# liblbfgs (Debian liblbfgs-dev) ships no CMake config
+find_library(TRAV_LBFGS_LIBRARY lbfgs REQUIRED)

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "common/polyline.h"
+
 namespace trav::common {
 
 Trajectory::Trajectory(std::vector<TrajectoryPoint> points) : points_(std::move(points)) {
@@ -40,20 +42,8 @@ Trajectory TrajectoryAlongPath(const std::vector<Eigen::Vector2d>& path_W, doubl
     throw std::invalid_argument(
         "TrajectoryAlongPath: needs 2 points and positive speed, acceleration, dt");
   }
-  // arc length along the path
-  std::vector<double> arc(path_W.size(), 0.0);
-  for (std::size_t i = 1; i < path_W.size(); ++i)
-    arc[i] = arc[i - 1] + (path_W[i] - path_W[i - 1]).norm();
-  const double length = arc.back();
-  auto point_at = [&](double s) {
-    s = std::clamp(s, 0.0, length);
-    const auto after = std::upper_bound(arc.begin(), arc.end(), s);
-    const std::size_t j =
-        std::min<std::size_t>(std::max<std::ptrdiff_t>(1, after - arc.begin()), arc.size() - 1);
-    const double span = arc[j] - arc[j - 1];
-    const double f = span > 0.0 ? (s - arc[j - 1]) / span : 0.0;
-    return Eigen::Vector2d(path_W[j - 1] + f * (path_W[j] - path_W[j - 1]));
-  };
+  const Polyline path(path_W);
+  const double length = path.length();
 
   // trapezoidal speed profile (triangular if the path is too short to reach the speed)
   const double peak = std::min(speed, std::sqrt(acceleration * length));
@@ -76,12 +66,12 @@ Trajectory TrajectoryAlongPath(const std::vector<Eigen::Vector2d>& path_W, doubl
     TrajectoryPoint& p = points[static_cast<std::size_t>(k)];
     p.t_s = std::min(k * dt_s, duration);
     const auto [s, v] = distance_and_speed(p.t_s);
-    p.position_W = point_at(s);
+    p.position_W = path.PointAt(s);
     p.v = v;
     p.acceleration =
         p.t_s < ramp_s ? acceleration : (p.t_s < ramp_s + cruise_s ? 0.0 : -acceleration);
     // tangent by a central difference along the arc; yaw kept continuous
-    const Eigen::Vector2d tangent = point_at(s + tangent_step) - point_at(s - tangent_step);
+    const Eigen::Vector2d tangent = path.DirectionAt(s, tangent_step);
     double yaw = std::atan2(tangent.y(), tangent.x());
     if (k > 0) yaw = previous_yaw + std::remainder(yaw - previous_yaw, 2.0 * M_PI);
     p.yaw = yaw;

@@ -1,0 +1,138 @@
+#include "planner/cost_field.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace trav::planner {
+namespace {
+
+using Mask = Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>;
+
+// Squared-distance transform of one line: d(q) = min_p (q - p)^2 + f(p), by the lower envelope of
+// the parabolas rooted at each p. `f` uses a large finite value for "no site" so that the
+// intersection arithmetic stays finite.
+void Transform1d(const std::vector<double>& f, std::vector<double>* d, std::vector<int>* v,
+                 std::vector<double>* z) {
+  const int n = static_cast<int>(f.size());
+  int k = 0;
+  (*v)[0] = 0;
+  (*z)[0] = -std::numeric_limits<double>::infinity();
+  (*z)[1] = std::numeric_limits<double>::infinity();
+  auto intersection = [&](int q, int p) {
+    return ((f[q] + static_cast<double>(q) * q) - (f[p] + static_cast<double>(p) * p)) /
+           (2.0 * q - 2.0 * p);
+  };
+  for (int q = 1; q < n; ++q) {
+    double s = intersection(q, (*v)[k]);
+    while (s <= (*z)[k]) {
+      --k;
+      s = intersection(q, (*v)[k]);
+    }
+    ++k;
+    (*v)[k] = q;
+    (*z)[k] = s;
+    (*z)[k + 1] = std::numeric_limits<double>::infinity();
+  }
+  k = 0;
+  for (int q = 0; q < n; ++q) {
+    while ((*z)[k + 1] < q) ++k;
+    const double dq = q - (*v)[k];
+    (*d)[q] = dq * dq + f[(*v)[k]];
+  }
+}
+
+}  // namespace
+
+Eigen::MatrixXd DistanceTransform(const Mask& mask) {
+  constexpr double kNoSite = 1e20;
+  const int nx = static_cast<int>(mask.rows()), ny = static_cast<int>(mask.cols());
+  Eigen::MatrixXd squared(nx, ny);
+  const int longest = std::max(nx, ny);
+  std::vector<double> f(longest), d(longest), z(longest + 1);
+  std::vector<int> v(longest);
+  // along y for each x, then along x for each y
+  f.resize(ny);
+  d.resize(ny);
+  for (int ix = 0; ix < nx; ++ix) {
+    for (int iy = 0; iy < ny; ++iy) f[iy] = mask(ix, iy) ? 0.0 : kNoSite;
+    Transform1d(f, &d, &v, &z);
+    for (int iy = 0; iy < ny; ++iy) squared(ix, iy) = d[iy];
+  }
+  f.resize(nx);
+  d.resize(nx);
+  for (int iy = 0; iy < ny; ++iy) {
+    for (int ix = 0; ix < nx; ++ix) f[ix] = squared(ix, iy);
+    Transform1d(f, &d, &v, &z);
+    for (int ix = 0; ix < nx; ++ix) squared(ix, iy) = d[ix];
+  }
+  return squared.unaryExpr([&](double s) {
+    return s >= 0.5 * kNoSite ? std::numeric_limits<double>::infinity() : std::sqrt(s);
+  });
+}
+
+CostField::CostField(const common::GridLayers& map, const AStarConfig& config)
+    : geometry_(map.geometry()) {
+  const Eigen::MatrixXf& layer = map.Layer(config.cost_layer);
+  const int nx = geometry_.num_x, ny = geometry_.num_y;
+  cost_.resize(nx, ny);
+  Mask lethal(nx, ny);
+  for (int iy = 0; iy < ny; ++iy) {
+    for (int ix = 0; ix < nx; ++ix) {
+      const float c = layer(ix, iy);
+      if (std::isnan(c)) {
+        cost_(ix, iy) = config.unknown_cost;
+        lethal(ix, iy) = config.unknown_policy == UnknownPolicy::kBlocked;
+      } else {
+        cost_(ix, iy) = std::clamp(static_cast<double>(c), 0.0, 1.0);
+        lethal(ix, iy) = c >= config.lethal_threshold;
+      }
+    }
+  }
+  // signed distance between cell boundaries: half a cell less than between centres on both sides,
+  // so that it crosses zero on the boundary of the lethal region
+  const Eigen::MatrixXd outside = DistanceTransform(lethal);
+  const Eigen::MatrixXd inside = DistanceTransform(lethal.unaryExpr([](bool b) { return !b; }));
+  distance_.resize(nx, ny);
+  const double half = 0.5;
+  for (int iy = 0; iy < ny; ++iy) {
+    for (int ix = 0; ix < nx; ++ix) {
+      double d = 0.0;
+      if (!lethal(ix, iy)) {
+        d = std::isfinite(outside(ix, iy)) ? (outside(ix, iy) - half) * geometry_.resolution_m
+                                           : kFarDistance;
+      } else {
+        d = std::isfinite(inside(ix, iy)) ? -(inside(ix, iy) - half) * geometry_.resolution_m
+                                          : -kFarDistance;
+      }
+      distance_(ix, iy) = d;
+    }
+  }
+}
+
+FieldSample CostField::Interpolate(const Eigen::MatrixXd& layer, const Eigen::Vector2d& p_W) const {
+  const common::GridGeometry& g = geometry_;
+  const Eigen::Vector2d cell = (p_W - g.origin_W) / g.resolution_m;
+  const double fx = std::clamp(cell.x(), 0.0, static_cast<double>(g.num_x - 1));
+  const double fy = std::clamp(cell.y(), 0.0, static_cast<double>(g.num_y - 1));
+  const int x0 = std::max(0, std::min(static_cast<int>(fx), g.num_x - 2));
+  const int y0 = std::max(0, std::min(static_cast<int>(fy), g.num_y - 2));
+  const int x1 = std::min(x0 + 1, g.num_x - 1), y1 = std::min(y0 + 1, g.num_y - 1);
+  const double tx = fx - x0, ty = fy - y0;
+  const double v00 = layer(x0, y0), v10 = layer(x1, y0), v01 = layer(x0, y1), v11 = layer(x1, y1);
+  FieldSample sample;
+  sample.value = (1 - ty) * ((1 - tx) * v00 + tx * v10) + ty * ((1 - tx) * v01 + tx * v11);
+  // clamped coordinates do not move with p_W: zero gradient along them
+  const bool inside_x = cell.x() > 0.0 && cell.x() < g.num_x - 1;
+  const bool inside_y = cell.y() > 0.0 && cell.y() < g.num_y - 1;
+  if (inside_x) {
+    sample.gradient_W.x() = ((1 - ty) * (v10 - v00) + ty * (v11 - v01)) / g.resolution_m;
+  }
+  if (inside_y) {
+    sample.gradient_W.y() = ((1 - tx) * (v01 - v00) + tx * (v11 - v10)) / g.resolution_m;
+  }
+  return sample;
+}
+
+}  // namespace trav::planner

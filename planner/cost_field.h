@@ -1,0 +1,53 @@
+#pragma once
+
+#include <Eigen/Core>
+
+#include "common/grid.h"
+#include "planner/astar.h"
+
+namespace trav::planner {
+
+/// A value of a field and its gradient in W, both bilinear in the cell values.
+struct FieldSample {
+  double value{0.0};
+  Eigen::Vector2d gradient_W{Eigen::Vector2d::Zero()};  ///< per metre
+};
+
+/// The traversability map as smooth fields for trajectory optimisation: the cost c in [0, 1] and
+/// the signed distance to the nearest lethal cell [m] (positive outside, negative inside), both
+/// interpolated bilinearly with their gradients, as uneven_planner and DDR-opt do (a nearest-cell
+/// lookup would have zero gradient almost everywhere). Cells are read as A* reads them: lethal at
+/// or above `lethal_threshold`, unknown cells lethal under UnknownPolicy::kBlocked and of cost
+/// `unknown_cost` otherwise; A*'s inflation does not apply (clearance is the optimiser's own term).
+/// Points outside the grid take the border's values with zero gradient.
+class CostField {
+ public:
+  /// @throws std::out_of_range if the map lacks `config.cost_layer`.
+  CostField(const common::GridLayers& map, const AStarConfig& config);
+
+  /// Cost at p_W.
+  FieldSample Cost(const Eigen::Vector2d& p_W) const { return Interpolate(cost_, p_W); }
+
+  /// Signed distance to the nearest lethal cell at p_W [m]; a map without lethal cells reads as
+  /// `kFarDistance` everywhere.
+  FieldSample Distance(const Eigen::Vector2d& p_W) const { return Interpolate(distance_, p_W); }
+
+  const common::GridGeometry& geometry() const { return geometry_; }
+
+  /// Distance reported when there is no lethal cell [m].
+  static constexpr double kFarDistance = 1.0e3;
+
+ private:
+  FieldSample Interpolate(const Eigen::MatrixXd& layer, const Eigen::Vector2d& p_W) const;
+
+  common::GridGeometry geometry_;
+  Eigen::MatrixXd cost_;
+  Eigen::MatrixXd distance_;
+};
+
+/// Euclidean distance [cells] from each cell centre to the nearest cell where `mask` is true, exact
+/// (Felzenszwalb and Huttenlocher, "Distance Transforms of Sampled Functions", 2012: two passes of
+/// the 1-D lower-envelope transform). Infinity everywhere if no cell is set.
+Eigen::MatrixXd DistanceTransform(const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& mask);
+
+}  // namespace trav::planner

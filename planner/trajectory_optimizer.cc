@@ -1,0 +1,399 @@
+#include "planner/trajectory_optimizer.h"
+
+#include <lbfgs.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "common/input_error.h"
+#include "common/polyline.h"
+
+namespace trav::planner {
+namespace {
+
+using common::RequireValue;
+
+// An initial guess: the decision vector and the number of pieces it describes.
+struct Guess {
+  int pieces{0};
+  Eigen::VectorXd z;
+  Eigen::Vector2d lambda{Eigen::Vector2d::Zero()};
+};
+
+Eigen::VectorXd Pack(const Eigen::MatrixXd& inner, const Eigen::Vector2d& tail,
+                     const Eigen::VectorXd& durations) {
+  const int n = static_cast<int>(durations.size());
+  Eigen::VectorXd z(3 * n);
+  z.segment(0, n - 1) = inner.col(0);
+  z.segment(n - 1, n - 1) = inner.col(1);
+  z(2 * n - 2) = tail.x();
+  z(2 * n - 1) = tail.y();
+  for (int i = 0; i < n; ++i) z(2 * n + i) = TrajectoryCost::VirtualFromDuration(durations(i));
+  return z;
+}
+
+double Unwrapped(double angle, double reference) {
+  return reference + std::remainder(angle - reference, 2.0 * M_PI);
+}
+
+// The polyline start -> guide -> goal, without repeated points.
+common::Polyline GuidePath(const TrajectoryRequest& request) {
+  std::vector<Eigen::Vector2d> points = {request.start.position_W};
+  for (const Eigen::Vector2d& p : request.guide_W) {
+    if ((p - points.back()).norm() > 1e-3) points.push_back(p);
+  }
+  if ((request.goal_W - points.back()).norm() > 1e-3) points.push_back(request.goal_W);
+  return common::Polyline(std::move(points));
+}
+
+// Pieces of equal arc length along the guide path, yaw along its chords, durations from a cruise
+// at a fraction of the limits plus acceleration time at both ends.
+Guess ColdGuess(const TrajectoryOptimizerConfig& config, const TrajectoryRequest& request) {
+  const common::Polyline path = GuidePath(request);
+  const double length = path.length();
+  const int n = std::max(2, static_cast<int>(std::ceil(length / config.piece_length_m)));
+  const double step = length / n;
+  const double speed = config.initial_speed_fraction * config.limits.max_speed_m_s;
+  const double yaw_rate = config.initial_speed_fraction * config.limits.max_yaw_rate_rad_s;
+  Eigen::MatrixXd inner(n - 1, 2);
+  Eigen::VectorXd durations(n);
+  double yaw = request.start.yaw;
+  for (int j = 1; j <= n; ++j) {
+    const Eigen::Vector2d direction = path.DirectionAt(j * step, 0.5 * step);
+    const double next =
+        direction.isZero() ? yaw : Unwrapped(std::atan2(direction.y(), direction.x()), yaw);
+    durations(j - 1) = step / speed + std::abs(next - yaw) / yaw_rate;
+    yaw = next;
+    if (j < n) inner.row(j - 1) << yaw, j * step;
+  }
+  const double ramp_s = speed / config.limits.max_acceleration_m_s2;
+  durations(0) += ramp_s;
+  durations(n - 1) += ramp_s;
+  Guess guess;
+  guess.pieces = n;
+  guess.z = Pack(inner, Eigen::Vector2d(yaw, length), durations);
+  return guess;
+}
+
+// The previous plan from the new start time on: its remaining pieces (the current one cut at the
+// start time, merged into the next when little of it remains), arc lengths measured from the new
+// start, yaw shifted by whole turns to match the robot's.
+std::optional<Guess> WarmGuess(const MinimumJerkPolynomial& previous, double elapsed_s,
+                               double start_yaw, const Eigen::Vector2d& lambda) {
+  const Eigen::VectorXd& durations = previous.durations();
+  const int n = previous.num_pieces();
+  if (elapsed_s < 0.0 || elapsed_s >= durations.sum()) return std::nullopt;
+  int first = 0;
+  double local = elapsed_s;
+  while (first < n - 1 && local >= durations(first)) local -= durations(first++);
+  double head_duration = durations(first) - local;
+  if (head_duration < 0.25 * durations(first) && first < n - 1) {
+    ++first;
+    head_duration += durations(first);
+  }
+  const Eigen::RowVectorXd now =
+      previous.Evaluate(first, std::max(0.0, durations(first) - head_duration), 0);
+  const int pieces = n - first;
+  Eigen::VectorXd new_durations = durations.tail(pieces);
+  new_durations(0) = head_duration;
+  const double turns = std::round((start_yaw - now(0)) / (2.0 * M_PI)) * 2.0 * M_PI;
+  Eigen::MatrixXd inner(pieces - 1, 2);
+  for (int j = 0; j < pieces - 1; ++j) {
+    const int piece = first + j;
+    const Eigen::RowVectorXd end = previous.Evaluate(piece, durations(piece), 0);
+    inner.row(j) << end(0) + turns, end(1) - now(1);
+  }
+  const Eigen::RowVectorXd tail = previous.Evaluate(n - 1, durations(n - 1), 0);
+  Guess guess;
+  guess.pieces = pieces;
+  guess.z = Pack(inner, Eigen::Vector2d(tail(0) + turns, tail(1) - now(1)), new_durations);
+  guess.lambda = lambda;
+  return guess;
+}
+
+// liblbfgs works on C callbacks; the instance pointer carries the cost.
+struct LbfgsProblem {
+  TrajectoryCost* cost;
+  Eigen::VectorXd z;
+  Eigen::VectorXd gradient;
+  int evaluations{0};
+  int iterations{0};
+};
+
+lbfgsfloatval_t EvaluateCost(void* instance, const lbfgsfloatval_t* x, lbfgsfloatval_t* g, int n,
+                             lbfgsfloatval_t /*step*/) {
+  auto* problem = static_cast<LbfgsProblem*>(instance);
+  ++problem->evaluations;
+  problem->z = Eigen::Map<const Eigen::VectorXd>(x, n);
+  const double value = problem->cost->Evaluate(problem->z, &problem->gradient);
+  if (!std::isfinite(value) || !problem->gradient.allFinite()) {
+    std::fill(g, g + n, 0.0);
+    return std::numeric_limits<double>::max();
+  }
+  std::copy(problem->gradient.data(), problem->gradient.data() + n, g);
+  return value;
+}
+
+int Progress(void* instance, const lbfgsfloatval_t*, const lbfgsfloatval_t*, lbfgsfloatval_t,
+             lbfgsfloatval_t, lbfgsfloatval_t, lbfgsfloatval_t, int, int k, int) {
+  static_cast<LbfgsProblem*>(instance)->iterations = k;
+  return 0;
+}
+
+// Minimises `cost` from z with at most `max_iterations` iterations; returns the iterations used.
+int Minimise(const TrajectoryOptimizerConfig& config, TrajectoryCost* cost, int max_iterations,
+             Eigen::VectorXd* z, int* evaluations) {
+  const int n = static_cast<int>(z->size());
+  lbfgs_parameter_t parameters;
+  lbfgs_parameter_init(&parameters);
+  parameters.m = 16;
+  parameters.epsilon = 1e-6;
+  parameters.past = 3;
+  parameters.delta = config.relative_cost_tolerance;
+  parameters.max_iterations = max_iterations;
+  parameters.max_linesearch = 40;
+  parameters.min_step = 1e-20;
+  // backtracking to the (weak) Wolfe conditions, as GCOPTER's Lewis-Overton search: the penalties
+  // are C^2 but bilinear map lookups are only C^0 in their gradient, where More-Thuente's
+  // interpolation stalls with rounding errors
+  parameters.linesearch = LBFGS_LINESEARCH_BACKTRACKING_WOLFE;
+  LbfgsProblem problem{cost, *z, Eigen::VectorXd(), 0, 0};
+  lbfgsfloatval_t* x = lbfgs_malloc(n);
+  std::copy(z->data(), z->data() + n, x);
+  lbfgsfloatval_t value = 0.0;
+  // every return code leaves x at the best point found (line-search failures revert the last step)
+  lbfgs(n, x, &value, EvaluateCost, Progress, &problem, &parameters);
+  *z = Eigen::Map<const Eigen::VectorXd>(x, n);
+  lbfgs_free(x);
+  *evaluations += problem.evaluations;
+  return std::max(1, problem.iterations);
+}
+
+// Yaw and arc length with derivatives at time t from the polynomial's start.
+struct FlatSample {
+  Eigen::RowVectorXd value, rate, acceleration;
+};
+
+FlatSample SampleAt(const MinimumJerkPolynomial& polynomial, double t) {
+  const Eigen::VectorXd& durations = polynomial.durations();
+  int piece = 0;
+  while (piece < polynomial.num_pieces() - 1 && t > durations(piece)) t -= durations(piece++);
+  t = std::clamp(t, 0.0, durations(piece));
+  return {polynomial.Evaluate(piece, t, 0), polynomial.Evaluate(piece, t, 1),
+          polynomial.Evaluate(piece, t, 2)};
+}
+
+Eigen::Vector2d PlanarVelocity(const FlatSample& s) {
+  return s.rate(1) * Eigen::Vector2d(std::cos(s.value(0)), std::sin(s.value(0)));
+}
+
+// Samples the trajectory (positions by Simpson's rule between samples) and checks it.
+OptimizedTrajectory Output(const TrajectoryOptimizerConfig& config, const CostField& field,
+                           const TrajectoryRequest& request,
+                           const MinimumJerkPolynomial& polynomial) {
+  OptimizedTrajectory out;
+  OptimizationDiagnostics& d = out.diagnostics;
+  const double duration = polynomial.durations().sum();
+  const int steps =
+      std::max(1, static_cast<int>(std::ceil(duration / config.output_step_s - 1e-9)));
+  std::vector<common::TrajectoryPoint> points;
+  points.reserve(static_cast<std::size_t>(steps) + 1);
+  Eigen::Vector2d position = request.start.position_W;
+  FlatSample previous = SampleAt(polynomial, 0.0);
+  double previous_t = 0.0;
+  d.min_clearance_m = std::numeric_limits<double>::infinity();
+  d.min_obstacle_gap_m = std::numeric_limits<double>::infinity();
+  const DynamicLimits& lim = config.limits;
+  auto check = [&](double violation, const char* name) {
+    if (violation > d.max_violation) {
+      d.max_violation = violation;
+      d.worst_constraint = name;
+    }
+  };
+  for (int k = 0; k <= steps; ++k) {
+    const double t = std::min(duration, k * duration / steps);
+    const FlatSample sample = SampleAt(polynomial, t);
+    if (k > 0) {
+      const double h = t - previous_t;
+      const FlatSample middle = SampleAt(polynomial, t - 0.5 * h);
+      position +=
+          h / 6.0 *
+          (PlanarVelocity(previous) + 4.0 * PlanarVelocity(middle) + PlanarVelocity(sample));
+    }
+    previous = sample;
+    previous_t = t;
+    common::TrajectoryPoint p;
+    p.t_s = request.start.t_s + t;
+    p.position_W = position;
+    p.yaw = sample.value(0);
+    p.omega = sample.rate(0);
+    p.v = sample.rate(1);
+    p.acceleration = sample.acceleration(1);
+    points.push_back(p);
+
+    check(std::abs(p.v) / lim.max_speed_m_s - 1.0, "speed");
+    check(std::abs(p.omega) / lim.max_yaw_rate_rad_s - 1.0, "yaw_rate");
+    check(std::abs(p.acceleration) / lim.max_acceleration_m_s2 - 1.0, "acceleration");
+    check(std::abs(sample.acceleration(0)) / lim.max_yaw_acceleration_rad_s2 - 1.0,
+          "yaw_acceleration");
+    check(std::abs(p.v * p.omega) / lim.max_centripetal_acceleration_m_s2 - 1.0,
+          "centripetal_acceleration");
+    const double distance = field.Distance(position).value;
+    d.min_clearance_m = std::min(d.min_clearance_m, distance);
+    if (config.clearance_m > 0.0) {
+      check((config.clearance_m - distance) / config.clearance_m, "clearance");
+    }
+    for (const MovingObstacle& o : request.obstacles) {
+      const double gap =
+          (position - o.PositionAt(p.t_s)).norm() - config.robot_radius_m - o.radius_m;
+      d.min_obstacle_gap_m = std::min(d.min_obstacle_gap_m, gap);
+      const double required = config.obstacle_clearance_m + config.clearance_growth_m_s * t;
+      const double scale = config.robot_radius_m + o.radius_m + required;
+      check((required - gap) / scale, "moving_obstacle");
+    }
+  }
+  d.terminal_error_m = (position - request.goal_W).norm();
+  out.trajectory = common::Trajectory(std::move(points));
+  return out;
+}
+
+}  // namespace
+
+void ValidateTrajectoryOptimizerConfig(const TrajectoryOptimizerConfig& c) {
+  const std::string key = "planner.optimizer.";
+  const DynamicLimits& l = c.limits;
+  RequireValue(l.max_speed_m_s > 0.0 && l.max_speed_m_s <= 3.0, key + "max_speed", l.max_speed_m_s,
+               "must be in (0, 3] (the Scout Mini's top speed)");
+  RequireValue(l.max_yaw_rate_rad_s > 0.0, key + "max_yaw_rate", l.max_yaw_rate_rad_s,
+               "must be > 0");
+  RequireValue(l.max_acceleration_m_s2 > 0.0, key + "max_acceleration", l.max_acceleration_m_s2,
+               "must be > 0");
+  RequireValue(l.max_yaw_acceleration_rad_s2 > 0.0, key + "max_yaw_acceleration",
+               l.max_yaw_acceleration_rad_s2, "must be > 0");
+  RequireValue(l.max_centripetal_acceleration_m_s2 > 0.0, key + "max_centripetal_acceleration",
+               l.max_centripetal_acceleration_m_s2, "must be > 0");
+  const TrajectoryCostWeights& w = c.weights;
+  for (const auto& [name, value] : {std::pair{"yaw_jerk_weight", w.yaw_jerk},
+                                    {"arc_length_jerk_weight", w.arc_length_jerk},
+                                    {"time_weight", w.time},
+                                    {"traversability_weight", w.traversability},
+                                    {"limits_weight", w.limits},
+                                    {"clearance_weight", w.clearance},
+                                    {"moving_obstacles_weight", w.moving_obstacles}}) {
+    RequireValue(value >= 0.0, key + name, value, "must be >= 0");
+  }
+  RequireValue(c.clearance_m >= 0.0, key + "clearance", c.clearance_m, "must be >= 0");
+  RequireValue(c.robot_radius_m > 0.0, key + "robot_radius", c.robot_radius_m, "must be > 0");
+  RequireValue(c.obstacle_clearance_m >= 0.0, key + "obstacle_clearance", c.obstacle_clearance_m,
+               "must be >= 0");
+  RequireValue(c.clearance_growth_m_s >= 0.0, key + "clearance_growth", c.clearance_growth_m_s,
+               "must be >= 0");
+  RequireValue(c.piece_length_m > 0.0, key + "piece_length", c.piece_length_m, "must be > 0");
+  RequireValue(
+      c.samples_per_piece >= 2 && c.samples_per_piece <= 64 && c.samples_per_piece % 2 == 0,
+      key + "samples_per_piece", c.samples_per_piece, "must be even and in [2, 64]");
+  RequireValue(c.initial_speed_fraction > 0.0 && c.initial_speed_fraction <= 1.0,
+               key + "initial_speed_fraction", c.initial_speed_fraction, "must be in (0, 1]");
+  RequireValue(c.terminal_tolerance_m > 0.0, key + "terminal_tolerance", c.terminal_tolerance_m,
+               "must be > 0");
+  RequireValue(c.violation_tolerance >= 0.0, key + "violation_tolerance", c.violation_tolerance,
+               "must be >= 0");
+  RequireValue(c.max_iterations >= 1, key + "max_iterations", c.max_iterations, "must be >= 1");
+  RequireValue(c.max_rounds >= 1, key + "max_rounds", c.max_rounds, "must be >= 1");
+  RequireValue(c.initial_penalty > 0.0, key + "initial_penalty", c.initial_penalty, "must be > 0");
+  RequireValue(c.penalty_growth > 1.0, key + "penalty_growth", c.penalty_growth, "must be > 1");
+  RequireValue(c.relative_cost_tolerance > 0.0, key + "relative_cost_tolerance",
+               c.relative_cost_tolerance, "must be > 0");
+  RequireValue(c.output_step_s > 0.0, key + "output_step", c.output_step_s, "must be > 0");
+  RequireValue(c.warm_start_goal_tolerance_m >= 0.0, key + "warm_start_goal_tolerance",
+               c.warm_start_goal_tolerance_m, "must be >= 0");
+}
+
+std::string ToString(OptimizationStatus status) {
+  switch (status) {
+    case OptimizationStatus::kConverged:
+      return "converged";
+    case OptimizationStatus::kIterationLimit:
+      return "iteration-limit";
+    case OptimizationStatus::kInfeasible:
+      return "infeasible";
+  }
+  return "unknown";
+}
+
+TrajectoryOptimizer::TrajectoryOptimizer(const TrajectoryOptimizerConfig& config)
+    : config_(config) {
+  ValidateTrajectoryOptimizerConfig(config_);
+}
+
+OptimizedTrajectory TrajectoryOptimizer::Optimize(const CostField& field,
+                                                  const TrajectoryRequest& request) {
+  const auto clock_start = std::chrono::steady_clock::now();
+  TrajectoryCostSetup setup;
+  setup.limits = config_.limits;
+  setup.weights = config_.weights;
+  setup.clearance_m = config_.clearance_m;
+  setup.robot_radius_m = config_.robot_radius_m;
+  setup.obstacle_clearance_m = config_.obstacle_clearance_m;
+  setup.clearance_growth_m_s = config_.clearance_growth_m_s;
+  setup.samples_per_piece = config_.samples_per_piece;
+  setup.start_time_s = request.start.t_s;
+  setup.start_W = request.start.position_W;
+  setup.head << request.start.yaw, 0.0, request.start.omega, request.start.v, 0.0,
+      request.start.acceleration;
+  setup.goal_W = request.goal_W;
+  setup.obstacles = request.obstacles;
+
+  std::optional<Guess> guess;
+  if (config_.warm_start && previous_ &&
+      (previous_->goal_W - request.goal_W).norm() <= config_.warm_start_goal_tolerance_m) {
+    guess = WarmGuess(previous_->polynomial, request.start.t_s - previous_->start_time_s,
+                      request.start.yaw, previous_->lambda);
+  }
+  const bool warm = guess.has_value();
+  if (!warm) guess = ColdGuess(config_, request);
+
+  TrajectoryCost cost(field, setup, guess->pieces);
+  Eigen::VectorXd z = guess->z;
+  Eigen::Vector2d lambda = guess->lambda;
+  double rho = config_.initial_penalty;
+  OptimizationDiagnostics solver;
+  while (solver.rounds < config_.max_rounds && solver.iterations < config_.max_iterations) {
+    ++solver.rounds;
+    cost.SetTerminalMultiplier(lambda, rho);
+    solver.iterations += Minimise(config_, &cost, config_.max_iterations - solver.iterations, &z,
+                                  &solver.evaluations);
+    cost.Evaluate(z, nullptr, &solver.costs);
+    const Eigen::Vector2d error = cost.end_position_W() - request.goal_W;
+    if (error.norm() <= config_.terminal_tolerance_m) break;
+    lambda += rho * error;
+    rho *= config_.penalty_growth;
+  }
+  cost.Decode(z);
+
+  OptimizedTrajectory out = Output(config_, field, request, cost.polynomial());
+  OptimizationDiagnostics& d = out.diagnostics;
+  d.costs = solver.costs;
+  d.iterations = solver.iterations;
+  d.evaluations = solver.evaluations;
+  d.rounds = solver.rounds;
+  d.pieces = guess->pieces;
+  d.warm_started = warm;
+  if (d.max_violation > config_.violation_tolerance ||
+      d.terminal_error_m > 10.0 * config_.terminal_tolerance_m) {
+    out.status = OptimizationStatus::kInfeasible;
+  } else if (d.terminal_error_m <= config_.terminal_tolerance_m) {
+    out.status = OptimizationStatus::kConverged;
+  } else {
+    out.status = OptimizationStatus::kIterationLimit;
+  }
+  previous_ = Solution{request.start.t_s, request.goal_W, cost.polynomial(), lambda};
+  d.solve_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
+  return out;
+}
+
+}  // namespace trav::planner

@@ -1,0 +1,106 @@
+#include "planner/cost_field.h"
+
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "common/random.h"
+
+namespace trav::planner {
+namespace {
+
+using Mask = Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>;
+
+TEST(DistanceTransformTest, EqualsBruteForceOnARandomMask) {
+  common::Random random(7);
+  Mask mask(23, 17);
+  for (int ix = 0; ix < 23; ++ix) {
+    for (int iy = 0; iy < 17; ++iy) mask(ix, iy) = random.Bernoulli(0.05);
+  }
+  const Eigen::MatrixXd dut = DistanceTransform(mask);
+  for (int ix = 0; ix < 23; ++ix) {
+    for (int iy = 0; iy < 17; ++iy) {
+      double best = std::numeric_limits<double>::infinity();
+      for (int jx = 0; jx < 23; ++jx) {
+        for (int jy = 0; jy < 17; ++jy) {
+          if (mask(jx, jy)) best = std::min(best, std::hypot(ix - jx, iy - jy));
+        }
+      }
+      EXPECT_DOUBLE_EQ(dut(ix, iy), best) << ix << "," << iy;
+    }
+  }
+}
+
+TEST(DistanceTransformTest, IsInfiniteWithoutSites) {
+  const Eigen::MatrixXd dut = DistanceTransform(Mask::Constant(4, 5, false));
+  EXPECT_TRUE(std::isinf(dut(2, 3)));
+}
+
+// 4 x 4 m at 0.1 m; lethal cells at x >= 1 (a wall), cost 0.2 elsewhere, one unknown cell.
+common::GridLayers WallMap() {
+  common::GridLayers map(
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(4, 4), 0.1),
+      {"traversability"});
+  const common::GridGeometry& g = map.geometry();
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      map.Layer("traversability")(ix, iy) = g.CellCenter(ix, iy).x() >= 0.95 ? 1.0f : 0.2f;
+    }
+  }
+  return map;
+}
+
+TEST(CostFieldTest, SignedDistanceCrossesZeroOnTheLethalBoundary) {
+  const CostField dut(WallMap(), AStarConfig{});
+  // the boundary between the last free (x = 0.9) and first lethal (x = 1.0) cell centres
+  EXPECT_NEAR(dut.Distance({0.95, 0.3}).value, 0.0, 1e-12);
+  EXPECT_NEAR(dut.Distance({0.0, 0.3}).value, 0.95, 1e-12);
+  EXPECT_NEAR(dut.Distance({-0.52, 0.3}).value, 1.47, 1e-12);
+  EXPECT_NEAR(dut.Distance({1.3, 0.3}).value, -0.35, 1e-12);
+  const FieldSample s = dut.Distance({0.03, 0.31});
+  EXPECT_NEAR(s.gradient_W.x(), -1.0, 1e-12);
+  EXPECT_NEAR(s.gradient_W.y(), 0.0, 1e-12);
+}
+
+TEST(CostFieldTest, CostIsBilinearWithItsGradient) {
+  common::GridLayers map = WallMap();
+  const common::GridGeometry& g = map.geometry();
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const Eigen::Vector2d p = g.CellCenter(ix, iy);
+      map.Layer("traversability")(ix, iy) = static_cast<float>(0.25 + 0.1 * p.x() + 0.05 * p.y());
+    }
+  }
+  const CostField dut(map, AStarConfig{});
+  // a plane is reproduced exactly by bilinear interpolation
+  const FieldSample s = dut.Cost({0.123, -0.456});
+  EXPECT_NEAR(s.value, 0.25 + 0.1 * 0.123 - 0.05 * 0.456, 1e-6);
+  EXPECT_NEAR(s.gradient_W.x(), 0.1, 1e-5);
+  EXPECT_NEAR(s.gradient_W.y(), 0.05, 1e-5);
+  // beyond the border: the border value, no gradient
+  const FieldSample outside = dut.Cost({5.0, 0.0});
+  EXPECT_NEAR(outside.value, 0.25 + 0.2, 1e-6);
+  EXPECT_EQ(outside.gradient_W.x(), 0.0);
+}
+
+TEST(CostFieldTest, UnknownCellsFollowThePolicy) {
+  common::GridLayers map = WallMap();
+  map.Layer("traversability")(5, 20) = std::numeric_limits<float>::quiet_NaN();
+  const Eigen::Vector2d unknown_W = map.geometry().CellCenter(5, 20);
+  AStarConfig config;
+  config.unknown_cost = 0.7;
+  EXPECT_NEAR(CostField(map, config).Cost(unknown_W).value, 0.7, 1e-12);
+  EXPECT_GT(CostField(map, config).Distance(unknown_W).value, 0.0);
+  config.unknown_policy = UnknownPolicy::kBlocked;
+  EXPECT_NEAR(CostField(map, config).Distance(unknown_W).value, -0.05, 1e-12);
+}
+
+TEST(CostFieldTest, AMapWithoutLethalCellsIsFarEverywhere) {
+  common::GridLayers map = WallMap();
+  map.Layer("traversability").setConstant(0.1f);
+  EXPECT_EQ(CostField(map, AStarConfig{}).Distance({0.0, 0.0}).value, CostField::kFarDistance);
+}
+
+}  // namespace
+}  // namespace trav::planner
