@@ -72,7 +72,7 @@ Eigen::MatrixXd DistanceTransform(const Mask& mask) {
   });
 }
 
-CostField::CostField(const common::GridLayers& map, const AStarConfig& config)
+CostField::CostField(const common::GridLayers& map, const CostMapConfig& config)
     : geometry_(map.geometry()) {
   const Eigen::MatrixXf& layer = map.Layer(config.cost_layer);
   const int nx = geometry_.num_x, ny = geometry_.num_y;

@@ -3,7 +3,7 @@
 #include <Eigen/Core>
 
 #include "common/grid.h"
-#include "planner/astar.h"
+#include "planner/cost_map.h"
 
 namespace trav::planner {
 
@@ -23,7 +23,7 @@ struct FieldSample {
 class CostField {
  public:
   /// @throws std::out_of_range if the map lacks `config.cost_layer`.
-  CostField(const common::GridLayers& map, const AStarConfig& config);
+  CostField(const common::GridLayers& map, const CostMapConfig& config);
 
   /// Cost at p_W.
   FieldSample Cost(const Eigen::Vector2d& p_W) const { return Interpolate(cost_, p_W); }

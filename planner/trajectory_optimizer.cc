@@ -192,7 +192,7 @@ Eigen::Vector2d PlanarVelocity(const FlatSample& s) {
 
 // Samples the trajectory (positions by Simpson's rule between samples) and checks it.
 OptimizedTrajectory Output(const TrajectoryOptimizerConfig& config, const CostField& field,
-                           const TrajectoryRequest& request,
+                           const TrajectoryRequest& request, double clearance_m,
                            const MinimumJerkPolynomial& polynomial) {
   OptimizedTrajectory out;
   OptimizationDiagnostics& d = out.diagnostics;
@@ -243,9 +243,10 @@ OptimizedTrajectory Output(const TrajectoryOptimizerConfig& config, const CostFi
           "centripetal_acceleration");
     const double distance = field.Distance(position).value;
     d.min_clearance_m = std::min(d.min_clearance_m, distance);
-    if (config.clearance_m > 0.0) {
-      check((config.clearance_m - distance) / config.clearance_m, "clearance");
-    }
+    // relative to the configured clearance (or to one cell when none is configured), so that
+    // entering a lethal cell is a violation even where the clearance had to shrink
+    check((clearance_m - distance) / std::max(config.clearance_m, field.geometry().resolution_m),
+          "clearance");
     for (const MovingObstacle& o : request.obstacles) {
       const double gap =
           (position - o.PositionAt(p.t_s)).norm() - config.robot_radius_m - o.radius_m;
@@ -335,7 +336,11 @@ OptimizedTrajectory TrajectoryOptimizer::Optimize(const CostField& field,
   TrajectoryCostSetup setup;
   setup.limits = config_.limits;
   setup.weights = config_.weights;
-  setup.clearance_m = config_.clearance_m;
+  // DDR-opt's rule for ends near lethal cells: the clearance shrinks to 85 % of the smaller
+  // distance of the start and the goal, so that neither end violates it
+  const double ends_m = std::min(field.Distance(request.start.position_W).value,
+                                 field.Distance(request.goal_W).value);
+  setup.clearance_m = std::clamp(0.85 * ends_m, 0.0, config_.clearance_m);
   setup.robot_radius_m = config_.robot_radius_m;
   setup.obstacle_clearance_m = config_.obstacle_clearance_m;
   setup.clearance_growth_m_s = config_.clearance_growth_m_s;
@@ -374,7 +379,8 @@ OptimizedTrajectory TrajectoryOptimizer::Optimize(const CostField& field,
   }
   cost.Decode(z);
 
-  OptimizedTrajectory out = Output(config_, field, request, cost.polynomial());
+  OptimizedTrajectory out = Output(config_, field, request, setup.clearance_m, cost.polynomial());
+  out.diagnostics.clearance_m = setup.clearance_m;
   OptimizationDiagnostics& d = out.diagnostics;
   d.costs = solver.costs;
   d.iterations = solver.iterations;

@@ -16,7 +16,9 @@ namespace trav::planner {
 struct TrajectoryOptimizerConfig {
   DynamicLimits limits;
   TrajectoryCostWeights weights;
-  double clearance_m{0.4};            ///< kept from lethal cells [m], >= 0
+  /// Kept from lethal cells [m], >= 0; shrinks to 85 % of the start's or goal's distance to them
+  /// when that is less (DDR-opt), so that an end near lethal cells is not infeasible by itself.
+  double clearance_m{0.3};
   double robot_radius_m{0.35};        ///< disc around the base for moving obstacles [m], > 0
   double obstacle_clearance_m{0.3};   ///< gap kept between the robot's and a mover's disc [m], >= 0
   double clearance_growth_m_s{0.05};  ///< growth of that gap per second ahead [m/s], >= 0
@@ -63,6 +65,7 @@ struct OptimizationDiagnostics {
   CostTerms costs;                 ///< each term at the solution (terminal: last round's)
   double max_violation{0.0};       ///< largest relative violation of a limit or clearance
   std::string worst_constraint;    ///< which constraint that was ("" if none)
+  double clearance_m{0.0};         ///< clearance applied: the configured one, or less near the ends
   double min_clearance_m{0.0};     ///< smallest signed distance to lethal cells on the path
   double min_obstacle_gap_m{0.0};  ///< smallest gap between the robot's and a mover's disc
   double terminal_error_m{0.0};    ///< distance from the end position to the goal
@@ -85,10 +88,10 @@ struct OptimizedTrajectory {
 /// traversability map: minimum-jerk pieces in yaw and arc length (TrajectoryCost), dynamic limits,
 /// clearance from lethal cells and from predicted moving obstacles, a traversability integral, time
 /// regularisation, and the end position held by an augmented Lagrangian (PHR) around L-BFGS
-/// (liblbfgs, backtracking Wolfe line search). The initial guess follows the request's guide path at a
-/// fraction of the limits; replanning toward the same goal starts from the previous plan shifted to
-/// the new start time. Deterministic: the same calls in the same order give the same results (no
-/// decision depends on wall time). Failure is a status, never an exception.
+/// (liblbfgs, backtracking Wolfe line search). The initial guess follows the request's guide path
+/// at a fraction of the limits; replanning toward the same goal starts from the previous plan
+/// shifted to the new start time. Deterministic: the same calls in the same order give the same
+/// results (no decision depends on wall time). Failure is a status, never an exception.
 class TrajectoryOptimizer {
  public:
   /// @throws common::InputError for an invalid config.

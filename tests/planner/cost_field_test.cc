@@ -52,7 +52,7 @@ common::GridLayers WallMap() {
 }
 
 TEST(CostFieldTest, SignedDistanceCrossesZeroOnTheLethalBoundary) {
-  const CostField dut(WallMap(), AStarConfig{});
+  const CostField dut(WallMap(), CostMapConfig{});
   // the boundary between the last free (x = 0.9) and first lethal (x = 1.0) cell centres
   EXPECT_NEAR(dut.Distance({0.95, 0.3}).value, 0.0, 1e-12);
   EXPECT_NEAR(dut.Distance({0.0, 0.3}).value, 0.95, 1e-12);
@@ -72,7 +72,7 @@ TEST(CostFieldTest, CostIsBilinearWithItsGradient) {
       map.Layer("traversability")(ix, iy) = static_cast<float>(0.25 + 0.1 * p.x() + 0.05 * p.y());
     }
   }
-  const CostField dut(map, AStarConfig{});
+  const CostField dut(map, CostMapConfig{});
   // a plane is reproduced exactly by bilinear interpolation
   const FieldSample s = dut.Cost({0.123, -0.456});
   EXPECT_NEAR(s.value, 0.25 + 0.1 * 0.123 - 0.05 * 0.456, 1e-6);
@@ -88,7 +88,7 @@ TEST(CostFieldTest, UnknownCellsFollowThePolicy) {
   common::GridLayers map = WallMap();
   map.Layer("traversability")(5, 20) = std::numeric_limits<float>::quiet_NaN();
   const Eigen::Vector2d unknown_W = map.geometry().CellCenter(5, 20);
-  AStarConfig config;
+  CostMapConfig config;
   config.unknown_cost = 0.7;
   EXPECT_NEAR(CostField(map, config).Cost(unknown_W).value, 0.7, 1e-12);
   EXPECT_GT(CostField(map, config).Distance(unknown_W).value, 0.0);
@@ -99,7 +99,7 @@ TEST(CostFieldTest, UnknownCellsFollowThePolicy) {
 TEST(CostFieldTest, AMapWithoutLethalCellsIsFarEverywhere) {
   common::GridLayers map = WallMap();
   map.Layer("traversability").setConstant(0.1f);
-  EXPECT_EQ(CostField(map, AStarConfig{}).Distance({0.0, 0.0}).value, CostField::kFarDistance);
+  EXPECT_EQ(CostField(map, CostMapConfig{}).Distance({0.0, 0.0}).value, CostField::kFarDistance);
 }
 
 }  // namespace

@@ -81,7 +81,7 @@ class TrajectoryCostGradientTest : public testing::TestWithParam<std::string> {}
 
 TEST_P(TrajectoryCostGradientTest, MatchesCentralDifferences) {
   const common::GridLayers map = TestMap();
-  const CostField field(map, AStarConfig{});
+  const CostField field(map, CostMapConfig{});
   TrajectoryCost dut(field, CostSetup(GetParam()), 5);
   if (GetParam() == "terminal")
     dut.SetTerminalMultiplier(Eigen::Vector2d(3.0, -2.0), 50.0);
@@ -125,7 +125,7 @@ TEST(TrajectoryCostTest, IntegratesAStraightMotionToItsArcLength) {
   // from rest to rest along yaw 0.3: the integrated end position is s_T (cos 0.3, sin 0.3) up to
   // Simpson's error (exact for cubics; v is a quartic here, h = 1/8 s)
   const common::GridLayers map = TestMap();
-  const CostField field(map, AStarConfig{});
+  const CostField field(map, CostMapConfig{});
   TrajectoryCostSetup setup;
   setup.head << 0.3, 0.0, 0.0, 0.0, 0.0, 0.0;
   TrajectoryCost dut(field, setup, 3);

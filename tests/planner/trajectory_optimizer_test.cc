@@ -53,7 +53,7 @@ Extremes ExtremesOf(const common::Trajectory& trajectory) {
 
 TEST(TrajectoryOptimizerTest, DrivesStraightToTheGoalWithinTheLimits) {
   const common::GridLayers map = FlatMap();
-  const CostField field(map, AStarConfig{});
+  const CostField field(map, CostMapConfig{});
   TrajectoryOptimizerConfig config;
   TrajectoryOptimizer dut(config);
   const OptimizedTrajectory out = dut.Optimize(field, StraightRequest());
@@ -81,7 +81,7 @@ TEST(TrajectoryOptimizerTest, KeepsClearOfLethalCellsAlongTheGuide) {
   // a wall from y = -5 to y = 1 at x in [4, 5]: the guide goes around its top end
   common::GridLayers map = FlatMap();
   Paint(&map, 1.0f, [](const Eigen::Vector2d& p) { return p.x() >= 4 && p.x() <= 5 && p.y() < 1; });
-  const CostField field(map, AStarConfig{});
+  const CostField field(map, CostMapConfig{});
   TrajectoryOptimizerConfig config;
   TrajectoryOptimizer dut(config);
   TrajectoryRequest request = StraightRequest();
@@ -100,7 +100,7 @@ TEST(TrajectoryOptimizerTest, KeepsClearOfLethalCellsAlongTheGuide) {
 
 TEST(TrajectoryOptimizerTest, AMoverCrossingThePathIsGivenItsClearanceAtEveryTime) {
   const common::GridLayers map = FlatMap();
-  const CostField field(map, AStarConfig{});
+  const CostField field(map, CostMapConfig{});
   TrajectoryOptimizerConfig config;
   TrajectoryRequest request = StraightRequest();
   // without the mover the robot passes x = 5 about 4 s after the start: the mover, walking +y at
@@ -140,7 +140,7 @@ TEST(TrajectoryOptimizerTest, TraversabilityCostPullsTheTrajectoryOffARidge) {
       map.Layer("traversability")(ix, iy) = static_cast<float>(0.7 * std::exp(-y * y / 2.0));
     }
   }
-  const CostField field(map, AStarConfig{});
+  const CostField field(map, CostMapConfig{});
   auto middle_y = [&](double weight) {
     TrajectoryOptimizerConfig config;
     config.weights.traversability = weight;
@@ -158,7 +158,7 @@ TEST(TrajectoryOptimizerTest, SameInputsGiveTheSameTrajectory) {
   common::GridLayers map = FlatMap(0.2f);
   Paint(&map, 1.0f,
         [](const Eigen::Vector2d& p) { return (p - Eigen::Vector2d(5, 0.4)).norm() < 0.7; });
-  const CostField field(map, AStarConfig{});
+  const CostField field(map, CostMapConfig{});
   TrajectoryRequest request = StraightRequest();
   request.guide_W = {{0, 0}, {5, -1.5}, {10, 0}};
   request.obstacles = {{Eigen::Vector2d(8, 3), Eigen::Vector2d(0, -0.5), 0.3, 2.0}};
@@ -177,7 +177,7 @@ TEST(TrajectoryOptimizerTest, SameInputsGiveTheSameTrajectory) {
 
 TEST(TrajectoryOptimizerTest, ReplanningTowardTheSameGoalStartsFromThePreviousPlan) {
   const common::GridLayers map = FlatMap();
-  const CostField field(map, AStarConfig{});
+  const CostField field(map, CostMapConfig{});
   TrajectoryOptimizer dut(TrajectoryOptimizerConfig{});
   const OptimizedTrajectory first = dut.Optimize(field, StraightRequest());
   ASSERT_FALSE(first.diagnostics.warm_started);
@@ -199,7 +199,7 @@ TEST(TrajectoryOptimizerTest, ReplanningTowardTheSameGoalStartsFromThePreviousPl
 TEST(TrajectoryOptimizerTest, AGoalInsideAWallIsReportedInfeasible) {
   common::GridLayers map = FlatMap();
   Paint(&map, 1.0f, [](const Eigen::Vector2d& p) { return p.x() >= 8; });
-  const CostField field(map, AStarConfig{});
+  const CostField field(map, CostMapConfig{});
   TrajectoryOptimizer dut(TrajectoryOptimizerConfig{});
   const OptimizedTrajectory out = dut.Optimize(field, StraightRequest());
   EXPECT_EQ(out.status, OptimizationStatus::kInfeasible);

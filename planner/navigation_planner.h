@@ -1,0 +1,69 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "common/grid.h"
+#include "common/trajectory.h"
+#include "planner/astar.h"
+#include "planner/trajectory_optimizer.h"
+
+namespace trav::planner {
+
+/// Settings of the whole planner (scenario key `planner`).
+struct NavigationPlannerConfig {
+  AStarConfig search;                   ///< how the map is read and searched
+  double simplify_tolerance{0.1};       ///< cost slack of line-of-sight simplification
+  TrajectoryOptimizerConfig optimizer;  ///< trajectory optimisation
+};
+
+/// How a planning call ended.
+enum class NavigationStatus {
+  kPlanned,           ///< a trajectory to the goal
+  kPlannedToNearest,  ///< the goal was blocked or unknown: a trajectory to the reachable cell
+                      ///< nearest to it
+  kOptimizerFailed,   ///< a path exists but the optimised trajectory violates a constraint
+  kNoPath,            ///< the search found no path (or the start is blocked)
+};
+
+/// Name of a status ("planned", "planned-to-nearest", "optimizer-failed", "no-path").
+std::string ToString(NavigationStatus status);
+
+/// Result of one planning call.
+struct NavigationPlan {
+  NavigationStatus status{NavigationStatus::kNoPath};
+  GridPath path;                             ///< the A* path (cell centres)
+  std::vector<Eigen::Vector2d> waypoints_W;  ///< its simplification, from the start to the goal
+  OptimizedTrajectory optimized;             ///< empty trajectory if there was no path
+  double search_time_s{0.0};                 ///< A* wall time, including the map's search costs
+  double optimization_time_s{0.0};           ///< optimiser wall time
+
+  bool has_trajectory() const { return !optimized.trajectory.empty(); }
+};
+
+/// The planning stack on one traversability map: A* on the grid, line-of-sight simplification into
+/// waypoints, and trajectory optimisation along them with the moving obstacles' predictions. Keeps
+/// the previous trajectory for warm starts (TrajectoryOptimizer). Failure is a status.
+class NavigationPlanner {
+ public:
+  /// @throws common::InputError for an invalid optimiser config.
+  explicit NavigationPlanner(const NavigationPlannerConfig& config);
+
+  /// Plans from `start` (time, pose and velocities) to goal_W on `map`.
+  /// @throws std::out_of_range if the map lacks the cost layer.
+  NavigationPlan Plan(const common::GridLayers& map, const common::TrajectoryPoint& start,
+                      const Eigen::Vector2d& goal_W, const std::vector<MovingObstacle>& obstacles);
+
+  /// Forgets the previous trajectory.
+  void Reset() { optimizer_.Reset(); }
+
+  const NavigationPlannerConfig& config() const { return config_; }
+
+ private:
+  NavigationPlannerConfig config_;
+  TrajectoryOptimizer optimizer_;
+};
+
+}  // namespace trav::planner
