@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "common/input_error.h"
 #include "planner/cost_field.h"
 
 namespace trav::planner {
@@ -12,6 +13,21 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 }
 
 }  // namespace
+
+void ValidateNavigationPlannerConfig(const NavigationPlannerConfig& c) {
+  using common::RequireValue;
+  const CostMapConfig& s = c.search;
+  RequireValue(s.cost_weight >= 0.0, "planner.search.cost_weight", s.cost_weight, "must be >= 0");
+  RequireValue(s.lethal_threshold > 0.0 && s.lethal_threshold <= 1.0,
+               "planner.search.lethal_threshold", s.lethal_threshold, "must be in (0, 1]");
+  RequireValue(s.inflation_radius_m >= 0.0, "planner.search.inflation_radius", s.inflation_radius_m,
+               "must be >= 0");
+  RequireValue(s.unknown_cost >= 0.0 && s.unknown_cost <= 1.0, "planner.search.unknown_cost",
+               s.unknown_cost, "must be in [0, 1]");
+  RequireValue(c.simplify_tolerance >= 0.0, "planner.search.simplify_tolerance",
+               c.simplify_tolerance, "must be >= 0");
+  ValidateTrajectoryOptimizerConfig(c.optimizer);
+}
 
 std::string ToString(NavigationStatus status) {
   switch (status) {
@@ -28,7 +44,9 @@ std::string ToString(NavigationStatus status) {
 }
 
 NavigationPlanner::NavigationPlanner(const NavigationPlannerConfig& config)
-    : config_(config), optimizer_(config.optimizer) {}
+    : config_(config), optimizer_(config.optimizer) {
+  ValidateNavigationPlannerConfig(config_);
+}
 
 NavigationPlan NavigationPlanner::Plan(const common::GridLayers& map,
                                        const common::TrajectoryPoint& start,

@@ -19,6 +19,10 @@ struct NavigationPlannerConfig {
   TrajectoryOptimizerConfig optimizer;  ///< trajectory optimisation
 };
 
+/// Checks a config. @throws common::InputError naming the field (`planner.search.<key>`,
+/// `planner.optimizer.<key>`) and the value.
+void ValidateNavigationPlannerConfig(const NavigationPlannerConfig& config);
+
 /// How a planning call ended.
 enum class NavigationStatus {
   kPlanned,           ///< a trajectory to the goal
@@ -48,7 +52,7 @@ struct NavigationPlan {
 /// the previous trajectory for warm starts (TrajectoryOptimizer). Failure is a status.
 class NavigationPlanner {
  public:
-  /// @throws common::InputError for an invalid optimiser config.
+  /// @throws common::InputError for an invalid config.
   explicit NavigationPlanner(const NavigationPlannerConfig& config);
 
   /// Plans from `start` (time, pose and velocities) to goal_W on `map`.

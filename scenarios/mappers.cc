@@ -27,6 +27,8 @@ std::unique_ptr<mapping::TraversabilityMapper> MakeMapper(const Scenario& scenar
       em.area = fsgp.area;
       return std::make_unique<mapping::ElevationMapper>(em, fsgp);
     }
+    case MapperMethod::kGroundTruth:
+      return nullptr;
   }
   return std::make_unique<mapping::FsgpBgkMapper>(fsgp);
 }

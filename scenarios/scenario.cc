@@ -29,7 +29,8 @@ const Names<renders::CameraMode> kCameras = {{"chase", renders::CameraMode::kCha
                                              {"top_down", renders::CameraMode::kTopDown}};
 const Names<renders::GlBackend> kBackends = {{"osmesa", renders::GlBackend::kOsmesa},
                                              {"egl", renders::GlBackend::kEgl}};
-const Names<RunMode> kModes = {{"drive", RunMode::kDrive}, {"track", RunMode::kTrack}};
+const Names<RunMode> kModes = {
+    {"drive", RunMode::kDrive}, {"track", RunMode::kTrack}, {"navigate", RunMode::kNavigate}};
 const Names<ReferenceShape> kReferences = {{"line", ReferenceShape::kLine},
                                            {"circle", ReferenceShape::kCircle},
                                            {"figure_eight", ReferenceShape::kFigureEight},
@@ -42,10 +43,18 @@ const Names<MapperMethod> kMappers = {{"fsgp-bgk", MapperMethod::kFsgpBgk},
                                       {"fsgp", MapperMethod::kFsgp},
                                       {"fsgp-accumulation", MapperMethod::kFsgpAccumulation},
                                       {"sgp", MapperMethod::kSgp},
-                                      {"em", MapperMethod::kElevationMap}};
+                                      {"em", MapperMethod::kElevationMap},
+                                      {"ground-truth", MapperMethod::kGroundTruth}};
 const Names<Outcome> kOutcomes = {{"completed", Outcome::kCompleted},
+                                  {"success", Outcome::kSuccess},
+                                  {"collision", Outcome::kCollision},
                                   {"rolled_over", Outcome::kRolledOver},
+                                  {"stuck", Outcome::kStuck},
+                                  {"timeout", Outcome::kTimeout},
+                                  {"planning_failure", Outcome::kPlanningFailure},
                                   {"diverged", Outcome::kDiverged}};
+const Names<planner::UnknownPolicy> kUnknownPolicies = {
+    {"cost", planner::UnknownPolicy::kCost}, {"blocked", planner::UnknownPolicy::kBlocked}};
 
 template <typename Enum>
 const std::string& NameOf(const Names<Enum>& names, Enum value) {
@@ -320,6 +329,51 @@ void VisitScenario(Archive& a, Scenario& s) {
       m.Field("time_budget", &k.time_budget_s);
     });
   });
+  a.Map("planner", [&](Archive& p) {
+    planner::CostMapConfig& search = s.planner.search;
+    p.Map("search", [&](Archive& k) {
+      k.Field("cost_weight", &search.cost_weight);
+      k.Field("lethal_threshold", &search.lethal_threshold);
+      k.Field("inflation_radius", &search.inflation_radius_m);
+      k.Enum("unknown_policy", &search.unknown_policy, kUnknownPolicies);
+      k.Field("unknown_cost", &search.unknown_cost);
+      k.Field("simplify_tolerance", &s.planner.simplify_tolerance);
+    });
+    planner::TrajectoryOptimizerConfig& o = s.planner.optimizer;
+    p.Map("optimizer", [&](Archive& k) {
+      k.Field("max_speed", &o.limits.max_speed_m_s);
+      k.Field("max_yaw_rate", &o.limits.max_yaw_rate_rad_s);
+      k.Field("max_acceleration", &o.limits.max_acceleration_m_s2);
+      k.Field("max_yaw_acceleration", &o.limits.max_yaw_acceleration_rad_s2);
+      k.Field("max_centripetal_acceleration", &o.limits.max_centripetal_acceleration_m_s2);
+      k.Field("yaw_jerk_weight", &o.weights.yaw_jerk);
+      k.Field("arc_length_jerk_weight", &o.weights.arc_length_jerk);
+      k.Field("time_weight", &o.weights.time);
+      k.Field("traversability_weight", &o.weights.traversability);
+      k.Field("limits_weight", &o.weights.limits);
+      k.Field("clearance_weight", &o.weights.clearance);
+      k.Field("moving_obstacles_weight", &o.weights.moving_obstacles);
+      k.Field("clearance", &o.clearance_m);
+      k.Field("robot_radius", &o.robot_radius_m);
+      k.Field("obstacle_clearance", &o.obstacle_clearance_m);
+      k.Field("clearance_growth", &o.clearance_growth_m_s);
+      k.Field("piece_length", &o.piece_length_m);
+      k.Field("samples_per_piece", &o.samples_per_piece);
+      k.Field("max_iterations", &o.max_iterations);
+      k.Field("max_rounds", &o.max_rounds);
+      k.Field("warm_start", &o.warm_start);
+    });
+  });
+  a.Map("navigation", [&](Archive& n) {
+    NavigationSettings& k = s.navigation;
+    n.Field("goal_radius", &k.goal_radius_m);
+    n.Field("planning_rate", &k.planning_rate_hz);
+    n.Field("replan_deviation", &k.replan_deviation_m);
+    n.Field("safety_horizon", &k.safety_horizon_s);
+    n.Field("stuck_time", &k.stuck_time_s);
+    n.Field("stuck_distance", &k.stuck_distance_m);
+    n.Field("planning_failure_time", &k.planning_failure_time_s);
+  });
   a.template Sequence<DriveSegment>("drive", &s.drive, [](Archive& d, DriveSegment& segment) {
     d.Field("v", &segment.v_m_s);
     d.Field("omega", &segment.omega_rad_s);
@@ -425,8 +479,14 @@ Scenario LoadScenario(const common::YamlDocument& document) {
     lidar::ValidateLidarConfig(scenario.lidar);
     controller::ValidateMpcConfig(scenario.mpc);
     mapping::ValidateFsgpConfig(scenario.mapping);
+    planner::ValidateNavigationPlannerConfig(scenario.planner);
+    ValidateNavigationSettings(scenario.navigation);
   } catch (const common::InputError& e) {
     throw common::InputError(document.source() + ": " + e.what());
+  }
+  // a closed-loop run is expected to reach its goal unless the file says otherwise
+  if (scenario.mode == RunMode::kNavigate && !document.Root().Has("expect")) {
+    scenario.expected_outcome = Outcome::kSuccess;
   }
   if (scenario.mode == RunMode::kTrack && scenario.track.reference == ReferenceShape::kFile &&
       scenario.track.file.empty()) {
@@ -465,24 +525,23 @@ common::Twist2 DriveCommandAt(const std::vector<DriveSegment>& drive, double t_s
 
 const std::string& DefaultScenarioYaml() {
   static const std::string kYaml =
-      R"(# trav's built-in default scenario: the Scout Mini drives over hilly terrain for 30 s.
+      R"(# trav's built-in default scenario: the Scout Mini crosses 30 m of hilly, wooded ground to a
+# goal, mapping it from its own LiDAR scans (FSGP-BGK), planning (A* and trajectory optimisation) and
+# tracking the plan with the MPC.
 schema_version: 1
 name: default
 terrain:
-  type: hilly
+  type: forest
   seed: 7
   size: [50, 50]
   resolution: 0.1
+  parameters:
+    tree_density: 0.03
 robot:
-  start: [-12, -6, 0.3]
-goal: [12, 6]
-duration: 30
-drive:
-  - {v: 1.0, omega: 0.0, duration: 6}
-  - {v: 1.2, omega: 0.35, duration: 5}
-  - {v: 1.5, omega: 0.0, duration: 6}
-  - {v: 1.0, omega: -0.5, duration: 5}
-  - {v: 1.2, omega: 0.0, duration: 8}
+  start: [-15, 0, 0]
+goal: [15, 0]
+duration: 60
+mode: navigate
 video:
   enabled: true
   width: 640

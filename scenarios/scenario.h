@@ -12,8 +12,10 @@
 #include "controller/skid_steer.h"
 #include "mapping/fsgp_config.h"
 #include "mapping/ground_truth.h"
+#include "planner/navigation_planner.h"
 #include "renders/camera.h"
 #include "renders/renderer.h"
+#include "scenarios/navigation.h"
 #include "scenarios/tracking.h"
 #include "sim/lidar/lidar_config.h"
 #include "sim/terrain.h"
@@ -22,24 +24,32 @@ namespace trav::scenarios {
 
 /// How a run ended.
 enum class Outcome {
-  kCompleted,   ///< ran for the whole duration
+  kCompleted,   ///< ran for the whole duration (modes drive and track)
+  kSuccess,     ///< reached the goal (mode navigate)
+  kCollision,   ///< the robot touched an obstacle or a mover (wheels on the ground do not count)
   kRolledOver,  ///< the robot tilted beyond the rollover limit
-  kDiverged,    ///< the physics produced a bad state
+  kStuck,       ///< no progress toward the goal for `navigation.stuck_time`
+  kTimeout,     ///< the duration ran out before the goal (mode navigate)
+  kPlanningFailure,  ///< no valid plan for `navigation.planning_failure_time`
+  kDiverged,         ///< the physics produced a bad state
 };
 
-/// Name as written in summaries and scenario files ("completed", "rolled_over", "diverged").
+/// Name as written in summaries and scenario files ("completed", "success", "collision",
+/// "rolled_over", "stuck", "timeout", "planning_failure", "diverged").
 const char* OutcomeName(Outcome outcome);
 
-/// Which traversability mapper runs on the LiDAR frames (scenario key `mapping.method`).
-enum class MapperMethod { kFsgpBgk, kFsgp, kFsgpAccumulation, kSgp, kElevationMap };
+/// Which traversability mapper runs on the LiDAR frames (scenario key `mapping.method`);
+/// kGroundTruth is the oracle: the ground-truth map of the whole world, no LiDAR needed.
+enum class MapperMethod { kFsgpBgk, kFsgp, kFsgpAccumulation, kSgp, kElevationMap, kGroundTruth };
 
 /// Name of a mapper as written in scenario files ("fsgp-bgk", ...).
 const char* MapperMethodName(MapperMethod method);
 
 /// What drives the robot.
 enum class RunMode {
-  kDrive,  ///< the open-loop `drive` script
-  kTrack,  ///< the MPC tracking the `track` reference (no mapping or planning)
+  kDrive,     ///< the open-loop `drive` script
+  kTrack,     ///< the MPC tracking the `track` reference (no mapping or planning)
+  kNavigate,  ///< the closed loop: map from scans, plan to the goal, track the plan
 };
 
 /// One segment of an open-loop drive script: a constant body twist held for a duration.
@@ -73,7 +83,9 @@ struct Scenario {
   TrackSettings track{};            ///< the reference of mode `track`
   /// controller.mpc (its control period is 1 / controller.rate, 50 Hz by default)
   controller::MpcConfig mpc{};
-  double rollover_limit_deg{60.0};  ///< tilt that ends the run as rolled over [deg]
+  planner::NavigationPlannerConfig planner{};  ///< scenario key `planner` (mode navigate)
+  NavigationSettings navigation{};             ///< scenario key `navigation` (mode navigate)
+  double rollover_limit_deg{60.0};             ///< tilt that ends the run as rolled over [deg]
   lidar::LidarConfig lidar{};
   /// lidar.mount: pose of the sensor L in the base frame B as [x, y, z, roll, pitch, yaw]
   /// [m, rad]; absent: the robot model's "lidar" site.
@@ -84,7 +96,8 @@ struct Scenario {
   mapping::GroundTruthConfig ground_truth{};    ///< scenario key `ground_truth`
   VideoSettings video{};
   std::string output_dir{"out/default"};
-  Outcome expected_outcome{Outcome::kCompleted};  ///< exit code 0 iff the run ends this way
+  /// Exit code 0 iff the run ends this way; default: success in mode navigate, else completed.
+  Outcome expected_outcome{Outcome::kCompleted};
 };
 
 /// Loads a scenario strictly: unknown keys, wrong types and out-of-range values throw

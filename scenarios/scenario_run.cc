@@ -13,11 +13,14 @@
 
 #include "controller/skid_steer.h"
 #include "mapping/ground_truth.h"
+#include "planner/astar.h"
 #include "renders/image.h"
 #include "renders/renderer.h"
 #include "renders/video_writer.h"
 #include "scenarios/mappers.h"
+#include "scenarios/navigation.h"
 #include "scenarios/pcd_io.h"
+#include "scenarios/run_metrics.h"
 #include "scenarios/tracking.h"
 #include "sim/lidar/lidar_emulator.h"
 #include "sim/simulation.h"
@@ -99,6 +102,35 @@ renders::GroundGrid DrawableMap(const common::GridLayers& map) {
   return grid;
 }
 
+// The ground-truth traversability of the whole world at the mapping resolution.
+common::GridLayers WorldGroundTruth(const Scenario& scenario, const sim::TerrainWorld& world) {
+  const common::GridGeometry geometry = common::GridGeometry::Centered(
+      world.geometry.Center(), world.geometry.Extent(), scenario.mapping.area.resolution_m);
+  return mapping::ComputeGroundTruth(geometry, world.geometry, world.height_m,
+                                     sim::ObstacleHeightGrid(world), scenario.mapping,
+                                     scenario.ground_truth);
+}
+
+// Length of the simplified A* path from start to goal on the ground truth (0 if there is none).
+double OptimalPathLength(const Scenario& scenario, const common::GridLayers& truth) {
+  const planner::GridPlanner search(truth, scenario.planner.search);
+  const planner::GridPath path = search.Plan(scenario.start_W.position, scenario.goal_W);
+  if (path.status != planner::PlanStatus::kFound) return 0.0;
+  std::vector<Eigen::Vector2d> waypoints =
+      search.Simplify(path.points_W, scenario.planner.simplify_tolerance);
+  waypoints.front() = scenario.start_W.position;
+  waypoints.back() = scenario.goal_W;
+  double length = 0.0;
+  for (std::size_t i = 1; i < waypoints.size(); ++i)
+    length += (waypoints[i] - waypoints[i - 1]).norm();
+  return length;
+}
+
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
 }  // namespace
 
 std::string RobotModelPath(const Scenario& scenario, const std::string& models_dir) {
@@ -159,9 +191,36 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   double lidar_cast_s = 0.0;
   double lidar_points = 0.0;
   // mapping: every LiDAR frame, in W with each point's own sensor pose
+  const bool navigate = scenario.mode == RunMode::kNavigate;
+  const bool oracle = scenario.mapper == MapperMethod::kGroundTruth;
   std::unique_ptr<mapping::TraversabilityMapper> mapper;
-  if (lidar && scenario.mapping_enabled) mapper = MakeMapper(scenario);
+  if (lidar && scenario.mapping_enabled && !oracle) mapper = MakeMapper(scenario);
   std::vector<double> mapping_ms;
+  ModuleTimes times;
+
+  // the closed loop: the ground truth for the oracle and the metrics, the navigator on the map
+  std::optional<common::GridLayers> truth_W;
+  std::optional<Navigator> navigator;
+  NavigationMetrics navigation;
+  const common::GridLayers* navigation_map = nullptr;
+  bool map_changed = false;
+  std::optional<ProgressMonitor> progress_monitor;
+  std::ofstream timeseries;
+  if (navigate) {
+    truth_W = WorldGroundTruth(scenario, world);
+    navigation.optimal_path_length_m = OptimalPathLength(scenario, *truth_W);
+    navigator.emplace(scenario.navigation, scenario.planner, scenario.mpc, scenario.goal_W);
+    progress_monitor.emplace(scenario.navigation.stuck_time_s,
+                             scenario.navigation.stuck_distance_m);
+    if (oracle) navigation_map = &*truth_W;
+    timeseries.open(output_dir + "/timeseries.csv");
+    timeseries << "t,x,y,yaw,v_forward,yaw_rate,roll_deg,pitch_deg,vertical_acceleration,cmd_v,"
+                  "cmd_omega,goal_distance,mapping_error\n";
+  }
+  const std::vector<planner::MovingObstacle> predicted_movers;
+  double sum_vertical_acceleration2 = 0.0;
+  double previous_vertical_speed = 0.0;
+  double last_mapping_error = std::nan("");
 
   // video: renderer and encoder only when asked for
   std::unique_ptr<renders::Renderer> renderer;
@@ -195,8 +254,14 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   int progress_step = 0;
 
   for (int step = 0; step < total_steps; ++step) {
-    const common::Twist2 command =
-        tracker ? tracker->Command(state) : DriveCommandAt(scenario.drive, simulation.time());
+    common::Twist2 command;
+    if (navigator) {
+      command = navigator->Update(state, navigation_map, map_changed, predicted_movers);
+      map_changed = false;
+    } else {
+      command =
+          tracker ? tracker->Command(state) : DriveCommandAt(scenario.drive, simulation.time());
+    }
     simulation.SetWheelSpeedCommands(controller::ToWheelSpeeds(command, scenario.skid_steer));
 
     if (lidar) {
@@ -204,8 +269,9 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
           mounted ? Eigen::Isometry3d(state.X_WB * X_BL) : simulation.LidarPose();
       const auto cast_start = std::chrono::steady_clock::now();
       lidar->Scan(*ray_scene, simulation.time(), simulation.time() + dt, X_WL);
-      lidar_cast_s +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - cast_start).count();
+      const double cast_ms = MillisecondsSince(cast_start);
+      lidar_cast_s += 1e-3 * cast_ms;
+      times.Add("lidar", cast_ms);
       if (lidar->frame_ready()) {
         lidar->TakeFrame(&lidar_frame);
         ++summary.lidar_frames;
@@ -226,9 +292,14 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
         if (mapper) {
           const auto map_start = std::chrono::steady_clock::now();
           mapper->Update(cloud_W, state.X_WB, simulation.time());
-          mapping_ms.push_back(std::chrono::duration<double, std::milli>(
-                                   std::chrono::steady_clock::now() - map_start)
-                                   .count());
+          mapping_ms.push_back(MillisecondsSince(map_start));
+          times.Add("mapping", mapping_ms.back());
+          navigation_map = &mapper->map();
+          map_changed = true;
+          if (truth_W) {
+            last_mapping_error =
+                CompareWithTruth(mapper->map(), *truth_W, mapping::layers::kTraversability).mean;
+          }
           if (video) overlay.grids.assign(1, DrawableMap(mapper->map()));
         }
         if (run_options.max_lidar_frames > 0 &&
@@ -238,12 +309,16 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
     }
 
     if (video && simulation.time() >= next_frame_s - 1e-9) {
+      const auto render_start = std::chrono::steady_clock::now();
       renderer->Render(simulation, camera->View(state.X_WB, frame_period_s), overlay, &frame);
       video->Write(frame);
+      times.Add("render", MillisecondsSince(render_start));
       next_frame_s += frame_period_s;
     }
 
+    const auto physics_start = std::chrono::steady_clock::now();
     const sim::StepStatus status = simulation.Step();
+    times.Add("physics", MillisecondsSince(physics_start));
     ++summary.physics_steps;
     if (status == sim::StepStatus::kDiverged) {
       summary.outcome = Outcome::kDiverged;
@@ -273,6 +348,38 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
     if (common::TiltAngle(state.X_WB.linear()) > tilt_limit) {
       summary.outcome = Outcome::kRolledOver;
       break;
+    }
+    if (navigator) {
+      const double vertical_speed = (state.X_WB.linear() * state.v_WB_B).z();
+      const double vertical_acceleration = (vertical_speed - previous_vertical_speed) / dt;
+      previous_vertical_speed = vertical_speed;
+      if (step > 0) sum_vertical_acceleration2 += vertical_acceleration * vertical_acceleration;
+      const double goal_distance = (xy - scenario.goal_W).norm();
+      if ((step + 1) % (5 * steps_per_sample) == 0) {
+        char line[512];
+        std::snprintf(line, sizeof(line),
+                      "%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.4f,%.3f,%.3f,%.4f,%.5f\n",
+                      state.time_s, xy.x(), xy.y(), rpy.yaw, state.v_WB_B.x(), state.w_WB_B.z(),
+                      rpy.roll * kRadToDeg, rpy.pitch * kRadToDeg, vertical_acceleration, command.v,
+                      command.omega, goal_distance, last_mapping_error);
+        timeseries << line;
+      }
+      if (goal_distance <= scenario.navigation.goal_radius_m) {
+        summary.outcome = Outcome::kSuccess;
+        navigation.goal_reached = true;
+        navigation.time_to_goal_s = state.time_s;
+        break;
+      }
+      if (progress_monitor->Update(state.time_s, goal_distance)) {
+        summary.outcome = Outcome::kStuck;
+        break;
+      }
+      if (navigator->time_without_plan_s(state.time_s) >
+          scenario.navigation.planning_failure_time_s) {
+        summary.outcome = Outcome::kPlanningFailure;
+        break;
+      }
+      if (step + 1 == total_steps) summary.outcome = Outcome::kTimeout;
     }
     if (progress && (step - progress_step) * dt >= 0.5) {
       progress_step = step;
@@ -304,6 +411,31 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
     summary.lidar_ms_per_frame = 1e3 * lidar_cast_s / summary.lidar_frames;
   }
   if (tracker) summary.tracking = tracker->Metrics();
+  if (navigator) {
+    const Navigator::Statistics& stats = navigator->statistics();
+    for (double ms : stats.planning_ms) times.Add("planning", ms);
+    for (double ms : stats.control_ms) times.Add("control", ms);
+    navigation.plans = stats.plans;
+    navigation.failed_plans = stats.failed_plans;
+    navigation.replans_on_events = stats.replans_on_events;
+    navigation.safety_stops = stats.safety_stops;
+    navigation.last_planner_status = stats.last_status;
+    navigation.final_goal_distance_m =
+        (state.X_WB.translation().head<2>() - scenario.goal_W).norm();
+    if (navigation.optimal_path_length_m > 0.0) {
+      navigation.path_length_ratio = summary.distance_m / navigation.optimal_path_length_m;
+      navigation.barn_score = BarnScore(
+          navigation.goal_reached, navigation.time_to_goal_s,
+          navigation.optimal_path_length_m / scenario.planner.optimizer.limits.max_speed_m_s);
+    }
+    navigation.rms_vertical_acceleration_m_s2 =
+        std::sqrt(sum_vertical_acceleration2 / std::max(1, summary.physics_steps - 1));
+    summary.tracking = navigator->tracking_metrics();
+    summary.navigation = navigation;
+    timeseries.close();
+    if (!timeseries) throw std::runtime_error("cannot write " + output_dir + "/timeseries.csv");
+  }
+  summary.compute = times.ToJson();
   if (mapper && !mapping_ms.empty()) {
     summary.mapping_updates = static_cast<int>(mapping_ms.size());
     std::sort(mapping_ms.begin(), mapping_ms.end());
@@ -316,23 +448,12 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
         scenario.mapping, scenario.ground_truth);
     const Eigen::MatrixXf& predicted = map.Layer(mapping::layers::kTraversability);
     const Eigen::MatrixXf& expected = truth.Layer(mapping::layers::kTraversability);
-    double sum = 0.0, sum2 = 0.0;
-    int known = 0;
-    for (Eigen::Index i = 0; i < predicted.size(); ++i) {
-      if (std::isnan(predicted.data()[i]) || std::isnan(expected.data()[i])) continue;
-      const double error = std::abs(predicted.data()[i] - expected.data()[i]);
-      sum += error;
-      sum2 += error * error;
-      ++known;
-    }
-    summary.mapping_known_cells = known;
+    const LayerError error = CompareLayers(predicted, expected);
+    summary.mapping_known_cells = error.known_cells;
+    summary.mapping_mean_error = error.mean;
+    summary.mapping_error_variance = error.variance;
     renders::WritePng(output_dir + "/map.png", renders::TraversabilityImage(predicted));
     renders::WritePng(output_dir + "/map_ground_truth.png", renders::TraversabilityImage(expected));
-    if (known > 0) {
-      summary.mapping_mean_error = sum / known;
-      summary.mapping_error_variance =
-          std::max(0.0, sum2 / known - summary.mapping_mean_error * summary.mapping_mean_error);
-    }
   }
   summary.mujoco_warning_count = simulation.warning_count();
   summary.mujoco_warnings = simulation.warnings();
@@ -374,6 +495,24 @@ std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
                        {"mean_error", summary.mapping_mean_error},
                        {"error_variance", summary.mapping_error_variance}};
   }
+  if (summary.navigation) {
+    const NavigationMetrics& n = *summary.navigation;
+    json["navigation"] = {{"goal", {scenario.goal_W.x(), scenario.goal_W.y()}},
+                          {"goal_reached", n.goal_reached},
+                          {"time_to_goal_s", n.time_to_goal_s},
+                          {"final_goal_distance_m", n.final_goal_distance_m},
+                          {"path_length_m", summary.distance_m},
+                          {"optimal_path_length_m", n.optimal_path_length_m},
+                          {"path_length_ratio", n.path_length_ratio},
+                          {"barn_score", n.barn_score},
+                          {"rms_vertical_acceleration_m_s2", n.rms_vertical_acceleration_m_s2},
+                          {"plans", n.plans},
+                          {"failed_plans", n.failed_plans},
+                          {"replans_on_events", n.replans_on_events},
+                          {"safety_stops", n.safety_stops},
+                          {"last_planner_status", n.last_planner_status}};
+  }
+  json["compute"] = summary.compute;
   if (summary.tracking) {
     const TrackingMetrics& m = *summary.tracking;
     json["tracking"] = {

@@ -5,10 +5,28 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "common/pose.h"
 #include "scenarios/scenario.h"
 
 namespace trav::scenarios {
+
+/// What the closed loop (mode navigate) reports.
+struct NavigationMetrics {
+  bool goal_reached{false};
+  double time_to_goal_s{0.0};         ///< simulation time at success (0 otherwise)
+  double final_goal_distance_m{0.0};  ///< distance from the base to the goal at the end
+  double optimal_path_length_m{0.0};  ///< A* on the ground-truth map, simplified (0: no path)
+  double path_length_ratio{0.0};      ///< driven distance / optimal path length
+  double barn_score{0.0};             ///< BARN score with OT = optimal length / max speed
+  double rms_vertical_acceleration_m_s2{0.0};  ///< of the base, gravity removed
+  int plans{0};
+  int failed_plans{0};
+  int replans_on_events{0};
+  int safety_stops{0};
+  std::string last_planner_status;
+};
 
 /// What `trav run` reports in summary.json.
 struct RunSummary {
@@ -36,8 +54,11 @@ struct RunSummary {
   double mapping_ms_median{0.0};
   double mapping_ms_max{0.0};
   int mapping_known_cells{0};
-  double mapping_mean_error{0.0};      ///< mean |traversability - ground truth|
-  double mapping_error_variance{0.0};  ///< variance of |traversability - ground truth|
+  double mapping_mean_error{0.0};               ///< mean |traversability - ground truth|
+  double mapping_error_variance{0.0};           ///< variance of |traversability - ground truth|
+  std::optional<NavigationMetrics> navigation;  ///< mode navigate only
+  /// Wall time per module: {module: {calls, median_ms, max_ms, total_s}}.
+  nlohmann::json compute = nlohmann::json::object();
 };
 
 /// Options of a run that are not part of the scenario.

@@ -114,7 +114,7 @@ MpcTracker::MpcTracker(const controller::MpcConfig& config, common::Trajectory r
 
 common::Twist2 MpcTracker::Command(const common::RobotState& state) {
   const double t = state.time_s;
-  if (t + 1e-9 < next_solve_s_) return command_;
+  if (!SolveDue(t)) return command_;
   next_solve_s_ += mpc_.config().control_period_s;
 
   controller::MpcState mpc_state;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/pose.h"
@@ -54,10 +55,18 @@ struct TrackingMetrics {
 /// at the same time (lateral and heading errors in the reference's frame).
 class MpcTracker {
  public:
-  MpcTracker(const controller::MpcConfig& config, common::Trajectory reference);
+  /// A tracker of `reference` (which may be empty until SetReference).
+  explicit MpcTracker(const controller::MpcConfig& config, common::Trajectory reference = {});
+
+  /// Replaces the reference (a new plan); the MPC keeps its warm start and command history.
+  void SetReference(common::Trajectory reference) { reference_ = std::move(reference); }
 
   /// The command in force at the state's time (a new solve when a control period has passed).
+  /// Precondition: the reference is not empty.
   common::Twist2 Command(const common::RobotState& state);
+
+  /// True if a call to Command at time t would solve (a control period has passed).
+  bool SolveDue(double t_s) const { return t_s + 1e-9 >= next_solve_s_; }
 
   /// Metrics over the solves so far.
   TrackingMetrics Metrics() const;

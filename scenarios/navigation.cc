@@ -1,0 +1,175 @@
+#include "scenarios/navigation.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "common/input_error.h"
+
+namespace trav::scenarios {
+namespace {
+
+// Events replan at most this often [s]: a deviation that persists must not replan every tick.
+constexpr double kMinEventInterval_s = 0.1;
+// Spacing of the samples of the safety and lethal-cell checks along the plan [s].
+constexpr double kCheckStep_s = 0.05;
+
+double YawOf(const common::RobotState& state) {
+  const Eigen::Vector3d forward = state.X_WB.linear().col(0);
+  return std::atan2(forward.y(), forward.x());
+}
+
+// True if the map marks p_W lethal (at or above the threshold, or unknown when unknown cells are
+// blocked).
+bool Lethal(const common::GridLayers& map, const planner::CostMapConfig& config,
+            const Eigen::Vector2d& p_W) {
+  const common::GridGeometry& g = map.geometry();
+  const std::optional<Eigen::Vector2i> cell = g.CellIndex(p_W);
+  if (!cell) return false;
+  const float c = map.Layer(config.cost_layer)(cell->x(), cell->y());
+  if (std::isnan(c)) return config.unknown_policy == planner::UnknownPolicy::kBlocked;
+  return c >= config.lethal_threshold;
+}
+
+}  // namespace
+
+void ValidateNavigationSettings(const NavigationSettings& s) {
+  using common::RequireValue;
+  RequireValue(s.goal_radius_m > 0.0, "navigation.goal_radius", s.goal_radius_m, "must be > 0");
+  RequireValue(s.planning_rate_hz > 0.0 && s.planning_rate_hz <= 50.0, "navigation.planning_rate",
+               s.planning_rate_hz, "must be in (0, 50] Hz");
+  RequireValue(s.replan_deviation_m > 0.0, "navigation.replan_deviation", s.replan_deviation_m,
+               "must be > 0");
+  RequireValue(s.safety_horizon_s >= 0.0, "navigation.safety_horizon", s.safety_horizon_s,
+               "must be >= 0");
+  RequireValue(s.stuck_time_s > 0.0, "navigation.stuck_time", s.stuck_time_s, "must be > 0");
+  RequireValue(s.stuck_distance_m > 0.0, "navigation.stuck_distance", s.stuck_distance_m,
+               "must be > 0");
+  RequireValue(s.planning_failure_time_s > 0.0, "navigation.planning_failure_time",
+               s.planning_failure_time_s, "must be > 0");
+}
+
+Navigator::Navigator(const NavigationSettings& settings,
+                     const planner::NavigationPlannerConfig& planner,
+                     const controller::MpcConfig& mpc, const Eigen::Vector2d& goal_W)
+    : settings_(settings), planner_(planner), tracker_(mpc), goal_W_(goal_W) {
+  ValidateNavigationSettings(settings_);
+}
+
+double Navigator::time_without_plan_s(double now_s) const { return now_s - last_valid_plan_s_; }
+
+common::Twist2 Navigator::Update(const common::RobotState& state, const common::GridLayers* map,
+                                 bool map_updated,
+                                 const std::vector<planner::MovingObstacle>& movers) {
+  const ReplanReason reason = ReasonToReplan(state, map, map_updated);
+  if (reason != ReplanReason::kNone && map != nullptr) Replan(state, *map, movers, reason);
+  if (trajectory_.empty()) return {};
+  if (!AheadIsSafe(state.time_s, map, movers)) {
+    ++statistics_.safety_stops;
+    force_replan_ = true;
+    return {};
+  }
+  if (!tracker_.SolveDue(state.time_s)) return tracker_.Command(state);
+  const auto control_start = std::chrono::steady_clock::now();
+  const common::Twist2 command = tracker_.Command(state);
+  statistics_.control_ms.push_back(
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - control_start)
+          .count());
+  return command;
+}
+
+ReplanReason Navigator::ReasonToReplan(const common::RobotState& state,
+                                       const common::GridLayers* map, bool map_updated) {
+  const double now = state.time_s;
+  if (map == nullptr) return ReplanReason::kNone;
+  if (trajectory_.empty()) return now >= next_plan_s_ ? ReplanReason::kFirst : ReplanReason::kNone;
+  if (now >= next_plan_s_) return ReplanReason::kPeriodic;
+  if (now < next_plan_s_ - 1.0 / settings_.planning_rate_hz + kMinEventInterval_s) {
+    return ReplanReason::kNone;
+  }
+  if (force_replan_) return ReplanReason::kSafetyStop;
+  const Eigen::Vector2d position_W = state.X_WB.translation().head<2>();
+  if ((trajectory_.Sample(now).position_W - position_W).norm() > settings_.replan_deviation_m) {
+    return ReplanReason::kDeviation;
+  }
+  if (map_updated) {
+    for (double t = now; t <= trajectory_.end_time(); t += kCheckStep_s) {
+      if (Lethal(*map, planner_.config().search, trajectory_.Sample(t).position_W)) {
+        return ReplanReason::kNewLethalCells;
+      }
+    }
+  }
+  return ReplanReason::kNone;
+}
+
+void Navigator::Replan(const common::RobotState& state, const common::GridLayers& map,
+                       const std::vector<planner::MovingObstacle>& movers, ReplanReason reason) {
+  const double now = state.time_s;
+  const planner::TrajectoryOptimizerConfig& optimizer = planner_.config().optimizer;
+  // the start: the measured pose; the rates of the plan being followed when the robot is on it
+  // (a smooth splice), else the measured ones, within the limits
+  common::TrajectoryPoint start;
+  start.t_s = now;
+  start.position_W = state.X_WB.translation().head<2>();
+  start.yaw = YawOf(state);
+  const bool on_plan =
+      !trajectory_.empty() && (trajectory_.Sample(now).position_W - start.position_W).norm() <=
+                                  settings_.replan_deviation_m;
+  if (on_plan) {
+    const common::TrajectoryPoint planned = trajectory_.Sample(now);
+    start.v = planned.v;
+    start.omega = planned.omega;
+    start.acceleration = planned.acceleration;
+  } else {
+    start.v = state.v_WB_B.x();
+    start.omega = state.w_WB_B.z();
+  }
+  const double v_max = 0.99 * optimizer.limits.max_speed_m_s;
+  const double omega_max = 0.99 * optimizer.limits.max_yaw_rate_rad_s;
+  const double a_max = 0.99 * optimizer.limits.max_acceleration_m_s2;
+  start.v = std::clamp(start.v, -v_max, v_max);
+  start.omega = std::clamp(start.omega, -omega_max, omega_max);
+  start.acceleration = std::clamp(start.acceleration, -a_max, a_max);
+
+  const planner::NavigationPlan plan = planner_.Plan(map, start, goal_W_, movers);
+  ++statistics_.plans;
+  if (reason != ReplanReason::kPeriodic && reason != ReplanReason::kFirst) {
+    ++statistics_.replans_on_events;
+  }
+  statistics_.planning_ms.push_back(1e3 * (plan.search_time_s + plan.optimization_time_s));
+  statistics_.last_status = planner::ToString(plan.status);
+  const bool usable =
+      plan.has_trajectory() && (plan.status == planner::NavigationStatus::kPlanned ||
+                                plan.status == planner::NavigationStatus::kPlannedToNearest);
+  if (usable) {
+    trajectory_ = plan.optimized.trajectory;
+    waypoints_W_ = plan.waypoints_W;
+    tracker_.SetReference(trajectory_);
+    last_valid_plan_s_ = now;
+    force_replan_ = false;
+  } else {
+    ++statistics_.failed_plans;
+  }
+  next_plan_s_ = now + 1.0 / settings_.planning_rate_hz;
+}
+
+bool Navigator::AheadIsSafe(double now_s, const common::GridLayers* map,
+                            const std::vector<planner::MovingObstacle>& movers) const {
+  const planner::NavigationPlannerConfig& config = planner_.config();
+  const double end = std::min(trajectory_.end_time(), now_s + settings_.safety_horizon_s);
+  const Eigen::Vector2d here_W = trajectory_.Sample(now_s).position_W;
+  for (double t = now_s; t <= end; t += kCheckStep_s) {
+    const Eigen::Vector2d p_W = trajectory_.Sample(t).position_W;
+    // lethal cells under the robot itself (a mapping artefact) do not stop it: only those ahead
+    const bool ahead = (p_W - here_W).norm() > config.optimizer.robot_radius_m;
+    if (map != nullptr && ahead && Lethal(*map, config.search, p_W)) return false;
+    for (const planner::MovingObstacle& mover : movers) {
+      if ((p_W - mover.PositionAt(t)).norm() < config.optimizer.robot_radius_m + mover.radius_m) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace trav::scenarios
