@@ -1,10 +1,12 @@
 #include "sim/simulation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <mutex>
 #include <stdexcept>
+#include <unordered_map>
 
 #include <mujoco/mujoco.h>
 
@@ -57,6 +59,30 @@ void LogMujocoWarning(const char* message) {
   common::Log(common::LogLevel::kDebug, std::string("MuJoCo warning: ") + message);
 }
 
+// Top of a primitive's bounding box in W [m].
+double TopOf(const common::Primitive& primitive) {
+  const Eigen::Matrix3d& R = primitive.X_WO.linear();
+  const Eigen::Vector3d& size = primitive.size;
+  const double axis_z = std::abs(R(2, 2));  // vertical component of the local z axis
+  const double across = std::sqrt(std::max(0.0, 1.0 - axis_z * axis_z));
+  double extent = 0.0;
+  switch (primitive.shape) {
+    case ShapeType::kBox:
+      extent = std::abs(R(2, 0)) * size.x() + std::abs(R(2, 1)) * size.y() + axis_z * size.z();
+      break;
+    case ShapeType::kCylinder:
+      extent = axis_z * size.y() + across * size.x();
+      break;
+    case ShapeType::kCapsule:
+      extent = axis_z * size.y() + size.x();
+      break;
+    case ShapeType::kSphere:
+      extent = size.x();
+      break;
+  }
+  return primitive.X_WO.translation().z() + extent;
+}
+
 int RequireId(const mjModel* model, mjtObj type, const char* name) {
   const int id = mj_name2id(model, type, name);
   if (id < 0) {
@@ -80,13 +106,14 @@ void Simulation::ModelDeleter::operator()(mjModel* model) const { mj_deleteModel
 void Simulation::DataDeleter::operator()(mjData* data) const { mj_deleteData(data); }
 
 Simulation::Simulation(const TerrainWorld& terrain, const common::Pose2& start_W,
-                       const WorldOptions& options) {
+                       const WorldOptions& options, const std::vector<MovingObstacle>& movers) {
   InstallMujocoHandlers();
   if (!std::ifstream(options.robot_model_path).good()) {
     throw common::InputError(options.robot_model_path, "", "cannot open robot model");
   }
+  ValidateMovingObstacles(movers);
   // load the generated world from a virtual file; the robot file is included from disk
-  const std::string xml = BuildWorldXml(terrain, options);
+  const std::string xml = BuildWorldXml(terrain, options, movers);
   mjVFS vfs;
   mj_defaultVFS(&vfs);
   constexpr const char* kWorldFile = "trav_world.xml";
@@ -123,10 +150,70 @@ Simulation::Simulation(const TerrainWorld& terrain, const common::Pose2& start_W
                                " must be number " + std::to_string(w));
     }
   }
+
+  // movers: tracks over the bare ground, at their pose at t = 0
+  if (!movers.empty()) {
+    ground_.config = terrain.config;
+    ground_.geometry = terrain.geometry;
+    ground_.height_m = terrain.height_m;
+  }
+  for (const MovingObstacle& mover : movers) {
+    const int body = RequireId(model_.get(), mjOBJ_BODY, ("mover_" + mover.name).c_str());
+    mover_mocap_ids_.push_back(model_->body_mocapid[body]);
+    mover_tracks_.emplace_back(mover);
+  }
+  mover_velocities_W_.assign(movers.size(), Eigen::Vector2d::Zero());
+  SetMoverPoses(0.0);
+  ClassifyGeoms(terrain);
   PlaceRobot(terrain, start_W);
 }
 
 Simulation::~Simulation() = default;
+
+void Simulation::ClassifyGeoms(const TerrainWorld& terrain) {
+  std::unordered_map<std::string_view, int> obstacle_index;
+  for (std::size_t k = 0; k < terrain.obstacles.size(); ++k) {
+    obstacle_index.emplace(terrain.obstacles[k].name, static_cast<int>(k));
+  }
+  std::unordered_map<std::string_view, int> mover_index;
+  for (std::size_t k = 0; k < mover_tracks_.size(); ++k) {
+    mover_index.emplace(mover_tracks_[k].mover().name, static_cast<int>(k));
+  }
+  constexpr std::string_view kMoverPrefix = "mover_";
+  geom_info_.assign(static_cast<std::size_t>(model_->ngeom), GeomInfo{});
+  for (int g = 0; g < model_->ngeom; ++g) {
+    GeomInfo& info = geom_info_[static_cast<std::size_t>(g)];
+    const char* name = mj_id2name(model_.get(), mjOBJ_GEOM, g);
+    if (name != nullptr) info.name = name;
+    const int body = model_->geom_bodyid[g];
+    if (model_->body_rootid[body] == base_body_id_) {
+      info.kind = GeomKind::kBody;
+      for (int w = 0; w < 4; ++w) {
+        if (info.name == kWheelJoints[w]) {
+          info.kind = GeomKind::kWheel;
+          info.index = w;
+        }
+      }
+    } else if (info.name == "ground") {
+      info.kind = GeomKind::kTerrain;
+    } else if (model_->body_mocapid[body] >= 0 &&
+               info.name.substr(0, kMoverPrefix.size()) == kMoverPrefix) {
+      const auto it = mover_index.find(info.name.substr(kMoverPrefix.size()));
+      if (it != mover_index.end()) {
+        info.kind = GeomKind::kMover;
+        info.index = it->second;
+        info.name.remove_prefix(kMoverPrefix.size());
+        info.height_m =
+            2.0 * mover_tracks_[static_cast<std::size_t>(it->second)].mover().half_height_m;
+      }
+    } else if (const auto it = obstacle_index.find(info.name); it != obstacle_index.end()) {
+      const Obstacle& obstacle = terrain.obstacles[static_cast<std::size_t>(it->second)];
+      info.kind = GeomKind::kObstacle;
+      info.index = it->second;
+      info.height_m = TopOf(obstacle) - terrain.GroundHeight(obstacle.X_WO.translation().head<2>());
+    }
+  }
+}
 
 void Simulation::PlaceRobot(const TerrainWorld& terrain, const common::Pose2& start_W) {
   // fit the ground plane under the four wheels: height, pitch and roll
@@ -159,6 +246,103 @@ void Simulation::PlaceRobot(const TerrainWorld& terrain, const common::Pose2& st
   qpos[5] = q.y();
   qpos[6] = q.z();
   mj_forward(model_.get(), data_.get());
+}
+
+void Simulation::SetMoverPoses(double t_s) {
+  for (int i = 0; i < num_movers(); ++i) {
+    MoverTrack& track = mover_tracks_[static_cast<std::size_t>(i)];
+    const MoverPlanarState state = track.PlanarStateAt(t_s);
+    SetMoverPose(i, sim::MoverPose(track.mover(), state, ground_), state.v_W);
+  }
+}
+
+void Simulation::CheckMoverIndex(int index) const {
+  if (index < 0 || index >= num_movers()) {
+    throw std::out_of_range("Simulation: no mover " + std::to_string(index) + " (there are " +
+                            std::to_string(num_movers()) + ")");
+  }
+}
+
+void Simulation::SetMoverPose(int index, const Eigen::Isometry3d& X_WO,
+                              const Eigen::Vector2d& v_W) {
+  CheckMoverIndex(index);
+  const int mocap = mover_mocap_ids_[static_cast<std::size_t>(index)];
+  const Eigen::Quaterniond q(X_WO.linear());
+  mjtNum* pos = data_->mocap_pos + 3 * mocap;
+  mjtNum* quat = data_->mocap_quat + 4 * mocap;
+  for (int k = 0; k < 3; ++k) pos[k] = X_WO.translation()[k];
+  quat[0] = q.w();
+  quat[1] = q.x();
+  quat[2] = q.y();
+  quat[3] = q.z();
+  mover_velocities_W_[static_cast<std::size_t>(index)] = v_W;
+}
+
+Eigen::Isometry3d Simulation::MoverPose(int index) const {
+  CheckMoverIndex(index);
+  const int mocap = mover_mocap_ids_[static_cast<std::size_t>(index)];
+  const mjtNum* pos = data_->mocap_pos + 3 * mocap;
+  const mjtNum* quat = data_->mocap_quat + 4 * mocap;
+  Eigen::Isometry3d X_WO = Eigen::Isometry3d::Identity();
+  X_WO.linear() = Eigen::Quaterniond(quat[0], quat[1], quat[2], quat[3]).toRotationMatrix();
+  X_WO.translation() = Eigen::Vector3d(pos[0], pos[1], pos[2]);
+  return X_WO;
+}
+
+Eigen::Vector2d Simulation::MoverVelocity(int index) const {
+  CheckMoverIndex(index);
+  return mover_velocities_W_[static_cast<std::size_t>(index)];
+}
+
+void Simulation::RobotContacts(std::vector<RobotContact>* contacts) const {
+  contacts->clear();
+  const Eigen::Vector2d v_robot_W(data_->qvel[root_qvel_address_],
+                                  data_->qvel[root_qvel_address_ + 1]);
+  for (int i = 0; i < data_->ncon; ++i) {
+    const mjContact& contact = data_->contact[i];
+    if (contact.exclude == 1) continue;  // within the margin, not touching
+    const GeomInfo& first = geom_info_[static_cast<std::size_t>(contact.geom1)];
+    const GeomInfo& second = geom_info_[static_cast<std::size_t>(contact.geom2)];
+    const auto on_robot = [](const GeomInfo& info) {
+      return info.kind == GeomKind::kWheel || info.kind == GeomKind::kBody;
+    };
+    if (on_robot(first) == on_robot(second)) continue;
+    const bool robot_first = on_robot(first);
+    const GeomInfo& robot = robot_first ? first : second;
+    const GeomInfo& other = robot_first ? second : first;
+    RobotContact report;
+    switch (other.kind) {
+      case GeomKind::kTerrain:
+        report.target = ContactTarget::kTerrain;
+        break;
+      case GeomKind::kObstacle:
+        report.target = ContactTarget::kObstacle;
+        break;
+      case GeomKind::kMover:
+        report.target = ContactTarget::kMover;
+        report.relative_speed_m_s =
+            (v_robot_W - mover_velocities_W_[static_cast<std::size_t>(other.index)]).norm();
+        break;
+      default:
+        continue;
+    }
+    report.part = robot.kind == GeomKind::kWheel ? RobotPart::kWheel : RobotPart::kBody;
+    report.wheel = robot.kind == GeomKind::kWheel ? robot.index : -1;
+    report.target_index = other.index;
+    report.target_name = other.name;
+    report.target_height_m = other.height_m;
+    report.p_W = Eigen::Vector3d(contact.pos[0], contact.pos[1], contact.pos[2]);
+    // MuJoCo's normal points from geom1 to geom2
+    const Eigen::Vector3d normal(contact.frame[0], contact.frame[1], contact.frame[2]);
+    report.normal_W = robot_first ? Eigen::Vector3d(-normal) : normal;
+    report.penetration_m = std::max(0.0, -contact.dist);
+    if (contact.efc_address >= 0) {
+      mjtNum force[6];
+      mj_contactForce(model_.get(), data_.get(), i, force);
+      report.normal_force_N = std::max(0.0, force[0]);
+    }
+    contacts->push_back(report);
+  }
 }
 
 void Simulation::SetWheelSpeedCommands(const common::WheelSpeeds& speeds_rad_s) {

@@ -1,12 +1,15 @@
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Geometry>
 
 #include "common/pose.h"
+#include "sim/moving_obstacles.h"
 #include "sim/terrain.h"
 #include "sim/world_builder.h"
 
@@ -25,16 +28,74 @@ enum class StepStatus {
               ///< finite
 };
 
+/// The part of the robot in a contact.
+enum class RobotPart {
+  kWheel,  ///< one of the four wheels
+  kBody,   ///< the chassis
+};
+
+/// What the robot touches.
+enum class ContactTarget {
+  kTerrain,   ///< the ground height field
+  kObstacle,  ///< a static obstacle of TerrainWorld::obstacles (solid or ceiling)
+  kMover,     ///< a moving obstacle
+};
+
+/// Static obstacles whose top is at most this high above the ground under their centre [m] (the
+/// ruin's rubble) pass under the chassis: the Scout Mini's ground clearance.
+constexpr double kDriveOverHeight_m = 0.115;
+
+/// One contact between the robot and the world, from MuJoCo's contact list.
+struct RobotContact {
+  RobotPart part{RobotPart::kBody};
+  int wheel{-1};  ///< common::Wheel index of a wheel contact, -1 for the body
+  ContactTarget target{ContactTarget::kTerrain};
+  /// Index into TerrainWorld::obstacles (kObstacle) or into the movers (kMover); -1 for the
+  /// terrain.
+  int target_index{-1};
+  /// Obstacle or mover name, "ground" for the terrain; valid while the Simulation lives.
+  std::string_view target_name;
+  /// Height of the target's top above the ground under its centre [m] (the top of its bounding
+  /// box; a mover's full height); 0 for the terrain.
+  double target_height_m{0.0};
+  Eigen::Vector3d p_W{Eigen::Vector3d::Zero()};        ///< contact point, midway between surfaces
+  Eigen::Vector3d normal_W{Eigen::Vector3d::UnitZ()};  ///< unit normal from the target to the robot
+  double penetration_m{0.0};                           ///< depth of the overlap [m], >= 0
+  double normal_force_N{0.0};                          ///< normal force of the contact [N], >= 0
+  /// Mover contacts: planar speed of the robot base relative to the mover [m/s]; 0 otherwise.
+  double relative_speed_m_s{0.0};
+};
+
+/// The collision rule of the outcome classification: any part of the robot (chassis or wheel)
+/// touching a mover, or a static obstacle taller than `drive_over_height_m` (a wheel against a tree
+/// trunk or a wall is a collision: the wheels stick out 3 cm beyond the chassis, so driving into a
+/// wall touches it with the wheels first). Contacts with the terrain are never collisions; the
+/// chassis on the terrain (a belly on a ridge) is reported as a body contact with kTerrain.
+inline bool IsCollision(const RobotContact& contact,
+                        double drive_over_height_m = kDriveOverHeight_m) {
+  switch (contact.target) {
+    case ContactTarget::kTerrain:
+      return false;
+    case ContactTarget::kObstacle:
+      return contact.target_height_m > drive_over_height_m;
+    case ContactTarget::kMover:
+      return true;
+  }
+  return false;
+}
+
 /// A MuJoCo world built from a generated terrain with the Scout Mini on it, stepped at a fixed
 /// timestep. Owns mjModel and mjData (RAII); stepping allocates nothing. MuJoCo warnings are
 /// counted and kept as messages; MuJoCo errors become exceptions.
 class Simulation {
  public:
-  /// Builds the world of `terrain` and places the robot with its base B at `start_W` (x, y, yaw),
-  /// aligned with the ground under its wheels and dropped from 1 cm above it.
+  /// Builds the world of `terrain` with `movers` (mocap bodies at their pose at t = 0) and places
+  /// the robot with its base B at `start_W` (x, y, yaw), aligned with the ground under its wheels
+  /// and dropped from 1 cm above it.
+  /// @throws common::InputError for invalid movers (key paths "moving_obstacles[i]...").
   /// @throws std::runtime_error if the robot model cannot be loaded or the world does not compile.
-  Simulation(const TerrainWorld& terrain, const common::Pose2& start_W,
-             const WorldOptions& options);
+  Simulation(const TerrainWorld& terrain, const common::Pose2& start_W, const WorldOptions& options,
+             const std::vector<MovingObstacle>& movers = {});
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
@@ -43,8 +104,32 @@ class Simulation {
   /// velocity actuators clamp them to their control range.
   void SetWheelSpeedCommands(const common::WheelSpeeds& speeds_rad_s);
 
-  /// Advances the world by one timestep.
+  /// Advances the world by one timestep. Movers stay where they were last put.
   StepStatus Step();
+
+  /// Number of moving obstacles; index i is movers[i] of the constructor (and moving object i of
+  /// RaySceneOf(world, movers)).
+  int num_movers() const { return static_cast<int>(mover_tracks_.size()); }
+
+  /// Moves every mover to its pose at time t_s [s] (MoverTrack) and records its velocity; call it
+  /// before each Step with the simulation time. Allocates nothing once a random walker's legs up to
+  /// t_s are drawn.
+  void SetMoverPoses(double t_s);
+
+  /// Puts mover `index` at X_WO (its frame O in W) with planar velocity v_W [m/s] (used for the
+  /// relative speed of contacts). @throws std::out_of_range for a bad index.
+  void SetMoverPose(int index, const Eigen::Isometry3d& X_WO,
+                    const Eigen::Vector2d& v_W = Eigen::Vector2d::Zero());
+
+  /// Pose of mover `index` in W as last set (what the next Step uses), and its planar velocity
+  /// [m/s]. @throws std::out_of_range for a bad index.
+  Eigen::Isometry3d MoverPose(int index) const;
+  Eigen::Vector2d MoverVelocity(int index) const;
+
+  /// The robot's contacts found by the last Step (or by construction): clears `contacts` and
+  /// appends one entry per MuJoCo contact between a robot geom and the world (no allocation once
+  /// the vector has grown to the largest count). Use IsCollision to classify them.
+  void RobotContacts(std::vector<RobotContact>* contacts) const;
 
   /// Ground-truth state of the robot base.
   common::RobotState State() const;
@@ -74,7 +159,17 @@ class Simulation {
   struct DataDeleter {
     void operator()(mjData* data) const;
   };
+  // What a MuJoCo geom is in contact reports.
+  enum class GeomKind { kOther, kWheel, kBody, kTerrain, kObstacle, kMover };
+  struct GeomInfo {
+    GeomKind kind{GeomKind::kOther};
+    int index{-1};  // wheel, obstacle or mover index
+    double height_m{0.0};
+    std::string_view name;  // into the model's names (a mover's without the "mover_" prefix)
+  };
+  void ClassifyGeoms(const TerrainWorld& terrain);
   void PlaceRobot(const TerrainWorld& terrain, const common::Pose2& start_W);
+  void CheckMoverIndex(int index) const;
   void CollectWarnings();
 
   std::unique_ptr<mjModel, ModelDeleter> model_;
@@ -84,6 +179,12 @@ class Simulation {
   int root_qpos_address_{0};
   int root_qvel_address_{0};
   std::array<int, 4> wheel_qvel_address_{};
+  std::vector<GeomInfo> geom_info_;  // per MuJoCo geom
+  std::vector<MoverTrack> mover_tracks_;
+  std::vector<int> mover_mocap_ids_;
+  std::vector<Eigen::Vector2d> mover_velocities_W_;
+  // the terrain's heights without obstacles (only with movers), to stand the movers on
+  TerrainWorld ground_;
   std::array<int, 8> last_warning_numbers_{};
   int warning_count_{0};
   std::vector<std::string> warning_messages_;

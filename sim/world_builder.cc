@@ -21,21 +21,38 @@ const char* MjcfShape(ShapeType shape) {
   return "box";
 }
 
-std::string MjcfSize(const Obstacle& obstacle) {
+std::string MjcfSize(const common::Primitive& primitive) {
   std::ostringstream out;
   out << std::setprecision(9);
-  switch (obstacle.shape) {
+  switch (primitive.shape) {
     case ShapeType::kBox:
-      out << obstacle.size.x() << " " << obstacle.size.y() << " " << obstacle.size.z();
+      out << primitive.size.x() << " " << primitive.size.y() << " " << primitive.size.z();
       break;
     case ShapeType::kCylinder:
     case ShapeType::kCapsule:
-      out << obstacle.size.x() << " " << obstacle.size.y();
+      out << primitive.size.x() << " " << primitive.size.y();
       break;
     case ShapeType::kSphere:
-      out << obstacle.size.x();
+      out << primitive.size.x();
       break;
   }
+  return out.str();
+}
+
+// pos="x y z" quat="w x y z" of a pose.
+std::string MjcfPose(const Eigen::Isometry3d& X) {
+  const Eigen::Quaterniond q(X.linear());
+  const Eigen::Vector3d p = X.translation();
+  std::ostringstream out;
+  out << std::setprecision(9) << "pos=\"" << p.x() << " " << p.y() << " " << p.z() << "\" quat=\""
+      << q.w() << " " << q.x() << " " << q.y() << " " << q.z() << "\"";
+  return out.str();
+}
+
+std::string MjcfRgba(const Eigen::Vector4f& rgba) {
+  std::ostringstream out;
+  out << std::setprecision(9) << "rgba=\"" << rgba[0] << " " << rgba[1] << " " << rgba[2] << " "
+      << rgba[3] << "\"";
   return out.str();
 }
 
@@ -77,7 +94,8 @@ void FillHeightField(const Eigen::MatrixXf& height_m, const HeightFieldLayout& l
   }
 }
 
-std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options) {
+std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options,
+                          const std::vector<MovingObstacle>& movers) {
   const HeightFieldLayout layout = ComputeHeightFieldLayout(world);
   const Eigen::Vector2d half = 0.5 * world.geometry.Extent();
   const Eigen::Vector2d centre = world.geometry.Center();
@@ -85,6 +103,9 @@ std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options
   const int visual_num_x = std::min(world.geometry.num_x, options.visual_max_samples);
   const int visual_num_y = std::min(world.geometry.num_y, options.visual_max_samples);
 
+  const std::string static_collision = " contype=\"" + std::to_string(kStaticContype) +
+                                       "\" conaffinity=\"" + std::to_string(kCollidesWithRobot) +
+                                       "\"";
   std::ostringstream xml;
   xml << std::setprecision(9);
   xml << "<mujoco model=\"trav_world\">\n"
@@ -117,31 +138,37 @@ std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options
       << " diffuse=\"0.75 0.75 0.72\" castshadow=\"true\"/>\n"
       << "    <geom name=\"ground\" type=\"hfield\" hfield=\"terrain\" pos=\"" << centre.x() << " "
       << centre.y() << " " << layout.z_offset_m << "\" friction=\"" << options.ground_friction
-      << " 0.005 0.0001\" group=\"3\"/>\n"
+      << " 0.005 0.0001\" group=\"3\"" << static_collision << "/>\n"
       << "    <geom name=\"ground_visual\" type=\"hfield\" hfield=\"terrain_visual\" pos=\""
       << centre.x() << " " << centre.y() << " " << layout.z_offset_m
       << "\" contype=\"0\" conaffinity=\"0\" material=\"ground\" group=\"0\"/>\n";
   for (const Obstacle& obstacle : world.obstacles) {
-    const Eigen::Quaterniond q(obstacle.X_WO.linear());
-    const Eigen::Vector3d p = obstacle.X_WO.translation();
     xml << "    <geom name=\"" << obstacle.name << "\" type=\"" << MjcfShape(obstacle.shape)
-        << "\" size=\"" << MjcfSize(obstacle) << "\" pos=\"" << p.x() << " " << p.y() << " "
-        << p.z() << "\" quat=\"" << q.w() << " " << q.x() << " " << q.y() << " " << q.z()
-        << "\" rgba=\"" << obstacle.rgba[0] << " " << obstacle.rgba[1] << " " << obstacle.rgba[2]
-        << " " << obstacle.rgba[3] << "\" friction=\"" << options.ground_friction
+        << "\" size=\"" << MjcfSize(obstacle) << "\" " << MjcfPose(obstacle.X_WO) << " "
+        << MjcfRgba(obstacle.rgba) << " friction=\"" << options.ground_friction
         << " 0.005 0.0001\"";
     switch (obstacle.role) {
       case ObstacleRole::kSolid:
-        xml << " group=\"0\"";
+        xml << " group=\"0\"" << static_collision << "/>\n";
         break;
       case ObstacleRole::kCanopy:
-        xml << " group=\"2\" contype=\"0\" conaffinity=\"0\"";
+        xml << " group=\"2\" contype=\"0\" conaffinity=\"0\"/>\n";
         break;
       case ObstacleRole::kCeiling:
-        xml << " group=\"4\"";
+        xml << " group=\"4\"" << static_collision << "/>\n";
         break;
     }
-    xml << "/>\n";
+  }
+  // movers: mocap bodies (kinematic; their poses are written into mjData every step)
+  for (const MovingObstacle& mover : movers) {
+    const common::Primitive primitive = MoverPrimitive(mover);
+    xml << "    <body name=\"mover_" << mover.name << "\" mocap=\"true\" "
+        << MjcfPose(MoverPoseAt(mover, 0.0, world)) << ">\n"
+        << "      <geom name=\"mover_" << mover.name << "\" type=\"" << MjcfShape(primitive.shape)
+        << "\" size=\"" << MjcfSize(primitive) << "\" " << MjcfRgba(mover.rgba) << " friction=\""
+        << options.ground_friction << " 0.005 0.0001\" group=\"0\" contype=\"" << kMoverContype
+        << "\" conaffinity=\"" << kCollidesWithRobot << "\"/>\n"
+        << "    </body>\n";
   }
   xml << "  </worldbody>\n</mujoco>\n";
   return xml.str();

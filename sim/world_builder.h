@@ -1,7 +1,9 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
+#include "sim/moving_obstacles.h"
 #include "sim/terrain.h"
 
 namespace trav::sim {
@@ -17,12 +19,24 @@ struct WorldOptions {
   int visual_max_samples{126};
 };
 
+/// Collision classes (MuJoCo contype bits). Two geoms collide when the contype of either shares a
+/// bit with the conaffinity of the other; every colliding geom has conaffinity kCollidesWithRobot,
+/// so everything collides with the robot and nothing else collides with anything: movers are
+/// kinematic and pass through the ground, the static obstacles and each other.
+constexpr int kRobotContype = 1;       ///< the robot's geoms (MJCF default contype 1)
+constexpr int kStaticContype = 2;      ///< ground and static obstacles
+constexpr int kMoverContype = 4;       ///< moving obstacles
+constexpr int kCollidesWithRobot = 1;  ///< conaffinity of every colliding geom
+
 /// The MJCF text of a world: the robot included from its file; the ground as a height field named
 /// "terrain" that collides (geom group 3, not drawn) and a coarser copy "terrain_visual" that is
 /// drawn and does not collide (their samples are filled from memory after loading, see
 /// FillHeightField); obstacles as geoms named after them (canopies visual-only, the ceiling in geom
-/// group 4 so videos can hide it).
-std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options);
+/// group 4 so videos can hide it); each mover as a mocap body "mover_<name>" holding one geom of
+/// the same name (group 0), placed at its pose at t = 0. Movers are not validated here (see
+/// ValidateMovingObstacles).
+std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options,
+                          const std::vector<MovingObstacle>& movers = {});
 
 /// Height-field layout in MuJoCo: samples normalised to [0, 1], scaled by `z_top_m`, placed at
 /// `z_offset_m` (the geom's z). See reference/simulation.md section 4.2.

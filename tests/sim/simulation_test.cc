@@ -1,11 +1,14 @@
 #include "sim/simulation.h"
 
 #include <cmath>
+#include <set>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
+#include "common/input_error.h"
 #include "controller/skid_steer.h"
 
 namespace trav::sim {
@@ -178,6 +181,190 @@ TEST(SimulationTest, MissingRobotModelIsAnInputError) {
   WorldOptions options = Options();
   options.robot_model_path = "/nonexistent/robot.xml";
   EXPECT_THROW(Simulation(FlatWorld(), common::Pose2{}, options), std::runtime_error);
+}
+
+TerrainWorld SmallFlatWorld() {
+  TerrainConfig config;
+  config.type = TerrainType::kFlat;
+  config.size_m = {8, 8};
+  return GenerateTerrain(config);
+}
+
+// A box mover 0.4 m long, `width_m` wide and 0.6 m tall crossing from `start_W` at `velocity_W`.
+MovingObstacle Crate(const Eigen::Vector2d& start_W, const Eigen::Vector2d& velocity_W,
+                     double width_m = 0.4) {
+  MovingObstacle crate;
+  crate.name = "crate";
+  crate.shape = MoverShape::kBox;
+  crate.box_half_extents_m = {0.2, 0.5 * width_m};
+  crate.half_height_m = 0.3;
+  crate.motion = ConstantVelocityMotion{start_W, velocity_W, 0.0};
+  return crate;
+}
+
+// A static box obstacle on flat ground, `height_m` tall, across the robot's path at x = x_m.
+Obstacle Barrier(const std::string& name, double x_m, double height_m) {
+  Obstacle barrier;
+  barrier.name = name;
+  barrier.shape = ShapeType::kBox;
+  barrier.size = Eigen::Vector3d(0.1, 1.0, 0.5 * height_m);
+  barrier.X_WO.translation() = Eigen::Vector3d(x_m, 0.0, 0.5 * height_m);
+  return barrier;
+}
+
+TEST(SimulationContactTest, ARestingRobotTouchesTheGroundWithItsFourWheelsOnly) {
+  Simulation dut(SmallFlatWorld(), common::Pose2{}, Options());
+  StepFor(&dut, 1.0);
+  std::vector<RobotContact> contacts;
+  dut.RobotContacts(&contacts);
+  ASSERT_FALSE(contacts.empty());
+  std::set<int> wheels;
+  for (const RobotContact& contact : contacts) {
+    EXPECT_EQ(contact.part, RobotPart::kWheel);
+    EXPECT_EQ(contact.target, ContactTarget::kTerrain);
+    EXPECT_EQ(contact.target_name, "ground");
+    EXPECT_FALSE(IsCollision(contact));
+    EXPECT_GT(contact.normal_W.z(), 0.99);  // from the ground up into the wheel
+    wheels.insert(contact.wheel);
+  }
+  EXPECT_EQ(wheels, (std::set<int>{0, 1, 2, 3}));
+  // the wheels carry the robot's weight (23 kg)
+  double load_N = 0.0;
+  for (const RobotContact& contact : contacts) load_N += contact.normal_force_N;
+  EXPECT_NEAR(load_N, 23.0 * 9.81, 0.5);
+}
+
+// The first contact between the resting robot and a crate `width_m` wide that comes head-on at
+// 1 m/s from x = 1.5 m, and the time it happened after the crate started [s].
+struct CrateHit {
+  RobotContact contact;     // its target_name dangles once the simulation is gone:
+  std::string target_name;  // a copy
+  double time_s{0.0};
+};
+CrateHit HitByCrate(double width_m) {
+  const std::vector<MovingObstacle> movers = {Crate({1.5, 0.0}, {-1.0, 0.0}, width_m)};
+  Simulation sim(SmallFlatWorld(), common::Pose2{}, Options(), movers);
+  EXPECT_EQ(sim.num_movers(), 1);
+  StepFor(&sim, 0.5);  // settle (the crate has not moved: poses are set by the caller)
+  const double t0 = sim.time();
+  std::vector<RobotContact> contacts;
+  while (sim.time() < t0 + 2.0) {
+    sim.SetMoverPoses(sim.time() - t0);
+    EXPECT_EQ(sim.Step(), StepStatus::kOk);
+    sim.RobotContacts(&contacts);
+    for (const RobotContact& contact : contacts) {
+      if (contact.target != ContactTarget::kMover) continue;
+      // the crate passes through the ground: MuJoCo has no crate-ground contact
+      const int crate = mj_name2id(sim.model(), mjOBJ_GEOM, "mover_crate");
+      const int ground = mj_name2id(sim.model(), mjOBJ_GEOM, "ground");
+      for (int i = 0; i < sim.data()->ncon; ++i) {
+        const mjContact& c = sim.data()->contact[i];
+        EXPECT_FALSE((c.geom1 == crate && c.geom2 == ground) ||
+                     (c.geom1 == ground && c.geom2 == crate));
+      }
+      return {contact, std::string(contact.target_name), sim.time() - t0};
+    }
+  }
+  ADD_FAILURE() << "no contact with the crate";
+  return {};
+}
+
+TEST(SimulationContactTest, AMoverCrossingThePathHitsTheRobotAndIsACollision) {
+  // wider than the track (0.49 m): its front face (x = 1.3 - t) meets the front wheels, which stick
+  // out beyond the chassis to x = 0.2255 + 0.0875, after 0.99 s
+  const CrateHit wide = HitByCrate(1.0);
+  EXPECT_NEAR(wide.time_s, 0.99, 0.01);
+  EXPECT_EQ(wide.contact.part, RobotPart::kWheel);
+  EXPECT_EQ(wide.target_name, "crate");
+  EXPECT_EQ(wide.contact.target_index, 0);
+  EXPECT_TRUE(IsCollision(wide.contact));
+  EXPECT_DOUBLE_EQ(wide.contact.target_height_m, 0.6);
+  EXPECT_NEAR(wide.contact.relative_speed_m_s, 1.0, 0.05);
+  EXPECT_LT(wide.contact.normal_W.x(), -0.9);  // pushes the robot backwards
+
+  // narrower than the gap between the wheels: it meets the chassis front (x = 0.28) after 1.02 s
+  const CrateHit narrow = HitByCrate(0.3);
+  EXPECT_NEAR(narrow.time_s, 1.02, 0.01);
+  EXPECT_EQ(narrow.contact.part, RobotPart::kBody);
+  EXPECT_EQ(narrow.contact.wheel, -1);
+  EXPECT_EQ(narrow.target_name, "crate");
+  EXPECT_TRUE(IsCollision(narrow.contact));
+  EXPECT_NEAR(narrow.contact.relative_speed_m_s, 1.0, 0.05);
+}
+
+TEST(SimulationContactTest, DrivingIntoAWallIsACollisionAndOverRubbleIsNot) {
+  TerrainWorld world = SmallFlatWorld();
+  world.obstacles.push_back(Barrier("rubble", 1.0, 0.05));
+  world.obstacles.push_back(Barrier("wall", 2.5, 0.5));
+  Simulation dut(world, common::Pose2{}, Options());
+  Drive(&dut, {0.5, 0.0});
+  std::vector<RobotContact> contacts;
+  std::set<std::string> touched;
+  bool collided = false;
+  double collision_x = 0.0;
+  for (int step = 0; step < 3000 && !collided; ++step) {
+    ASSERT_EQ(dut.Step(), StepStatus::kOk);
+    dut.RobotContacts(&contacts);
+    for (const RobotContact& contact : contacts) {
+      if (contact.target != ContactTarget::kObstacle) continue;
+      touched.insert(std::string(contact.target_name));
+      EXPECT_EQ(contact.target_index, contact.target_name == "rubble" ? 0 : 1);
+      if (IsCollision(contact)) {
+        collided = true;
+        collision_x = dut.State().X_WB.translation().x();
+        EXPECT_EQ(contact.target_name, "wall");
+        EXPECT_NEAR(contact.target_height_m, 0.5, 1e-12);
+      } else {
+        EXPECT_NEAR(contact.target_height_m, 0.05, 1e-12);
+      }
+    }
+  }
+  EXPECT_EQ(touched, (std::set<std::string>{"rubble", "wall"}));
+  EXPECT_TRUE(collided);
+  // the front wheels meet the wall's face at x = 2.4
+  EXPECT_NEAR(collision_x, 2.4 - 0.2255 - 0.0875, 0.02);
+}
+
+TEST(SimulationMoverTest, AMoverIsWhereItWasPut) {
+  const MovingObstacle crate = Crate({2.0, 1.0}, {0.0, 1.0});
+  const TerrainWorld world = SmallFlatWorld();
+  Simulation dut(world, common::Pose2{}, Options(), {crate});
+  // at construction: its pose at t = 0
+  EXPECT_EQ(dut.MoverPose(0).translation(), MoverPoseAt(crate, 0.0, world).translation());
+  EXPECT_EQ(dut.MoverPose(0).translation(), Eigen::Vector3d(2.0, 1.0, 0.3));
+
+  Eigen::Isometry3d X_WO = Eigen::Isometry3d::Identity();
+  X_WO.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  X_WO.translation() = Eigen::Vector3d(-2.0, 1.5, 0.4);
+  dut.SetMoverPose(0, X_WO, Eigen::Vector2d(0.5, 0.0));
+  ASSERT_EQ(dut.Step(), StepStatus::kOk);
+  const int body = mj_name2id(dut.model(), mjOBJ_BODY, "mover_crate");
+  ASSERT_GE(body, 0);
+  const Eigen::Vector3d p_W(dut.data()->xpos + 3 * body);
+  const Eigen::Matrix3d R_WO =
+      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(dut.data()->xmat + 9 * body);
+  EXPECT_EQ(p_W, X_WO.translation());
+  EXPECT_TRUE(R_WO.isApprox(X_WO.linear(), 1e-12));
+  EXPECT_TRUE(dut.MoverPose(0).isApprox(X_WO, 1e-12));
+  EXPECT_EQ(dut.MoverVelocity(0), Eigen::Vector2d(0.5, 0.0));
+
+  dut.SetMoverPoses(3.0);
+  EXPECT_EQ(dut.MoverPose(0).translation(), Eigen::Vector3d(2.0, 4.0, 0.3));
+  EXPECT_EQ(dut.MoverVelocity(0), Eigen::Vector2d(0.0, 1.0));
+  EXPECT_THROW(dut.MoverPose(1), std::out_of_range);
+  EXPECT_THROW(dut.SetMoverPose(-1, X_WO), std::out_of_range);
+}
+
+TEST(SimulationMoverTest, InvalidMoversAreInputErrors) {
+  MovingObstacle crate = Crate({2.0, 1.0}, {0.0, 1.0});
+  crate.half_height_m = -1.0;
+  try {
+    Simulation dut(SmallFlatWorld(), common::Pose2{}, Options(), {crate});
+    FAIL() << "no error";
+  } catch (const common::InputError& error) {
+    EXPECT_STREQ(error.what(),
+                 "moving_obstacles[0].half_height: value -1.000000 must be > 0 and finite");
+  }
 }
 
 }  // namespace
