@@ -79,10 +79,16 @@ Eigen::MatrixXf ObstacleHeightGrid(const TerrainWorld& world, double max_height_
   return heights;
 }
 
-lidar::RaySceneDescription RaySceneOf(const TerrainWorld& world) {
+lidar::RaySceneDescription RaySceneOf(const TerrainWorld& world,
+                                      const std::vector<MovingObstacle>& movers) {
   lidar::RaySceneDescription description;
   description.meshes_W.push_back(GroundMesh(world));
   description.primitives_W.assign(world.obstacles.begin(), world.obstacles.end());
+  for (const MovingObstacle& mover : movers) {
+    description.moving_meshes_I.push_back(
+        common::PrimitiveMesh(MoverPrimitive(mover), description.primitive_segments));
+    description.X_WI.push_back(MoverPoseAt(mover, 0.0, world));
+  }
   return description;
 }
 

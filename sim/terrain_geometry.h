@@ -4,6 +4,7 @@
 
 #include "common/point_cloud.h"
 #include "sim/lidar/ray_scene.h"
+#include "sim/moving_obstacles.h"
 #include "sim/terrain.h"
 
 namespace trav::sim {
@@ -25,9 +26,12 @@ common::PointCloud DenseCloud(const TerrainWorld& world, double spacing_m);
 /// sampled every half cell. Input of the ground-truth traversability.
 Eigen::MatrixXf ObstacleHeightGrid(const TerrainWorld& world, double max_height_m = 1.0);
 
-/// What the LiDAR sees of the world: the ground at full height-field resolution (object 0) and
-/// every obstacle as a primitive (objects 1.., in the order of `world.obstacles`), tree crowns and
-/// ceilings included. The robot is not part of it, so it never sees itself.
-lidar::RaySceneDescription RaySceneOf(const TerrainWorld& world);
+/// What the LiDAR sees of the world: the ground at full height-field resolution (object 0), every
+/// obstacle as a primitive (objects 1.., in the order of `world.obstacles`), tree crowns and
+/// ceilings included, and every mover as a moving mesh in its frame O (moving object i is
+/// movers[i], object id 1 + world.obstacles.size() + i), placed at its pose at t = 0: move it with
+/// RayScene::SetMovingPose(i, X_WO). The robot is not part of it, so it never sees itself.
+lidar::RaySceneDescription RaySceneOf(const TerrainWorld& world,
+                                      const std::vector<MovingObstacle>& movers = {});
 
 }  // namespace trav::sim
