@@ -53,10 +53,10 @@ FsgpBgkMapper::FsgpBgkMapper(const FsgpConfig& config)
   const common::GridGeometry geometry = common::GridGeometry::Centered(
       Eigen::Vector2d::Zero(), Eigen::Vector2d::Constant(config_.area.map_size_m),
       config_.area.resolution_m);
-  map_ =
-      common::GridLayers(geometry, {layers::kElevation, layers::kElevationVariance, layers::kSlope,
-                                    layers::kCurvature, layers::kGradient, layers::kTraversability,
-                                    layers::kTraversabilityVariance, layers::kLastObserved});
+  map_ = common::GridLayers(
+      geometry, {layers::kElevation, layers::kElevationVariance, layers::kSlope, layers::kCurvature,
+                 layers::kGradient, layers::kTraversability, layers::kTraversabilityVariance,
+                 layers::kLastObserved, layers::kObstacle});
   fused_ = common::GridLayers(geometry, {kFused});
 }
 
@@ -68,9 +68,10 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
 
   // 1. crop to the window (and drop invalid points and overhangs such as tree crowns)
   auto stage = Clock::now();
+  Eigen::Matrix3Xf below_robot;
   Eigen::Matrix3Xf window =
       CropWindow(points_W, p_WB, config_.area.window_m, config_.area.max_height_above_robot_m,
-                 &result, config_.max_height_above_ground_m);
+                 &result, config_.max_height_above_ground_m, &below_robot);
   // FSGP-Accumulation: the last N frames' clouds together
   if (config_.accumulate_frames > 1) {
     history_.push_back(window);
@@ -253,8 +254,26 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   // 9. normalised Gaussian smoothing over the known cells of the window
   stage = Clock::now();
   Smooth(low, high);
+  MarkObstacles(below_robot, low, high);
   result.times.smoothing = Milliseconds(stage);
   return result;
+}
+
+void FsgpBgkMapper::MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eigen::Vector2i& low,
+                                  const Eigen::Vector2i& high) {
+  // the faces the height regression cannot see (their points were cropped as not terrain): the
+  // latest observation of each cell decides, so a cell seen free again clears
+  const Eigen::MatrixXf seen =
+      ObstacleCells(below_robot, map_.geometry(), low, high, config_.max_height_above_ground_m);
+  Eigen::MatrixXf& obstacle = map_.Layer(layers::kObstacle);
+  Eigen::MatrixXf& out = map_.Layer(layers::kTraversability);
+  for (int ix = low.x(); ix <= high.x(); ++ix) {
+    for (int iy = low.y(); iy <= high.y(); ++iy) {
+      const float value = seen(ix - low.x(), iy - low.y());
+      if (!std::isnan(value)) obstacle(ix, iy) = value;
+      if (obstacle(ix, iy) == 1.0f) out(ix, iy) = 1.0f;
+    }
+  }
 }
 
 void FsgpBgkMapper::Smooth(const Eigen::Vector2i& low, const Eigen::Vector2i& high) {

@@ -30,6 +30,8 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   const GpHyperparameters& hyperparameters() const { return hyper_; }
 
  private:
+  void MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eigen::Vector2i& low,
+                     const Eigen::Vector2i& high);
   void Smooth(const Eigen::Vector2i& low, const Eigen::Vector2i& high);
 
   FsgpConfig config_;

@@ -38,8 +38,9 @@ struct MapArea {
 /// Everything FSGP-BGK does per frame (mapping/README.md gives the equations and the choices).
 struct FsgpConfig {
   MapArea area{};  ///< window, grid and height crop
-  /// Points higher than this above the lowest point of their 1 m column are ignored [m] (> 0):
-  /// walls and trunks keep only their foot, which is what a height regression can use.
+  /// Points higher than this above the lowest point of their 1 m column are not terrain [m] (> 0):
+  /// the regression sees only the foot of walls and trunks, and cells whose points span more than
+  /// this in height are marked untraversable (layer `obstacle`).
   double max_height_above_ground_m{0.3};
   // features
   double pre_voxel_m{0.1};            ///< voxel pre-downsampling [m]

@@ -19,6 +19,8 @@ inline const std::string kGradient = "gradient";                     ///< g [m]
 inline const std::string kTraversability = "traversability";         ///< cost in [0, 1]
 inline const std::string kTraversabilityVariance = "traversability_variance";
 inline const std::string kLastObserved = "last_observed";  ///< time of the last update [s]
+/// 1 where the latest points of a cell showed a vertical face (FSGP-BGK), 0 where they did not.
+inline const std::string kObstacle = "obstacle";
 }  // namespace layers
 
 /// Outcome of one map update.

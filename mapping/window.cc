@@ -9,7 +9,7 @@ namespace trav::mapping {
 
 Eigen::Matrix3Xf CropWindow(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
                             double window_m, double max_height_above_m, MapUpdateResult* result,
-                            double max_height_above_ground_m) {
+                            double max_height_above_ground_m, Eigen::Matrix3Xf* below_robot) {
   const double half = 0.5 * window_m;
   Eigen::Matrix3Xf window(3, points_W.size());
   Eigen::Index kept = 0;
@@ -25,6 +25,7 @@ Eigen::Matrix3Xf CropWindow(const common::PointCloud& points_W, const Eigen::Vec
     }
   }
   window.conservativeResize(3, kept);
+  if (below_robot != nullptr) *below_robot = window;
   if (std::isfinite(max_height_above_ground_m) && kept > 0) {
     // the lowest point of each 1 m column stands for the ground there
     constexpr double kColumn_m = 1.0;
@@ -53,6 +54,30 @@ Eigen::Matrix3Xf CropWindow(const common::PointCloud& points_W, const Eigen::Vec
   result->input_points = static_cast<int>(points_W.size());
   result->window_points = static_cast<int>(kept);
   return window;
+}
+
+Eigen::MatrixXf ObstacleCells(const Eigen::Matrix3Xf& points_W, const common::GridGeometry& g,
+                              const Eigen::Vector2i& low, const Eigen::Vector2i& high,
+                              double min_span_m) {
+  const Eigen::Vector2i size = high - low + Eigen::Vector2i::Ones();
+  Eigen::MatrixXf lowest = Eigen::MatrixXf::Constant(size.x(), size.y(), INFINITY);
+  Eigen::MatrixXf highest = Eigen::MatrixXf::Constant(size.x(), size.y(), -INFINITY);
+  for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
+    const std::optional<Eigen::Vector2i> cell =
+        g.CellIndex(points_W.col(i).head<2>().cast<double>());
+    if (!cell) continue;
+    const Eigen::Vector2i local = *cell - low;
+    if ((local.array() < 0).any() || (local.array() >= size.array()).any()) continue;
+    lowest(local.x(), local.y()) = std::min(lowest(local.x(), local.y()), points_W(2, i));
+    highest(local.x(), local.y()) = std::max(highest(local.x(), local.y()), points_W(2, i));
+  }
+  Eigen::MatrixXf obstacle(size.x(), size.y());
+  for (Eigen::Index i = 0; i < obstacle.size(); ++i) {
+    obstacle.data()[i] = std::isinf(lowest.data()[i])
+                             ? NAN
+                             : (highest.data()[i] - lowest.data()[i] > min_span_m ? 1.0f : 0.0f);
+  }
+  return obstacle;
 }
 
 std::pair<Eigen::Vector2i, Eigen::Vector2i> WindowCells(const common::GridGeometry& g,

@@ -15,11 +15,21 @@ namespace trav::mapping {
 /// higher than `max_height_above_m` above its base and, if finite, no higher than
 /// `max_height_above_ground_m` above the lowest point of their 1 m column (the local ground: walls
 /// and trunks keep only their foot). Counts the input, the NaN or infinite points dropped and the
-/// points kept in `result`.
+/// points kept in `result`. `below_robot`, unless null, receives the window before the ground crop
+/// (every point no higher than `max_height_above_m` above the base).
 Eigen::Matrix3Xf CropWindow(
     const common::PointCloud& points_W, const Eigen::Vector3d& p_WB, double window_m,
     double max_height_above_m, MapUpdateResult* result,
-    double max_height_above_ground_m = std::numeric_limits<double>::infinity());
+    double max_height_above_ground_m = std::numeric_limits<double>::infinity(),
+    Eigen::Matrix3Xf* below_robot = nullptr);
+
+/// Per cell of `g` between `low` and `high` (inclusive): 1 where the points of `points_W` span more
+/// than `min_span_m` in height (a vertical face: wall, trunk, box side), 0 where they span less,
+/// NaN where there is none. A slope of angle a spans at most resolution * sqrt(2) * tan(a) in a
+/// cell, so a span above 0.3 m at 0.2 m cells means a face steeper than about 47 deg.
+Eigen::MatrixXf ObstacleCells(const Eigen::Matrix3Xf& points_W, const common::GridGeometry& g,
+                              const Eigen::Vector2i& low, const Eigen::Vector2i& high,
+                              double min_span_m);
 
 /// The first and last cell (ix, iy) of the window around the robot on the grid `g`.
 std::pair<Eigen::Vector2i, Eigen::Vector2i> WindowCells(const common::GridGeometry& g,

@@ -51,6 +51,9 @@ class GridPlanner {
   std::vector<Eigen::Vector2d> Simplify(const std::vector<Eigen::Vector2d>& path,
                                         double cost_tolerance = 0.1) const;
 
+  /// The search costs built from the map.
+  const SearchCostMap& costs() const { return costs_; }
+
  private:
   SearchCostMap costs_;
 };

@@ -1,6 +1,8 @@
 #include "planner/navigation_planner.h"
 
 #include <chrono>
+#include <cmath>
+#include <optional>
 
 #include "common/input_error.h"
 #include "planner/cost_field.h"
@@ -10,6 +12,31 @@ namespace {
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The centre of the unblocked cell nearest to p_W within `radius_m`, if any: a robot standing in
+// the inflation of lethal cells (after a swerve, or when cells turn lethal around it) searches
+// from there.
+std::optional<Eigen::Vector2d> NearestFreeCell(const SearchCostMap& costs,
+                                               const Eigen::Vector2d& p_W, double radius_m) {
+  const common::GridGeometry& g = costs.geometry();
+  const std::optional<Eigen::Vector2i> centre = g.CellIndex(p_W);
+  if (!centre) return std::nullopt;
+  const int r = static_cast<int>(std::ceil(radius_m / g.resolution_m));
+  std::optional<Eigen::Vector2d> best;
+  double best_distance = radius_m;
+  for (int dx = -r; dx <= r; ++dx) {
+    for (int dy = -r; dy <= r; ++dy) {
+      const int ix = centre->x() + dx, iy = centre->y() + dy;
+      if (!g.Contains(ix, iy) || !std::isfinite(costs.cost(ix, iy))) continue;
+      const double d = (g.CellCenter(ix, iy) - p_W).norm();
+      if (d <= best_distance) {
+        best_distance = d;
+        best = g.CellCenter(ix, iy);
+      }
+    }
+  }
+  return best;
 }
 
 }  // namespace
@@ -24,6 +51,8 @@ void ValidateNavigationPlannerConfig(const NavigationPlannerConfig& c) {
                "must be >= 0");
   RequireValue(s.unknown_cost >= 0.0 && s.unknown_cost <= 1.0, "planner.search.unknown_cost",
                s.unknown_cost, "must be in [0, 1]");
+  RequireValue(c.substitute_goal_reach_m > 0.0, "planner.search.substitute_goal_reach",
+               c.substitute_goal_reach_m, "must be > 0");
   RequireValue(c.simplify_tolerance >= 0.0, "planner.search.simplify_tolerance",
                c.simplify_tolerance, "must be >= 0");
   ValidateTrajectoryOptimizerConfig(c.optimizer);
@@ -55,7 +84,33 @@ NavigationPlan NavigationPlanner::Plan(const common::GridLayers& map,
   NavigationPlan plan;
   const auto search_start = std::chrono::steady_clock::now();
   const GridPlanner search(map, config_.search);
-  plan.path = search.Plan(start.position_W, goal_W);
+  Eigen::Vector2d search_start_W = start.position_W;
+  plan.path = search.Plan(search_start_W, goal_W);
+  if (plan.path.status == PlanStatus::kStartBlocked) {
+    const std::optional<Eigen::Vector2d> free = NearestFreeCell(
+        search.costs(), start.position_W,
+        config_.search.inflation_radius_m + 2.0 * search.costs().geometry().resolution_m);
+    if (free) {
+      search_start_W = *free;
+      plan.path = search.Plan(search_start_W, goal_W);
+    }
+  }
+  // toward a goal the map cannot reach yet, keep heading for the substitute chosen before while it
+  // is reachable and not close: a new nearest cell every replan makes the robot dither between
+  // ways round what it has not seen
+  if (plan.path.status == PlanStatus::kGoalMoved && substitute_goal_W_ &&
+      (*substitute_goal_W_ - start.position_W).norm() > config_.substitute_goal_reach_m) {
+    GridPath committed = search.Plan(search_start_W, *substitute_goal_W_);
+    if (committed.status == PlanStatus::kFound) {
+      committed.status = PlanStatus::kGoalMoved;
+      plan.path = std::move(committed);
+    }
+  }
+  if (plan.path.status == PlanStatus::kGoalMoved) {
+    substitute_goal_W_ = plan.path.goal_W;
+  } else {
+    substitute_goal_W_.reset();
+  }
   if (plan.path.status == PlanStatus::kFound || plan.path.status == PlanStatus::kGoalMoved) {
     plan.waypoints_W = search.Simplify(plan.path.points_W, config_.simplify_tolerance);
   }
@@ -65,7 +120,12 @@ NavigationPlan NavigationPlanner::Plan(const common::GridLayers& map,
     return plan;
   }
   // the path runs between cell centres: start exactly at the robot, end exactly at the goal
-  plan.waypoints_W.front() = start.position_W;
+  if ((plan.waypoints_W.front() - start.position_W).norm() >
+      search.costs().geometry().resolution_m) {
+    plan.waypoints_W.insert(plan.waypoints_W.begin(), start.position_W);
+  } else {
+    plan.waypoints_W.front() = start.position_W;
+  }
   if (plan.path.status == PlanStatus::kFound) plan.waypoints_W.back() = goal_W;
 
   const auto optimization_start = std::chrono::steady_clock::now();

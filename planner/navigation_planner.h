@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,8 +15,11 @@ namespace trav::planner {
 
 /// Settings of the whole planner (scenario key `planner`).
 struct NavigationPlannerConfig {
-  AStarConfig search;                   ///< how the map is read and searched
-  double simplify_tolerance{0.1};       ///< cost slack of line-of-sight simplification
+  AStarConfig search;              ///< how the map is read and searched
+  double simplify_tolerance{0.1};  ///< cost slack of line-of-sight simplification
+  /// A substitute goal (the reachable cell nearest to an unreachable goal) is kept until the robot
+  /// is this close to it [m], > 0.
+  double substitute_goal_reach_m{3.0};
   TrajectoryOptimizerConfig optimizer;  ///< trajectory optimisation
 };
 
@@ -48,7 +52,12 @@ struct NavigationPlan {
 };
 
 /// The planning stack on one traversability map: A* on the grid, line-of-sight simplification into
-/// waypoints, and trajectory optimisation along them with the moving obstacles' predictions. Keeps
+/// waypoints, and trajectory optimisation along them with the moving obstacles' predictions. A
+/// start inside the inflation of lethal cells searches from the nearest free cell within the
+/// inflation radius plus two cells (the trajectory leaves from the robot itself). When the goal
+/// cannot be reached on the map (unknown or outside it), the planner heads for the reachable cell
+/// nearest to it and keeps that substitute while it stays reachable, until the robot comes within
+/// `substitute_goal_reach_m` of it (a receding horizon that does not dither). Keeps
 /// the previous trajectory for warm starts (TrajectoryOptimizer). Failure is a status.
 class NavigationPlanner {
  public:
@@ -60,14 +69,18 @@ class NavigationPlanner {
   NavigationPlan Plan(const common::GridLayers& map, const common::TrajectoryPoint& start,
                       const Eigen::Vector2d& goal_W, const std::vector<MovingObstacle>& obstacles);
 
-  /// Forgets the previous trajectory.
-  void Reset() { optimizer_.Reset(); }
+  /// Forgets the previous trajectory and substitute goal.
+  void Reset() {
+    optimizer_.Reset();
+    substitute_goal_W_.reset();
+  }
 
   const NavigationPlannerConfig& config() const { return config_; }
 
  private:
   NavigationPlannerConfig config_;
   TrajectoryOptimizer optimizer_;
+  std::optional<Eigen::Vector2d> substitute_goal_W_;
 };
 
 }  // namespace trav::planner

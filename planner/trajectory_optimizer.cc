@@ -49,32 +49,53 @@ common::Polyline GuidePath(const TrajectoryRequest& request) {
   return common::Polyline(std::move(points));
 }
 
-// Pieces of equal arc length along the guide path, yaw along its chords, durations from a cruise
-// at a fraction of the limits plus acceleration time at both ends.
+// Turns sharper than this at a guide-path vertex get a piece of their own [rad].
+constexpr double kTurnInPlace_rad = 0.3;
+
+// The guide path as yaw and arc length: straight pieces of at most `piece_length_m` along each
+// segment with the segment's heading, and a turn in place (arc length constant) before a segment
+// whose heading differs by more than kTurnInPlace_rad, so that the integrated position starts on
+// the guide path (a cut corner could cross a thin wall, where the distance field has no useful
+// gradient). Durations cruise at a fraction of the limits, with acceleration time at both ends.
 Guess ColdGuess(const TrajectoryOptimizerConfig& config, const TrajectoryRequest& request) {
   const common::Polyline path = GuidePath(request);
-  const double length = path.length();
-  const int n = std::max(2, static_cast<int>(std::ceil(length / config.piece_length_m)));
-  const double step = length / n;
+  const std::vector<Eigen::Vector2d>& vertices = path.points();
   const double speed = config.initial_speed_fraction * config.limits.max_speed_m_s;
   const double yaw_rate = config.initial_speed_fraction * config.limits.max_yaw_rate_rad_s;
-  Eigen::MatrixXd inner(n - 1, 2);
-  Eigen::VectorXd durations(n);
+  std::vector<Eigen::Vector2d> knots;  // (yaw, arc length) at the end of each piece
+  std::vector<double> durations;
   double yaw = request.start.yaw;
-  for (int j = 1; j <= n; ++j) {
-    const Eigen::Vector2d direction = path.DirectionAt(j * step, 0.5 * step);
-    const double next =
-        direction.isZero() ? yaw : Unwrapped(std::atan2(direction.y(), direction.x()), yaw);
-    durations(j - 1) = step / speed + std::abs(next - yaw) / yaw_rate;
-    yaw = next;
-    if (j < n) inner.row(j - 1) << yaw, j * step;
+  double arc = 0.0;
+  for (std::size_t j = 1; j < vertices.size(); ++j) {
+    const Eigen::Vector2d segment = vertices[j] - vertices[j - 1];
+    const double length = segment.norm();
+    const double heading = Unwrapped(std::atan2(segment.y(), segment.x()), yaw);
+    if (std::abs(heading - yaw) > kTurnInPlace_rad) {
+      knots.emplace_back(heading, arc);
+      durations.push_back(std::abs(heading - yaw) / yaw_rate);
+    }
+    yaw = heading;
+    const int pieces = std::max(1, static_cast<int>(std::ceil(length / config.piece_length_m)));
+    for (int k = 1; k <= pieces; ++k) {
+      knots.emplace_back(yaw, arc + length * k / pieces);
+      durations.push_back(length / pieces / speed);
+    }
+    arc += length;
+  }
+  // at least two pieces (a start at the goal: a short hold)
+  while (knots.size() < 2) {
+    knots.emplace_back(yaw, arc);
+    durations.push_back(0.5);
   }
   const double ramp_s = speed / config.limits.max_acceleration_m_s2;
-  durations(0) += ramp_s;
-  durations(n - 1) += ramp_s;
+  durations.front() += ramp_s;
+  durations.back() += ramp_s;
+  const int n = static_cast<int>(knots.size());
+  Eigen::MatrixXd inner(n - 1, 2);
+  for (int i = 0; i < n - 1; ++i) inner.row(i) = knots[static_cast<std::size_t>(i)].transpose();
   Guess guess;
   guess.pieces = n;
-  guess.z = Pack(inner, Eigen::Vector2d(yaw, length), durations);
+  guess.z = Pack(inner, knots.back(), Eigen::Map<const Eigen::VectorXd>(durations.data(), n));
   return guess;
 }
 
@@ -261,6 +282,51 @@ OptimizedTrajectory Output(const TrajectoryOptimizerConfig& config, const CostFi
   return out;
 }
 
+// Optimises from `guess`: L-BFGS rounds of the augmented Lagrangian until the end position is at
+// the goal, then the output samples and the status. Sets the solution's polynomial and multiplier.
+OptimizedTrajectory Solve(const TrajectoryOptimizerConfig& config, const CostField& field,
+                          const TrajectoryRequest& request, const TrajectoryCostSetup& setup,
+                          const Guess& guess, MinimumJerkPolynomial* polynomial,
+                          Eigen::Vector2d* multiplier) {
+  TrajectoryCost cost(field, setup, guess.pieces);
+  Eigen::VectorXd z = guess.z;
+  Eigen::Vector2d lambda = guess.lambda;
+  double rho = config.initial_penalty;
+  OptimizationDiagnostics solver;
+  while (solver.rounds < config.max_rounds && solver.iterations < config.max_iterations) {
+    ++solver.rounds;
+    cost.SetTerminalMultiplier(lambda, rho);
+    solver.iterations +=
+        Minimise(config, &cost, config.max_iterations - solver.iterations, &z, &solver.evaluations);
+    cost.Evaluate(z, nullptr, &solver.costs);
+    const Eigen::Vector2d error = cost.end_position_W() - request.goal_W;
+    if (error.norm() <= config.terminal_tolerance_m) break;
+    lambda += rho * error;
+    rho *= config.penalty_growth;
+  }
+  cost.Decode(z);
+
+  OptimizedTrajectory out = Output(config, field, request, setup.clearance_m, cost.polynomial());
+  OptimizationDiagnostics& d = out.diagnostics;
+  d.clearance_m = setup.clearance_m;
+  d.costs = solver.costs;
+  d.iterations = solver.iterations;
+  d.evaluations = solver.evaluations;
+  d.rounds = solver.rounds;
+  d.pieces = guess.pieces;
+  if (d.max_violation > config.violation_tolerance ||
+      d.terminal_error_m > 10.0 * config.terminal_tolerance_m) {
+    out.status = OptimizationStatus::kInfeasible;
+  } else if (d.terminal_error_m <= config.terminal_tolerance_m) {
+    out.status = OptimizationStatus::kConverged;
+  } else {
+    out.status = OptimizationStatus::kIterationLimit;
+  }
+  *polynomial = cost.polynomial();
+  *multiplier = lambda;
+  return out;
+}
+
 }  // namespace
 
 void ValidateTrajectoryOptimizerConfig(const TrajectoryOptimizerConfig& c) {
@@ -352,52 +418,31 @@ OptimizedTrajectory TrajectoryOptimizer::Optimize(const CostField& field,
   setup.goal_W = request.goal_W;
   setup.obstacles = request.obstacles;
 
-  std::optional<Guess> guess;
+  // a warm start keeps the previous plan's way round obstacles; when that way is no longer
+  // feasible on the new map, the guide path decides
+  std::optional<Guess> warm;
   if (config_.warm_start && previous_ &&
       (previous_->goal_W - request.goal_W).norm() <= config_.warm_start_goal_tolerance_m) {
-    guess = WarmGuess(previous_->polynomial, request.start.t_s - previous_->start_time_s,
-                      request.start.yaw, previous_->lambda);
+    warm = WarmGuess(previous_->polynomial, request.start.t_s - previous_->start_time_s,
+                     request.start.yaw, previous_->lambda);
   }
-  const bool warm = guess.has_value();
-  if (!warm) guess = ColdGuess(config_, request);
-
-  TrajectoryCost cost(field, setup, guess->pieces);
-  Eigen::VectorXd z = guess->z;
-  Eigen::Vector2d lambda = guess->lambda;
-  double rho = config_.initial_penalty;
-  OptimizationDiagnostics solver;
-  while (solver.rounds < config_.max_rounds && solver.iterations < config_.max_iterations) {
-    ++solver.rounds;
-    cost.SetTerminalMultiplier(lambda, rho);
-    solver.iterations += Minimise(config_, &cost, config_.max_iterations - solver.iterations, &z,
-                                  &solver.evaluations);
-    cost.Evaluate(z, nullptr, &solver.costs);
-    const Eigen::Vector2d error = cost.end_position_W() - request.goal_W;
-    if (error.norm() <= config_.terminal_tolerance_m) break;
-    lambda += rho * error;
-    rho *= config_.penalty_growth;
+  Solution solution{request.start.t_s, request.goal_W, {}, Eigen::Vector2d::Zero()};
+  OptimizedTrajectory out;
+  int iterations = 0, evaluations = 0;
+  if (warm) {
+    out = Solve(config_, field, request, setup, *warm, &solution.polynomial, &solution.lambda);
+    out.diagnostics.warm_started = true;
+    iterations = out.diagnostics.iterations;
+    evaluations = out.diagnostics.evaluations;
   }
-  cost.Decode(z);
-
-  OptimizedTrajectory out = Output(config_, field, request, setup.clearance_m, cost.polynomial());
-  out.diagnostics.clearance_m = setup.clearance_m;
-  OptimizationDiagnostics& d = out.diagnostics;
-  d.costs = solver.costs;
-  d.iterations = solver.iterations;
-  d.evaluations = solver.evaluations;
-  d.rounds = solver.rounds;
-  d.pieces = guess->pieces;
-  d.warm_started = warm;
-  if (d.max_violation > config_.violation_tolerance ||
-      d.terminal_error_m > 10.0 * config_.terminal_tolerance_m) {
-    out.status = OptimizationStatus::kInfeasible;
-  } else if (d.terminal_error_m <= config_.terminal_tolerance_m) {
-    out.status = OptimizationStatus::kConverged;
-  } else {
-    out.status = OptimizationStatus::kIterationLimit;
+  if (!warm || out.status == OptimizationStatus::kInfeasible) {
+    out = Solve(config_, field, request, setup, ColdGuess(config_, request), &solution.polynomial,
+                &solution.lambda);
+    out.diagnostics.iterations += iterations;
+    out.diagnostics.evaluations += evaluations;
   }
-  previous_ = Solution{request.start.t_s, request.goal_W, cost.polynomial(), lambda};
-  d.solve_time_s =
+  previous_ = std::move(solution);
+  out.diagnostics.solve_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
   return out;
 }

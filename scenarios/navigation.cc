@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include "common/input_error.h"
 
@@ -49,10 +50,28 @@ void ValidateNavigationSettings(const NavigationSettings& s) {
                s.planning_failure_time_s, "must be > 0");
 }
 
+namespace {
+
+// The MPC may exceed the plan's speed only to catch up a little (20 %), never up to the hardware
+// limit: a robot that fell behind a plan must not race to where the plan is now.
+controller::MpcConfig TrackingConfig(controller::MpcConfig mpc,
+                                     const planner::NavigationPlannerConfig& planner) {
+  const planner::DynamicLimits& limits = planner.optimizer.limits;
+  mpc.max_speed_m_s = std::min(mpc.max_speed_m_s, 1.2 * limits.max_speed_m_s);
+  mpc.min_speed_m_s = std::max(mpc.min_speed_m_s, -1.2 * limits.max_speed_m_s);
+  mpc.max_yaw_rate_rad_s = std::min(mpc.max_yaw_rate_rad_s, 1.2 * limits.max_yaw_rate_rad_s);
+  return mpc;
+}
+
+}  // namespace
+
 Navigator::Navigator(const NavigationSettings& settings,
                      const planner::NavigationPlannerConfig& planner,
                      const controller::MpcConfig& mpc, const Eigen::Vector2d& goal_W)
-    : settings_(settings), planner_(planner), tracker_(mpc), goal_W_(goal_W) {
+    : settings_(settings),
+      planner_(planner),
+      tracker_(TrackingConfig(mpc, planner)),
+      goal_W_(goal_W) {
   ValidateNavigationSettings(settings_);
 }
 
@@ -63,7 +82,9 @@ common::Twist2 Navigator::Update(const common::RobotState& state, const common::
                                  const std::vector<planner::MovingObstacle>& movers) {
   const ReplanReason reason = ReasonToReplan(state, map, map_updated);
   if (reason != ReplanReason::kNone && map != nullptr) Replan(state, *map, movers, reason);
-  if (trajectory_.empty()) return {};
+  // no plan, or the plan was found unsafe and no new one has replaced it: stand still rather than
+  // chase a stale reference
+  if (trajectory_.empty() || force_replan_) return {};
   if (!AheadIsSafe(state.time_s, map, movers)) {
     ++statistics_.safety_stops;
     force_replan_ = true;
@@ -138,6 +159,33 @@ void Navigator::Replan(const common::RobotState& state, const common::GridLayers
   }
   statistics_.planning_ms.push_back(1e3 * (plan.search_time_s + plan.optimization_time_s));
   statistics_.last_status = planner::ToString(plan.status);
+  if (plan.status == planner::NavigationStatus::kOptimizerFailed && statistics_.failed_plans == 3) {
+    FILE* f = std::fopen("/tmp/dump_map.txt", "w");
+    const common::GridGeometry& g = map.geometry();
+    std::fprintf(f, "%f %f %f %d %d\n", g.origin_W.x(), g.origin_W.y(), g.resolution_m, g.num_x,
+                 g.num_y);
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      for (int ix = 0; ix < g.num_x; ++ix)
+        std::fprintf(f, "%.3f ", map.Layer("traversability")(ix, iy));
+      std::fprintf(f, "\n");
+    }
+    std::fprintf(f, "start %f %f %f %f %f\n", start.position_W.x(), start.position_W.y(), start.yaw,
+                 start.v, start.omega);
+    std::fprintf(f, "goal %f %f\n", plan.waypoints_W.back().x(), plan.waypoints_W.back().y());
+    for (auto& w : plan.waypoints_W) std::fprintf(f, "wp %f %f\n", w.x(), w.y());
+    for (auto& p : plan.optimized.trajectory.points())
+      std::fprintf(f, "tp %f %f %f %f\n", p.t_s, p.position_W.x(), p.position_W.y(), p.v);
+    std::fprintf(f, "clearance %f min %f\n", plan.optimized.diagnostics.clearance_m,
+                 plan.optimized.diagnostics.min_clearance_m);
+    std::fclose(f);
+  }
+  if (plan.status == planner::NavigationStatus::kOptimizerFailed) {
+    const planner::OptimizationDiagnostics& d = plan.optimized.diagnostics;
+    statistics_.last_status += " (" + d.worst_constraint + " violated by " +
+                               std::to_string(static_cast<int>(100.0 * d.max_violation)) +
+                               " %, end " + std::to_string(d.terminal_error_m) +
+                               " m from the goal)";
+  }
   const bool usable =
       plan.has_trajectory() && (plan.status == planner::NavigationStatus::kPlanned ||
                                 plan.status == planner::NavigationStatus::kPlannedToNearest);

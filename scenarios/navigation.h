@@ -21,7 +21,7 @@ struct NavigationSettings {
   double planning_rate_hz{5.0};    ///< periodic replanning [Hz], in (0, 50]
   double replan_deviation_m{0.5};  ///< replan when the robot strays this far from the plan [m]
   double safety_horizon_s{1.5};    ///< look-ahead of the per-tick safety check [s]
-  double stuck_time_s{10.0};       ///< stuck: less than `stuck_distance_m` progress in this [s]
+  double stuck_time_s{10.0};       ///< stuck: within `stuck_distance_m` of one place this long [s]
   double stuck_distance_m{0.3};    ///< [m]
   double planning_failure_time_s{5.0};  ///< no valid plan for this long is a planning failure [s]
 };

@@ -42,13 +42,13 @@ double BarnScore(bool success, double actual_time_s, double optimal_time_s) {
   return optimal_time_s / std::clamp(actual_time_s, 2.0 * optimal_time_s, 8.0 * optimal_time_s);
 }
 
-bool ProgressMonitor::Update(double t_s, double goal_distance_m) {
-  if (!started_ || goal_distance_m < best_m_ - distance_m_) {
-    best_m_ = goal_distance_m;
-    best_time_s_ = t_s;
+bool ProgressMonitor::Update(double t_s, const Eigen::Vector2d& position_W) {
+  if (!started_ || (position_W - anchor_W_).norm() > distance_m_) {
+    anchor_W_ = position_W;
+    anchor_time_s_ = t_s;
     started_ = true;
   }
-  return t_s - best_time_s_ > window_s_;
+  return t_s - anchor_time_s_ > window_s_;
 }
 
 double ModuleTimes::Total(const std::string& module) const {

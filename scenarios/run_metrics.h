@@ -29,21 +29,22 @@ LayerError CompareWithTruth(const common::GridLayers& map, const common::GridLay
 /// optimal time, AT the actual time [s]. 0 if OT is not positive.
 double BarnScore(bool success, double actual_time_s, double optimal_time_s);
 
-/// Detects a robot that makes no progress toward its goal: stuck when the best distance to the
-/// goal has not improved by `distance_m` within the last `window_s` seconds.
+/// Detects a robot that no longer moves: stuck when it has stayed within `distance_m` of one place
+/// for `window_s` seconds (wedged, high-centred, or waiting for a plan that never comes). A robot
+/// that wanders without reaching its goal is a timeout, not stuck.
 class ProgressMonitor {
  public:
   ProgressMonitor(double window_s, double distance_m)
       : window_s_(window_s), distance_m_(distance_m) {}
 
-  /// Records the distance to the goal at time t; true if stuck.
-  bool Update(double t_s, double goal_distance_m);
+  /// Records the position at time t; true if stuck.
+  bool Update(double t_s, const Eigen::Vector2d& position_W);
 
  private:
   double window_s_;
   double distance_m_;
-  double best_m_{1e300};
-  double best_time_s_{0.0};
+  Eigen::Vector2d anchor_W_{Eigen::Vector2d::Zero()};
+  double anchor_time_s_{0.0};
   bool started_{false};
 };
 

@@ -338,6 +338,7 @@ void VisitScenario(Archive& a, Scenario& s) {
       k.Enum("unknown_policy", &search.unknown_policy, kUnknownPolicies);
       k.Field("unknown_cost", &search.unknown_cost);
       k.Field("simplify_tolerance", &s.planner.simplify_tolerance);
+      k.Field("substitute_goal_reach", &s.planner.substitute_goal_reach_m);
     });
     planner::TrajectoryOptimizerConfig& o = s.planner.optimizer;
     p.Map("optimizer", [&](Archive& k) {

@@ -15,6 +15,7 @@
 #include "mapping/ground_truth.h"
 #include "planner/astar.h"
 #include "renders/image.h"
+#include "renders/map_panel.h"
 #include "renders/renderer.h"
 #include "renders/video_writer.h"
 #include "scenarios/mappers.h"
@@ -126,6 +127,36 @@ double OptimalPathLength(const Scenario& scenario, const common::GridLayers& tru
   return length;
 }
 
+// The top-down panel of the closed loop: the navigation map around the robot, the plan (white),
+// the driven path (blue), the goal (magenta), the movers (orange), the robot (black) and the latest
+// LiDAR points.
+renders::PanelOverlay NavigationPanel(const Navigator& navigator,
+                                      const std::vector<Eigen::Vector2d>& driven_W,
+                                      const Eigen::Vector2d& goal_W,
+                                      const common::RobotState& state,
+                                      const std::vector<planner::MovingObstacle>& movers,
+                                      const Eigen::Matrix3Xf& points_W) {
+  renders::PanelOverlay panel;
+  renders::PanelPath planned;
+  for (const common::TrajectoryPoint& p : navigator.trajectory().points()) {
+    planned.points_W.push_back(p.position_W);
+  }
+  planned.rgb = Eigen::Vector3i(255, 255, 255);
+  panel.paths.push_back(std::move(planned));
+  panel.paths.push_back({driven_W, Eigen::Vector3i(30, 90, 255), 2});
+  const Eigen::Index stride = std::max<Eigen::Index>(1, points_W.cols() / 3000);
+  for (Eigen::Index i = 0; i < points_W.cols(); i += stride) {
+    panel.points_W.push_back(points_W.col(i).head<2>().cast<double>());
+  }
+  panel.discs.push_back({goal_W, 0.4, Eigen::Vector3i(230, 0, 230), true});
+  for (const planner::MovingObstacle& mover : movers) {
+    panel.discs.push_back(
+        {mover.PositionAt(state.time_s), mover.radius_m, Eigen::Vector3i(255, 140, 0), true});
+  }
+  panel.discs.push_back({state.X_WB.translation().head<2>(), 0.3, Eigen::Vector3i(0, 0, 0), true});
+  return panel;
+}
+
 double MillisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
@@ -218,6 +249,8 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
                   "cmd_omega,goal_distance,mapping_error\n";
   }
   const std::vector<planner::MovingObstacle> predicted_movers;
+  std::vector<Eigen::Vector2d> driven_W = {scenario.start_W.position};
+  Eigen::Matrix3Xf latest_points_W;
   double sum_vertical_acceleration2 = 0.0;
   double previous_vertical_speed = 0.0;
   double last_mapping_error = std::nan("");
@@ -229,13 +262,36 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   renders::Image frame;
   if (scenario.video.enabled) {
     renderer = std::make_unique<renders::Renderer>(&simulation, scenario.video.render);
+    // the closed loop adds a square map panel to the right of the camera's view
+    const int panel_px = scenario.mode == RunMode::kNavigate ? scenario.video.render.height : 0;
     video = std::make_unique<renders::VideoWriter>(
-        output_dir + "/video.mp4", scenario.video.render.width, scenario.video.render.height,
-        scenario.video.fps);
+        output_dir + "/video.mp4", scenario.video.render.width + panel_px,
+        scenario.video.render.height, scenario.video.fps);
     camera.emplace(scenario.video.camera, world);
   }
   const double frame_period_s = 1.0 / scenario.video.fps;
   double next_frame_s = 0.0;
+  // a navigation frame: the camera's view with a status line, and the map panel beside it
+  const Eigen::MatrixXf no_map =
+      truth_W ? Eigen::MatrixXf::Constant(truth_W->geometry().num_x, truth_W->geometry().num_y, NAN)
+              : Eigen::MatrixXf();
+  auto write_navigation_frame = [&](const common::RobotState& now, const std::string& status) {
+    char text[256];
+    std::snprintf(text, sizeof(text), "t %.1f s   v %.2f m/s   goal %.1f m   %s", now.time_s,
+                  now.v_WB_B.x(), (now.X_WB.translation().head<2>() - scenario.goal_W).norm(),
+                  status.c_str());
+    overlay.texts.assign(1, renders::TextLabel{text, renders::TextCorner::kTopLeft});
+    renderer->Render(simulation, camera->View(now.X_WB, frame_period_s), overlay, &frame);
+    const common::GridLayers& shown = navigation_map != nullptr ? *navigation_map : *truth_W;
+    const Eigen::MatrixXf& layer =
+        navigation_map != nullptr ? shown.Layer(mapping::layers::kTraversability) : no_map;
+    const renders::Image panel =
+        renders::DrawMapPanel(shown, layer, now.X_WB.translation().head<2>(),
+                              scenario.mapping.area.map_size_m, frame.height,
+                              NavigationPanel(*navigator, driven_W, scenario.goal_W, now,
+                                              predicted_movers, latest_points_W));
+    video->Write(renders::SideBySide(frame, panel));
+  };
   const int steps_per_sample =
       std::max(1, static_cast<int>(std::lround(kTrajectoryPeriod_s / simulation.timestep())));
 
@@ -288,7 +344,10 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
           cloud_W.points = lidar::PointsInWorld(lidar_frame);
           cloud_W.stamp_s = lidar_frame.points_L.stamp_s;
         }
-        if (video) overlay.points.assign(1, DrawablePoints(lidar_frame, cloud_W.points));
+        if (video) {
+          overlay.points.assign(1, DrawablePoints(lidar_frame, cloud_W.points));
+          if (navigator) latest_points_W = cloud_W.points;
+        }
         if (mapper) {
           const auto map_start = std::chrono::steady_clock::now();
           mapper->Update(cloud_W, state.X_WB, simulation.time());
@@ -310,8 +369,12 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
 
     if (video && simulation.time() >= next_frame_s - 1e-9) {
       const auto render_start = std::chrono::steady_clock::now();
-      renderer->Render(simulation, camera->View(state.X_WB, frame_period_s), overlay, &frame);
-      video->Write(frame);
+      if (navigator) {
+        write_navigation_frame(state, navigator->statistics().last_status);
+      } else {
+        renderer->Render(simulation, camera->View(state.X_WB, frame_period_s), overlay, &frame);
+        video->Write(frame);
+      }
       times.Add("render", MillisecondsSince(render_start));
       next_frame_s += frame_period_s;
     }
@@ -356,6 +419,17 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
       if (step > 0) sum_vertical_acceleration2 += vertical_acceleration * vertical_acceleration;
       const double goal_distance = (xy - scenario.goal_W).norm();
       if ((step + 1) % (5 * steps_per_sample) == 0) {
+        driven_W.push_back(xy);
+        if (video) {
+          // the plan on the ground in the camera's view
+          renders::Polyline planned;
+          planned.rgba = Eigen::Vector4f(1.0f, 1.0f, 1.0f, 1.0f);
+          for (const common::TrajectoryPoint& p : navigator->trajectory().points()) {
+            planned.points_W.emplace_back(p.position_W.x(), p.position_W.y(),
+                                          world.GroundHeight(p.position_W) + 0.05);
+          }
+          overlay.polylines.assign(1, std::move(planned));
+        }
         char line[512];
         std::snprintf(line, sizeof(line),
                       "%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.4f,%.3f,%.3f,%.4f,%.5f\n",
@@ -370,7 +444,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
         navigation.time_to_goal_s = state.time_s;
         break;
       }
-      if (progress_monitor->Update(state.time_s, goal_distance)) {
+      if (progress_monitor->Update(state.time_s, xy)) {
         summary.outcome = Outcome::kStuck;
         break;
       }
@@ -388,6 +462,18 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   }
   if (progress) progress(1.0);
 
+  if (navigator) {
+    driven_W.push_back(state.X_WB.translation().head<2>());
+    if (video)
+      write_navigation_frame(state, std::string("outcome: ") + OutcomeName(summary.outcome));
+    const common::GridLayers& shown = navigation_map != nullptr ? *navigation_map : *truth_W;
+    const double span = std::max(world.geometry.Extent().x(), world.geometry.Extent().y());
+    renders::PanelOverlay panel = NavigationPanel(*navigator, driven_W, scenario.goal_W, state,
+                                                  predicted_movers, Eigen::Matrix3Xf());
+    renders::WritePng(output_dir + "/map_paths.png",
+                      renders::DrawMapPanel(shown, shown.Layer(mapping::layers::kTraversability),
+                                            world.geometry.Center(), span, 800, panel));
+  }
   if (video) {
     video->Close();
     summary.video_frames = video->frames_written();
