@@ -208,6 +208,18 @@ void YamlReader::Read(const std::string& key, Eigen::Matrix<double, 6, 1>* value
   ReadVector<6>(this, Get(key), key, value);
 }
 
+void YamlReader::Read(const std::string& key, std::vector<Eigen::Vector2d>* value) {
+  if (!Has(key)) return;
+  const YAML::Node node = Get(key);
+  if (!node.IsSequence())
+    Fail(key, "expected a sequence of [x, y] points, got " + ScalarText(node));
+  std::vector<Eigen::Vector2d> points(node.size());
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    ReadVector<2>(this, node[i], key + "[" + std::to_string(i) + "]", &points[i]);
+  }
+  *value = std::move(points);
+}
+
 YamlReader YamlReader::Map(const std::string& key) {
   if (!Has(key)) Fail(key, "required map is missing");
   const YAML::Node node = Get(key);

@@ -81,6 +81,8 @@ class YamlReader {
   void Read(const std::string& key, Eigen::Vector2d* value);
   void Read(const std::string& key, Eigen::Vector3d* value);
   void Read(const std::string& key, Eigen::Matrix<double, 6, 1>* value);
+  /// Reads a sequence of points, each a sequence of 2 numbers ([[x, y], ...]).
+  void Read(const std::string& key, std::vector<Eigen::Vector2d>* value);
 
   /// Reads an enum by name from `names`; an unknown name is an error listing the valid ones.
   template <typename Enum>

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <functional>
 #include <utility>
+#include <variant>
 
 #include <yaml-cpp/yaml.h>
 
@@ -53,6 +54,16 @@ const Names<Outcome> kOutcomes = {{"completed", Outcome::kCompleted},
                                   {"timeout", Outcome::kTimeout},
                                   {"planning_failure", Outcome::kPlanningFailure},
                                   {"diverged", Outcome::kDiverged}};
+const Names<sim::MoverShape> kMoverShapes = {{"box", sim::MoverShape::kBox},
+                                             {"cylinder", sim::MoverShape::kCylinder},
+                                             {"capsule", sim::MoverShape::kCapsule}};
+const Names<sim::WaypointLoop> kLoops = {{"none", sim::WaypointLoop::kNone},
+                                         {"cycle", sim::WaypointLoop::kCycle},
+                                         {"ping_pong", sim::WaypointLoop::kPingPong}};
+enum class MotionKind { kWaypoints, kConstantVelocity, kRandomWalk };
+const Names<MotionKind> kMotions = {{"waypoints", MotionKind::kWaypoints},
+                                    {"constant_velocity", MotionKind::kConstantVelocity},
+                                    {"random_walk", MotionKind::kRandomWalk}};
 const Names<planner::UnknownPolicy> kUnknownPolicies = {
     {"cost", planner::UnknownPolicy::kCost}, {"blocked", planner::UnknownPolicy::kBlocked}};
 
@@ -148,6 +159,17 @@ class WriteArchive {
   }
   void Field(const std::string& key, common::Pose2* pose) {
     WriteFlow(key, {pose->position.x(), pose->position.y(), pose->yaw});
+  }
+  void Field(const std::string& key, std::vector<Eigen::Vector2d>* points) {
+    YAML::Node sequence(YAML::NodeType::Sequence);
+    for (const Eigen::Vector2d& p : *points) {
+      YAML::Node point(YAML::NodeType::Sequence);
+      point.push_back(p.x());
+      point.push_back(p.y());
+      point.SetStyle(YAML::EmitterStyle::Flow);
+      sequence.push_back(point);
+    }
+    node_[key] = sequence;
   }
   void Field(const std::string& key, std::optional<Eigen::Matrix<double, 6, 1>>* value) {
     if (value->has_value()) {
@@ -252,6 +274,53 @@ void VisitTerrainParameters(Archive& a, sim::TerrainConfig& t) {
         a.Field("burial_fraction_max", &t.ruin.burial_fraction_max);
       }
       break;
+  }
+}
+
+// One mover: its shape, and the keys of its motion (the variant follows the `motion` key).
+template <typename Archive>
+void VisitMover(Archive& a, sim::MovingObstacle& m) {
+  a.Field("name", &m.name);
+  a.Enum("shape", &m.shape, kMoverShapes);
+  a.Field("radius", &m.radius_m);
+  a.Field("half_height", &m.half_height_m);
+  a.Field("box_half_extents", &m.box_half_extents_m);
+  MotionKind kind = std::holds_alternative<sim::WaypointMotion>(m.motion) ? MotionKind::kWaypoints
+                    : std::holds_alternative<sim::RandomWalkMotion>(m.motion)
+                        ? MotionKind::kRandomWalk
+                        : MotionKind::kConstantVelocity;
+  a.Enum("motion", &kind, kMotions);
+  switch (kind) {
+    case MotionKind::kWaypoints: {
+      if (!std::holds_alternative<sim::WaypointMotion>(m.motion)) m.motion = sim::WaypointMotion{};
+      auto& w = std::get<sim::WaypointMotion>(m.motion);
+      a.Field("waypoints", &w.waypoints_W);
+      a.Field("speed", &w.speed_m_s);
+      a.Enum("loop", &w.loop, kLoops);
+      a.Field("start_delay", &w.start_delay_s);
+      break;
+    }
+    case MotionKind::kConstantVelocity: {
+      if (!std::holds_alternative<sim::ConstantVelocityMotion>(m.motion)) {
+        m.motion = sim::ConstantVelocityMotion{};
+      }
+      auto& c = std::get<sim::ConstantVelocityMotion>(m.motion);
+      a.Field("start", &c.start_W);
+      a.Field("velocity", &c.velocity_W);
+      a.Field("start_time", &c.start_time_s);
+      break;
+    }
+    case MotionKind::kRandomWalk: {
+      if (!std::holds_alternative<sim::RandomWalkMotion>(m.motion))
+        m.motion = sim::RandomWalkMotion{};
+      auto& r = std::get<sim::RandomWalkMotion>(m.motion);
+      a.Field("seed", &r.seed);
+      a.Field("area_centre", &r.area_centre_W);
+      a.Field("area_radius", &r.area_radius_m);
+      a.Field("speed", &r.speed_m_s);
+      a.Field("pause", &r.pause_s);
+      break;
+    }
   }
 }
 
@@ -365,8 +434,11 @@ void VisitScenario(Archive& a, Scenario& s) {
       k.Field("warm_start", &o.warm_start);
     });
   });
+  a.template Sequence<sim::MovingObstacle>("moving_obstacles", &s.movers, VisitMover<Archive>);
   a.Map("navigation", [&](Archive& n) {
     NavigationSettings& k = s.navigation;
+    n.Field("movers_from_ground_truth", &k.movers_from_ground_truth);
+    n.Field("mover_sensing_range", &k.mover_sensing_range_m);
     n.Field("goal_radius", &k.goal_radius_m);
     n.Field("planning_rate", &k.planning_rate_hz);
     n.Field("replan_deviation", &k.replan_deviation_m);
@@ -482,6 +554,7 @@ Scenario LoadScenario(const common::YamlDocument& document) {
     mapping::ValidateFsgpConfig(scenario.mapping);
     planner::ValidateNavigationPlannerConfig(scenario.planner);
     ValidateNavigationSettings(scenario.navigation);
+    sim::ValidateMovingObstacles(scenario.movers);
   } catch (const common::InputError& e) {
     throw common::InputError(document.source() + ": " + e.what());
   }

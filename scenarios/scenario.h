@@ -18,6 +18,7 @@
 #include "scenarios/navigation.h"
 #include "scenarios/tracking.h"
 #include "sim/lidar/lidar_config.h"
+#include "sim/moving_obstacles.h"
 #include "sim/terrain.h"
 
 namespace trav::scenarios {
@@ -86,6 +87,8 @@ struct Scenario {
   planner::NavigationPlannerConfig planner{};  ///< scenario key `planner` (mode navigate)
   NavigationSettings navigation{};             ///< scenario key `navigation` (mode navigate)
   double rollover_limit_deg{60.0};             ///< tilt that ends the run as rolled over [deg]
+  /// moving_obstacles: movers of the closed loop (MuJoCo mocap bodies the LiDAR sees)
+  std::vector<sim::MovingObstacle> movers;
   lidar::LidarConfig lidar{};
   /// lidar.mount: pose of the sensor L in the base frame B as [x, y, z, roll, pitch, yaw]
   /// [m, rad]; absent: the robot model's "lidar" site.

@@ -157,6 +157,50 @@ renders::PanelOverlay NavigationPanel(const Navigator& navigator,
   return panel;
 }
 
+// The movers as the planner sees them now: discs at constant velocity, from their true state,
+// all of them or those within the sensing range.
+std::vector<planner::MovingObstacle> PredictedMovers(const Scenario& scenario,
+                                                     const sim::Simulation& simulation,
+                                                     const common::RobotState& state) {
+  std::vector<planner::MovingObstacle> movers;
+  for (int i = 0; i < simulation.num_movers(); ++i) {
+    planner::MovingObstacle mover;
+    mover.position_W = simulation.MoverPose(i).translation().head<2>();
+    mover.velocity_W = simulation.MoverVelocity(i);
+    mover.radius_m = sim::MoverFootprintRadius(scenario.movers[static_cast<std::size_t>(i)]);
+    mover.t_s = state.time_s;
+    const double range = (mover.position_W - state.X_WB.translation().head<2>()).norm();
+    if (scenario.navigation.movers_from_ground_truth ||
+        range <= scenario.navigation.mover_sensing_range_m) {
+      movers.push_back(mover);
+    }
+  }
+  return movers;
+}
+
+// Drops the points on the movers (within their footprint and a margin, from their true poses)
+// before mapping: a mover mapped as terrain leaves a trail of ghost obstacles. Segmenting movers
+// from the scans alone is the perception side of the stress tests (issue 10).
+void RemoveMoverPoints(const Scenario& scenario, const sim::Simulation& simulation,
+                       common::PointCloud* cloud_W) {
+  constexpr double kMargin_m = 0.3;
+  Eigen::Index kept = 0;
+  for (Eigen::Index i = 0; i < cloud_W->size(); ++i) {
+    const Eigen::Vector2d p = cloud_W->points.col(i).head<2>().cast<double>();
+    bool on_mover = false;
+    for (int k = 0; k < simulation.num_movers() && !on_mover; ++k) {
+      const double reach =
+          sim::MoverFootprintRadius(scenario.movers[static_cast<std::size_t>(k)]) + kMargin_m;
+      on_mover =
+          (p - simulation.MoverPose(k).translation().head<2>()).squaredNorm() < reach * reach;
+    }
+    if (!on_mover) cloud_W->points.col(kept++) = cloud_W->points.col(i);
+  }
+  cloud_W->points.conservativeResize(3, kept);
+  cloud_W->time_offsets.resize(0);
+  cloud_W->line_ids.resize(0);
+}
+
 double MillisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
@@ -191,7 +235,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   options.robot_model_path = robot_model_path;
   options.timestep_s = scenario.physics_timestep_s;
   options.ground_friction = scenario.ground_friction;
-  sim::Simulation simulation(world, start_W, options);
+  sim::Simulation simulation(world, start_W, options, scenario.movers);
 
   // LiDAR: an Embree scene of the same world, scanned every physics step
   std::unique_ptr<lidar::RayScene> ray_scene;
@@ -203,7 +247,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   const Eigen::Isometry3d X_BL =
       mounted ? MountPose(*scenario.lidar_mount_B) : Eigen::Isometry3d::Identity();
   if (scenario.lidar.enabled) {
-    ray_scene = std::make_unique<lidar::RayScene>(sim::RaySceneOf(world));
+    ray_scene = std::make_unique<lidar::RayScene>(sim::RaySceneOf(world, scenario.movers));
     lidar = std::make_unique<lidar::LidarEmulator>(scenario.lidar);
     if (run_options.record_clouds) std::filesystem::create_directories(output_dir + "/clouds");
   }
@@ -248,7 +292,8 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
     timeseries << "t,x,y,yaw,v_forward,yaw_rate,roll_deg,pitch_deg,vertical_acceleration,cmd_v,"
                   "cmd_omega,goal_distance,mapping_error\n";
   }
-  const std::vector<planner::MovingObstacle> predicted_movers;
+  std::vector<planner::MovingObstacle> predicted_movers;
+  std::vector<sim::RobotContact> contacts;
   std::vector<Eigen::Vector2d> driven_W = {scenario.start_W.position};
   Eigen::Matrix3Xf latest_points_W;
   double sum_vertical_acceleration2 = 0.0;
@@ -310,6 +355,21 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   int progress_step = 0;
 
   for (int step = 0; step < total_steps; ++step) {
+    // movers to their place at this time, for physics, LiDAR and the planner's predictions
+    if (simulation.num_movers() > 0) {
+      simulation.SetMoverPoses(simulation.time());
+      for (int i = 0; i < simulation.num_movers(); ++i) {
+        if (ray_scene) ray_scene->SetMovingPose(i, simulation.MoverPose(i));
+      }
+      if (navigator) {
+        predicted_movers = PredictedMovers(scenario, simulation, state);
+        for (const planner::MovingObstacle& mover : predicted_movers) {
+          const double gap = (mover.position_W - state.X_WB.translation().head<2>()).norm() -
+                             mover.radius_m - scenario.planner.optimizer.robot_radius_m;
+          navigation.min_mover_clearance_m = std::min(navigation.min_mover_clearance_m, gap);
+        }
+      }
+    }
     common::Twist2 command;
     if (navigator) {
       command = navigator->Update(state, navigation_map, map_changed, predicted_movers);
@@ -350,6 +410,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
         }
         if (mapper) {
           const auto map_start = std::chrono::steady_clock::now();
+          if (simulation.num_movers() > 0) RemoveMoverPoints(scenario, simulation, &cloud_W);
           mapper->Update(cloud_W, state.X_WB, simulation.time());
           mapping_ms.push_back(MillisecondsSince(map_start));
           times.Add("mapping", mapping_ms.back());
@@ -410,6 +471,17 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
     }
     if (common::TiltAngle(state.X_WB.linear()) > tilt_limit) {
       summary.outcome = Outcome::kRolledOver;
+      break;
+    }
+    simulation.RobotContacts(&contacts);
+    const auto collision =
+        std::find_if(contacts.begin(), contacts.end(),
+                     [](const sim::RobotContact& c) { return sim::IsCollision(c); });
+    if (collision != contacts.end()) {
+      summary.outcome = Outcome::kCollision;
+      summary.collision = CollisionRecord{std::string(collision->target_name),
+                                          collision->target == sim::ContactTarget::kMover,
+                                          collision->relative_speed_m_s, state.time_s};
       break;
     }
     if (navigator) {
@@ -596,7 +668,16 @@ std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
                           {"failed_plans", n.failed_plans},
                           {"replans_on_events", n.replans_on_events},
                           {"safety_stops", n.safety_stops},
-                          {"last_planner_status", n.last_planner_status}};
+                          {"last_planner_status", n.last_planner_status},
+                          {"min_mover_clearance_m", std::isfinite(n.min_mover_clearance_m)
+                                                        ? nlohmann::json(n.min_mover_clearance_m)
+                                                        : nlohmann::json(nullptr)}};
+  }
+  if (summary.collision) {
+    json["collision"] = {{"with", summary.collision->target},
+                         {"mover", summary.collision->mover},
+                         {"relative_speed_m_s", summary.collision->relative_speed_m_s},
+                         {"time_s", summary.collision->time_s}};
   }
   json["compute"] = summary.compute;
   if (summary.tracking) {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,6 +27,16 @@ struct NavigationMetrics {
   int replans_on_events{0};
   int safety_stops{0};
   std::string last_planner_status;
+  /// Smallest gap between the robot's disc and a mover's footprint (infinite: no movers) [m].
+  double min_mover_clearance_m{std::numeric_limits<double>::infinity()};
+};
+
+/// The contact that ended a run as a collision.
+struct CollisionRecord {
+  std::string target;              ///< the obstacle's or mover's name
+  bool mover{false};               ///< a moving obstacle
+  double relative_speed_m_s{0.0};  ///< planar speed of the base relative to the mover
+  double time_s{0.0};
 };
 
 /// What `trav run` reports in summary.json.
@@ -57,6 +68,7 @@ struct RunSummary {
   double mapping_mean_error{0.0};               ///< mean |traversability - ground truth|
   double mapping_error_variance{0.0};           ///< variance of |traversability - ground truth|
   std::optional<NavigationMetrics> navigation;  ///< mode navigate only
+  std::optional<CollisionRecord> collision;     ///< outcome collision only
   /// Wall time per module: {module: {calls, median_ms, max_ms, total_s}}.
   nlohmann::json compute = nlohmann::json::object();
 };
