@@ -191,11 +191,17 @@ void Navigator::Replan(const common::RobotState& state, const common::GridLayers
   const bool usable =
       plan.has_trajectory() && (plan.status == planner::NavigationStatus::kPlanned ||
                                 plan.status == planner::NavigationStatus::kPlannedToNearest);
+  // a plan to the substitute of an unreachable goal that ends where the robot already is leads
+  // nowhere: it is followed, but the time without a plan keeps running
+  const bool leads_nowhere =
+      plan.status == planner::NavigationStatus::kPlannedToNearest && plan.has_trajectory() &&
+      (plan.optimized.trajectory.points().back().position_W - start.position_W).norm() <=
+          settings_.goal_radius_m;
   if (usable) {
     trajectory_ = plan.optimized.trajectory;
     waypoints_W_ = plan.waypoints_W;
     tracker_.SetReference(trajectory_);
-    last_valid_plan_s_ = now;
+    if (!leads_nowhere) last_valid_plan_s_ = now;
     force_replan_ = false;
   } else {
     ++statistics_.failed_plans;

@@ -53,7 +53,9 @@ class Navigator {
   common::Twist2 Update(const common::RobotState& state, const common::GridLayers* map,
                         bool map_updated, const std::vector<planner::MovingObstacle>& movers);
 
-  /// Time since the last valid plan, or since the start if there was none [s].
+  /// Time since the last valid plan, or since the start if there was none [s]. A plan toward the
+  /// substitute of an unreachable goal that ends within the goal radius of the robot is not valid:
+  /// the goal cannot be reached from here.
   double time_without_plan_s(double now_s) const;
 
   /// The trajectory being tracked (empty before the first plan).

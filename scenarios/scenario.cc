@@ -337,6 +337,14 @@ void VisitScenario(Archive& a, Scenario& s) {
     t.Field("size", &s.terrain.size_m);
     t.Field("resolution", &s.terrain.resolution_m, Positive, kPositive);
     t.Map("parameters", [&](Archive& p) { VisitTerrainParameters(p, s.terrain); });
+    t.template Sequence<sim::PlacedBox>("boxes", &s.terrain.boxes,
+                                        [](Archive& b, sim::PlacedBox& box) {
+                                          b.Field("name", &box.name);
+                                          b.Field("centre", &box.centre_W);
+                                          b.Field("half_extents", &box.half_extents_m);
+                                          b.Field("height", &box.height_m);
+                                          b.Field("yaw", &box.yaw_rad);
+                                        });
   });
   a.Map("robot", [&](Archive& r) {
     r.Field("model", &s.robot_model);

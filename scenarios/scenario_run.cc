@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
 
@@ -32,6 +33,9 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 constexpr double kTrajectoryPeriod_s = 0.02;
+// The modules timed per run, as named in summary.json's "compute" and timeseries.csv.
+constexpr const char* kTimedModules[] = {"lidar",   "mapping", "planning",
+                                         "control", "physics", "render"};
 
 // The video camera for the scenario's camera mode.
 class VideoCamera {
@@ -289,11 +293,14 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
                              scenario.navigation.stuck_distance_m);
     if (oracle) navigation_map = &*truth_W;
     timeseries.open(output_dir + "/timeseries.csv");
-    timeseries << "t,x,y,yaw,v_forward,yaw_rate,roll_deg,pitch_deg,vertical_acceleration,cmd_v,"
-                  "cmd_omega,goal_distance,mapping_error\n";
+    timeseries
+        << "t,x,y,yaw,v_forward,yaw_rate,roll_deg,pitch_deg,vertical_acceleration,cmd_v,"
+           "cmd_omega,goal_distance,mapping_error,lidar_ms,mapping_ms,planning_ms,control_ms,"
+           "physics_ms,render_ms\n";
   }
   std::vector<planner::MovingObstacle> predicted_movers;
   std::vector<sim::RobotContact> contacts;
+  std::map<std::string, double> module_totals_ms;
   std::vector<Eigen::Vector2d> driven_W = {scenario.start_W.position};
   Eigen::Matrix3Xf latest_points_W;
   double sum_vertical_acceleration2 = 0.0;
@@ -372,7 +379,19 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
     }
     common::Twist2 command;
     if (navigator) {
+      // the navigator's wall time goes to planning when it planned, else to control when the MPC
+      // solved (the other ticks hold the command)
+      const Navigator::Statistics& stats = navigator->statistics();
+      const int plans_before = stats.plans;
+      const std::size_t solves_before = stats.control_ms.size();
+      const auto navigation_start = std::chrono::steady_clock::now();
       command = navigator->Update(state, navigation_map, map_changed, predicted_movers);
+      const double navigation_ms = MillisecondsSince(navigation_start);
+      if (stats.plans > plans_before) {
+        times.Add("planning", navigation_ms);
+      } else if (stats.control_ms.size() > solves_before) {
+        times.Add("control", navigation_ms);
+      }
       map_changed = false;
     } else {
       command =
@@ -504,11 +523,19 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
         }
         char line[512];
         std::snprintf(line, sizeof(line),
-                      "%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.4f,%.3f,%.3f,%.4f,%.5f\n",
+                      "%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.4f,%.3f,%.3f,%.4f,%.5f",
                       state.time_s, xy.x(), xy.y(), rpy.yaw, state.v_WB_B.x(), state.w_WB_B.z(),
                       rpy.roll * kRadToDeg, rpy.pitch * kRadToDeg, vertical_acceleration, command.v,
                       command.omega, goal_distance, last_mapping_error);
         timeseries << line;
+        // wall time of each module since the previous row [ms]
+        for (const char* module : kTimedModules) {
+          const double total = times.Total(module);
+          std::snprintf(line, sizeof(line), ",%.3f", total - module_totals_ms[module]);
+          module_totals_ms[module] = total;
+          timeseries << line;
+        }
+        timeseries << '\n';
       }
       if (goal_distance <= scenario.navigation.goal_radius_m) {
         summary.outcome = Outcome::kSuccess;
@@ -571,8 +598,6 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   if (tracker) summary.tracking = tracker->Metrics();
   if (navigator) {
     const Navigator::Statistics& stats = navigator->statistics();
-    for (double ms : stats.planning_ms) times.Add("planning", ms);
-    for (double ms : stats.control_ms) times.Add("control", ms);
     navigation.plans = stats.plans;
     navigation.failed_plans = stats.failed_plans;
     navigation.replans_on_events = stats.replans_on_events;

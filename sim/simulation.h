@@ -69,15 +69,19 @@ struct RobotContact {
 /// The collision rule of the outcome classification: any part of the robot (chassis or wheel)
 /// touching a mover, or a static obstacle taller than `drive_over_height_m` (a wheel against a tree
 /// trunk or a wall is a collision: the wheels stick out 3 cm beyond the chassis, so driving into a
-/// wall touches it with the wheels first). Contacts with the terrain are never collisions; the
-/// chassis on the terrain (a belly on a ridge) is reported as a body contact with kTerrain.
+/// wall touches it with the wheels first). A static obstacle touched from above (contact normal
+/// within about 45 deg of up: the robot on top of it, or going over the edge of a ledge) is not a
+/// collision either, as the robot got there without hitting a face. Contacts with the terrain are
+/// never collisions; the chassis on the terrain (a belly on a ridge) is reported as a body contact
+/// with kTerrain.
 inline bool IsCollision(const RobotContact& contact,
                         double drive_over_height_m = kDriveOverHeight_m) {
+  constexpr double kFromAbove = 0.7;  // cos 45 deg
   switch (contact.target) {
     case ContactTarget::kTerrain:
       return false;
     case ContactTarget::kObstacle:
-      return contact.target_height_m > drive_over_height_m;
+      return contact.target_height_m > drive_over_height_m && contact.normal_W.z() < kFromAbove;
     case ContactTarget::kMover:
       return true;
   }

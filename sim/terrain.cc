@@ -187,6 +187,18 @@ void ValidateIndoor(const IndoorParams& in) {
 }  // namespace
 
 void ValidateTerrainConfig(const TerrainConfig& c) {
+  for (std::size_t i = 0; i < c.boxes.size(); ++i) {
+    const PlacedBox& b = c.boxes[i];
+    const std::string key = "terrain.boxes[" + std::to_string(i) + "].";
+    common::RequireValue(b.half_extents_m.minCoeff() > 0.0, key + "half_extents",
+                         b.half_extents_m.minCoeff(), "must be > 0");
+    common::RequireValue(b.height_m > 0.0, key + "height", b.height_m, "must be > 0");
+    for (std::size_t j = 0; j < i; ++j) {
+      if (c.boxes[j].name == b.name) {
+        throw common::InputError(key + "name: '" + b.name + "' is used twice");
+      }
+    }
+  }
   common::RequireValue(c.resolution_m > 0.0, "terrain.resolution", c.resolution_m, "must be > 0");
   common::RequireValue(c.size_m.x() >= c.resolution_m, "terrain.size[0]", c.size_m.x(),
                        "must be at least one cell");
@@ -255,6 +267,20 @@ TerrainWorld GenerateTerrain(const TerrainConfig& config,
     case TerrainType::kIndoor:
       internal::GenerateIndoor(config, &random, &placer);
       break;
+  }
+  constexpr double kSunk_m = 0.1;
+  for (const PlacedBox& box : config.boxes) {
+    Obstacle obstacle;
+    obstacle.name = "placed_" + box.name;
+    obstacle.shape = ShapeType::kBox;
+    obstacle.size = Eigen::Vector3d(box.half_extents_m.x(), box.half_extents_m.y(),
+                                    0.5 * (box.height_m + kSunk_m));
+    obstacle.X_WO.translation() << box.centre_W,
+        world.GroundHeight(box.centre_W) - kSunk_m + obstacle.size.z();
+    obstacle.X_WO.linear() =
+        Eigen::AngleAxisd(box.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    obstacle.rgba = Eigen::Vector4f(0.55f, 0.5f, 0.45f, 1.0f);
+    world.obstacles.push_back(std::move(obstacle));
   }
   return world;
 }

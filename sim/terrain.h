@@ -85,6 +85,16 @@ struct StairsParams {
   double start_x_m{2.0};
 };
 
+/// A box placed by hand on the generated ground (walls, closed rooms, barriers of purpose-built
+/// scenarios): it stands on the ground at its centre, sunk 0.1 m so that no gap shows on slopes.
+struct PlacedBox {
+  std::string name;                                           ///< obstacle name "placed_<name>"
+  Eigen::Vector2d centre_W{Eigen::Vector2d::Zero()};          ///< [m]
+  Eigen::Vector2d half_extents_m{Eigen::Vector2d(0.5, 0.1)};  ///< along its x and y [m], > 0
+  double height_m{1.0};                                       ///< above the ground [m], > 0
+  double yaw_rad{0.0};                                        ///< [rad]
+};
+
 /// Everything that defines a procedural world; the same config and seed give a bit-identical world.
 struct TerrainConfig {
   TerrainType type{TerrainType::kHilly};
@@ -99,6 +109,7 @@ struct TerrainConfig {
   SlopeParams slope{};
   StepParams step{};
   StairsParams stairs{};
+  std::vector<PlacedBox> boxes;  ///< added after generation, not kept clear of start and goal
 };
 
 // Obstacles are common primitives.

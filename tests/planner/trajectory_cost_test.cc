@@ -101,7 +101,9 @@ TEST_P(TrajectoryCostGradientTest, MatchesCentralDifferences) {
                               : GetParam() == "moving_obstacles" ? terms.moving_obstacles
                                                                  : terms.terminal;
     ASSERT_GT(term_value, 0.0) << GetParam() << " inactive for seed " << seed;
-    if (GetParam() != "terminal") EXPECT_NEAR(value, term_value, 1e-9 * value);
+    if (GetParam() != "terminal") {
+      EXPECT_NEAR(value, term_value, 1e-9 * value);
+    }
     const double h = 1e-6;
     for (int i = 0; i < z.size(); ++i) {
       Eigen::VectorXd plus = z, minus = z;
@@ -117,8 +119,8 @@ TEST_P(TrajectoryCostGradientTest, MatchesCentralDifferences) {
 INSTANTIATE_TEST_SUITE_P(EveryTerm, TrajectoryCostGradientTest,
                          testing::Values("energy", "time", "traversability", "limits", "clearance",
                                          "moving_obstacles", "terminal"),
-                         [](const testing::TestParamInfo<std::string>& info) {
-                           return info.param;
+                         [](const testing::TestParamInfo<std::string>& param_info) {
+                           return param_info.param;
                          });
 
 TEST(TrajectoryCostTest, IntegratesAStraightMotionToItsArcLength) {

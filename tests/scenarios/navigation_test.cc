@@ -1,0 +1,142 @@
+// The closed loop end to end: the suite scenarios (scenarios/suite/) must reach their goals, the
+// purpose-built failing ones (scenarios/failing/) must end with the outcome they are built for,
+// and a run must repeat bit for bit.
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "common/input_error.h"
+#include "scenarios/scenario.h"
+#include "scenarios/scenario_run.h"
+
+namespace trav::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+
+Scenario LoadFile(const std::string& relative) {
+  return LoadScenario(
+      common::YamlDocument::Load(std::string(TRAV_SOURCE_DIR) + "/scenarios/" + relative));
+}
+
+// Runs a scenario headless into a fresh folder; returns the summary and keeps the folder's path.
+RunSummary RunHeadless(const Scenario& scenario, const std::string& tag,
+                       fs::path* folder = nullptr) {
+  const fs::path out =
+      fs::temp_directory_path() / ("trav_navigation_" + std::to_string(getpid()) + "_" + tag);
+  fs::remove_all(out);
+  fs::create_directories(out);
+  const RunSummary summary =
+      RunScenario(scenario, RobotModelPath(scenario, TRAV_MODELS_DIR), out.string());
+  if (folder != nullptr) {
+    *folder = out;
+  } else {
+    fs::remove_all(out);
+  }
+  return summary;
+}
+
+std::string Read(const fs::path& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+class SuiteTest : public testing::TestWithParam<std::string> {};
+
+TEST_P(SuiteTest, ReachesTheGoal) {
+  const Scenario scenario = LoadFile("suite/" + GetParam() + ".yaml");
+  ASSERT_EQ(scenario.mode, RunMode::kNavigate);
+  ASSERT_EQ(scenario.expected_outcome, Outcome::kSuccess);
+  const RunSummary summary = RunHeadless(scenario, GetParam());
+  ASSERT_EQ(summary.outcome, Outcome::kSuccess)
+      << OutcomeName(summary.outcome) << ", planner: " << summary.navigation->last_planner_status;
+  const NavigationMetrics& n = *summary.navigation;
+  EXPECT_TRUE(n.goal_reached);
+  EXPECT_LE(n.final_goal_distance_m, scenario.navigation.goal_radius_m);
+  EXPECT_GT(n.optimal_path_length_m, 0.0);
+  EXPECT_LT(n.path_length_ratio, 1.6);
+  EXPECT_GT(n.barn_score, 0.125);
+  EXPECT_FALSE(summary.collision.has_value());
+  EXPECT_GT(n.plans, 0);
+  if (!scenario.movers.empty()) {
+    // the movers never came closer than the planner's clearance allows (with 5 % slack)
+    EXPECT_GE(n.min_mover_clearance_m, 0.0);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenarios, SuiteTest,
+                         testing::Values("hilly", "forest", "ruin", "road", "indoor", "steep_hill",
+                                         "narrow_passage", "crossing", "head_on"),
+                         [](const testing::TestParamInfo<std::string>& param_info) {
+                           return param_info.param;
+                         });
+
+TEST(FailingScenarioTest, DrivingIntoAWallIsACollision) {
+  const RunSummary summary = RunHeadless(LoadFile("failing/wall_collision.yaml"), "wall");
+  ASSERT_EQ(summary.outcome, Outcome::kCollision);
+  ASSERT_TRUE(summary.collision.has_value());
+  EXPECT_EQ(summary.collision->target, "placed_wall");
+  EXPECT_FALSE(summary.collision->mover);
+  // the wall's face at x = 2.9, the front wheels' tread 0.31 m ahead of the base
+  EXPECT_NEAR(summary.final_pose_W.position.x(), 2.59, 0.03);
+}
+
+TEST(FailingScenarioTest, DrivingOffALedgeRollsOver) {
+  const RunSummary summary = RunHeadless(LoadFile("failing/cliff_rollover.yaml"), "cliff");
+  EXPECT_EQ(summary.outcome, Outcome::kRolledOver);
+  EXPECT_GT(std::max(summary.max_pitch_deg, summary.max_roll_deg), 60.0);
+  EXPECT_FALSE(summary.collision.has_value());
+}
+
+TEST(FailingScenarioTest, AGoalInAClosedRoomIsAPlanningFailure) {
+  const Scenario scenario = LoadFile("failing/closed_room.yaml");
+  const RunSummary summary = RunHeadless(scenario, "room");
+  EXPECT_EQ(summary.outcome, Outcome::kPlanningFailure);
+  EXPECT_NEAR(summary.sim_time_s, scenario.navigation.planning_failure_time_s, 0.01);
+  EXPECT_EQ(summary.navigation->last_planner_status, "no-path");
+}
+
+TEST(NavigationRunTest, TheSameScenarioGivesTheSameRun) {
+  Scenario scenario = LoadFile("suite/crossing.yaml");
+  scenario.duration_s = 6.0;
+  fs::path first, second;
+  const RunSummary a = RunHeadless(scenario, "repeat_a", &first);
+  const RunSummary b = RunHeadless(scenario, "repeat_b", &second);
+  EXPECT_EQ(a.outcome, b.outcome);
+  EXPECT_EQ(a.distance_m, b.distance_m);
+  EXPECT_EQ(a.navigation->plans, b.navigation->plans);
+  EXPECT_EQ(a.mapping_mean_error, b.mapping_mean_error);
+  EXPECT_EQ(Read(first / "trajectory.csv"), Read(second / "trajectory.csv"));
+  fs::remove_all(first);
+  fs::remove_all(second);
+}
+
+TEST(NavigationRunTest, BadMoversAreInputErrorsNamingTheKeyAndValue) {
+  const std::string text = R"(schema_version: 1
+mode: navigate
+terrain: {type: flat}
+moving_obstacles:
+  - {name: cart, motion: waypoints, waypoints: [[0, 0], [1, 0]], speed: -1.5}
+)";
+  EXPECT_THAT([&] { LoadScenario(common::YamlDocument::Parse(text, "bad.yaml")); },
+              testing::ThrowsMessage<common::InputError>(testing::AllOf(
+                  testing::HasSubstr("bad.yaml"), testing::HasSubstr("moving_obstacles[0].speed"),
+                  testing::HasSubstr("-1.5"))));
+  const std::string unknown = R"(schema_version: 1
+moving_obstacles:
+  - {name: cart, motion: teleport}
+)";
+  EXPECT_THAT([&] { LoadScenario(common::YamlDocument::Parse(unknown, "bad.yaml")); },
+              testing::ThrowsMessage<common::InputError>(testing::HasSubstr("teleport")));
+}
+
+}  // namespace
+}  // namespace trav::scenarios
