@@ -31,7 +31,7 @@ struct TrajectoryOptimizerConfig {
   int max_rounds{6};                   ///< augmented-Lagrangian rounds, >= 1
   double initial_penalty{1.0e3};       ///< rho of the first round
   double penalty_growth{10.0};         ///< rho is multiplied by this after each round, > 1
-  double relative_cost_tolerance{1.0e-5};   ///< L-BFGS stops when the cost improves less [-]
+  double relative_cost_tolerance{1.0e-3};   ///< L-BFGS stops when the cost improves less [-]
   double output_step_s{0.02};               ///< sample spacing of the output trajectory [s], > 0
   bool warm_start{true};                    ///< start from the previous plan when it applies
   double warm_start_goal_tolerance_m{0.3};  ///< the previous plan applies to goals this close [m]

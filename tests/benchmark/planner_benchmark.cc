@@ -1,24 +1,29 @@
-// A* across a 50 x 50 m traversability map at 0.1 m (501 x 501 cells) with smooth random costs and
-// lethal blobs, corner to corner: search costs, A* and path simplification. Budget (with the
-// trajectory optimiser, which is not built yet): 50 ms. OMPL's RRT*, BIT* and RRT-Connect on the
-// same map, start and goal as baselines, with their cost against A*'s.
+// A* across a 50 x 50 m traversability map (0.1 m: 501 x 501 cells, and 0.2 m) with smooth random
+// costs and lethal blobs, corner to corner, w = 0 and w = 5: search costs, A* and path
+// simplification. OMPL's RRT*, BIT* and RRT-Connect on the same map, start and goal as baselines,
+// with their cost against A*'s. The planning stack on a 20 m route among 10 obstacles (A*,
+// simplification and trajectory optimisation; budget 50 ms), and its replanning 0.2 s later,
+// warm-started from the first plan against cold.
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 
 #include "common/random.h"
 #include "planner/astar.h"
 #include "planner/cost_map.h"
+#include "planner/navigation_planner.h"
 #include "planner/ompl_planner.h"
 
 namespace {
 
-trav::common::GridLayers CostMap() {
-  trav::common::GridLayers map(
-      trav::common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(50, 50), 0.1),
-      {"traversability"});
+trav::common::GridLayers CostMap(double resolution_m = 0.1) {
+  trav::common::GridLayers map(trav::common::GridGeometry::Centered(
+                                   Eigen::Vector2d::Zero(), Eigen::Vector2d(50, 50), resolution_m),
+                               {"traversability"});
   trav::common::Random random(3);
   Eigen::MatrixXf& cost = map.Layer("traversability");
   const trav::common::GridGeometry& g = map.geometry();
@@ -44,9 +49,11 @@ trav::common::GridLayers CostMap() {
 const Eigen::Vector2d kStart(-24, -24);
 const Eigen::Vector2d kGoal(24, 24);
 
+// Arguments: resolution [cm], w.
 void BM_AStarAcrossTheMap(benchmark::State& state) {
-  const trav::common::GridLayers map = CostMap();
-  const trav::planner::AStarConfig config;
+  const trav::common::GridLayers map = CostMap(0.01 * static_cast<double>(state.range(0)));
+  trav::planner::AStarConfig config;
+  config.cost_weight = static_cast<double>(state.range(1));
   int expansions = 0;
   std::size_t waypoints = 0;
   for (auto _ : state) {
@@ -59,7 +66,13 @@ void BM_AStarAcrossTheMap(benchmark::State& state) {
   state.counters["expansions"] = expansions;
   state.counters["waypoints"] = static_cast<double>(waypoints);
 }
-BENCHMARK(BM_AStarAcrossTheMap)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AStarAcrossTheMap)
+    ->ArgNames({"cm", "w"})
+    ->Args({10, 0})
+    ->Args({10, 5})
+    ->Args({20, 0})
+    ->Args({20, 5})
+    ->Unit(benchmark::kMillisecond);
 
 // One sampling-based query per iteration with a 0.2 s limit (RRT* and BIT* use all of it,
 // RRT-Connect stops at its first path) and the iteration's own seed; the cost map is built once,
@@ -112,6 +125,85 @@ BENCHMARK_CAPTURE(BM_OmplAcrossTheMap, bit_star, trav::planner::SamplingAlgorith
 BENCHMARK_CAPTURE(BM_OmplAcrossTheMap, rrt_connect, trav::planner::SamplingAlgorithm::kRrtConnect)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(5);
+
+// 30 x 30 m at 0.1 m, cost 0.2 with a smooth ridge, and 10 lethal discs of 0.4 to 0.8 m placed
+// along the straight 20 m route from (-10, 0) to (10, 0).
+trav::common::GridLayers RouteMap() {
+  trav::common::GridLayers map(
+      trav::common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(30, 30), 0.1),
+      {"traversability"});
+  trav::common::Random random(5);
+  std::vector<std::pair<Eigen::Vector2d, double>> discs;
+  for (int k = 0; k < 10; ++k) {
+    discs.emplace_back(Eigen::Vector2d(-7.5 + 1.6 * k, random.Uniform(-1.0, 1.0)),
+                       random.Uniform(0.4, 0.8));
+  }
+  const trav::common::GridGeometry& g = map.geometry();
+  Eigen::MatrixXf& cost = map.Layer("traversability");
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const Eigen::Vector2d p = g.CellCenter(ix, iy);
+      cost(ix, iy) = static_cast<float>(0.2 + 0.15 * std::sin(0.5 * p.y()));
+      for (const auto& [centre, radius] : discs) {
+        if ((p - centre).norm() < radius) cost(ix, iy) = 1.0f;
+      }
+    }
+  }
+  return map;
+}
+
+trav::common::TrajectoryPoint RouteStart() {
+  trav::common::TrajectoryPoint start;
+  start.position_W = Eigen::Vector2d(-10, 0);
+  return start;
+}
+const Eigen::Vector2d kRouteGoal(10, 0);
+
+void Report(benchmark::State& state, const trav::planner::NavigationPlan& plan) {
+  state.counters["search_ms"] = 1e3 * plan.search_time_s;
+  state.counters["optimize_ms"] = 1e3 * plan.optimization_time_s;
+  state.counters["iterations"] = plan.optimized.diagnostics.iterations;
+  state.counters["pieces"] = plan.optimized.diagnostics.pieces;
+  state.counters["planned"] = plan.status == trav::planner::NavigationStatus::kPlanned;
+  state.counters["max_violation"] = plan.optimized.diagnostics.max_violation;
+  state.counters["rounds"] = plan.optimized.diagnostics.rounds;
+  state.counters["terminal_error_m"] = plan.optimized.diagnostics.terminal_error_m;
+  state.counters["evaluations"] = plan.optimized.diagnostics.evaluations;
+}
+
+void BM_PlanAndOptimize20m(benchmark::State& state) {
+  const trav::common::GridLayers map = RouteMap();
+  trav::planner::NavigationPlan plan;
+  for (auto _ : state) {
+    trav::planner::NavigationPlanner planner(trav::planner::NavigationPlannerConfig{});
+    plan = planner.Plan(map, RouteStart(), kRouteGoal, {});
+    benchmark::DoNotOptimize(plan.optimized.trajectory.points().size());
+  }
+  Report(state, plan);
+}
+BENCHMARK(BM_PlanAndOptimize20m)->Unit(benchmark::kMillisecond);
+
+// The first plan is made once; each iteration replans from its state 0.2 s in, on the same map
+// toward the same goal, from a copy of the planner that made it (warm) or a reset one (cold).
+void BM_Replan20m(benchmark::State& state, bool warm) {
+  const trav::common::GridLayers map = RouteMap();
+  trav::planner::NavigationPlanner first(trav::planner::NavigationPlannerConfig{});
+  const trav::planner::NavigationPlan initial = first.Plan(map, RouteStart(), kRouteGoal, {});
+  const trav::common::TrajectoryPoint start = initial.optimized.trajectory.Sample(0.2);
+  trav::planner::NavigationPlan plan;
+  for (auto _ : state) {
+    state.PauseTiming();
+    trav::planner::NavigationPlanner planner = first;
+    if (!warm) planner.Reset();
+    state.ResumeTiming();
+    plan = planner.Plan(map, start, kRouteGoal, {});
+    benchmark::DoNotOptimize(plan.optimized.trajectory.points().size());
+  }
+  Report(state, plan);
+  state.counters["warm_started"] = plan.optimized.diagnostics.warm_started;
+}
+BENCHMARK_CAPTURE(BM_Replan20m, warm, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Replan20m, cold, false)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
