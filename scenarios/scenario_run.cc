@@ -66,6 +66,8 @@ class VideoCamera {
 // LiDAR points drawn in a video frame: at most this many (each is one geom, drawn one by one by
 // MuJoCo's renderer), and only within this distance of the sensor (where a chase camera sees them).
 constexpr Eigen::Index kMaxDrawnPoints = 1200;
+// Segments of the planned path drawn in a video frame, at most.
+constexpr std::size_t kMaxPlanSegments = 60;
 constexpr float kDrawnPointRange_m = 15.0f;
 
 // The latest LiDAR frame's points (`points_W`: the frame placed in W) near the sensor, coloured by
@@ -439,7 +441,8 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
             last_mapping_error =
                 CompareWithTruth(mapper->map(), *truth_W, mapping::layers::kTraversability).mean;
           }
-          if (video) overlay.grids.assign(1, DrawableMap(mapper->map()));
+          // the closed loop shows the map in its panel: no need to draw it as thousands of geoms
+          if (video && !navigator) overlay.grids.assign(1, DrawableMap(mapper->map()));
         }
         if (run_options.max_lidar_frames > 0 &&
             summary.lidar_frames >= run_options.max_lidar_frames)
@@ -515,9 +518,13 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
           // the plan on the ground in the camera's view
           renders::Polyline planned;
           planned.rgba = Eigen::Vector4f(1.0f, 1.0f, 1.0f, 1.0f);
-          for (const common::TrajectoryPoint& p : navigator->trajectory().points()) {
-            planned.points_W.emplace_back(p.position_W.x(), p.position_W.y(),
-                                          world.GroundHeight(p.position_W) + 0.05);
+          // at most kMaxPlanSegments capsules: each is one geom for the software renderer
+          const std::vector<common::TrajectoryPoint>& points = navigator->trajectory().points();
+          const std::size_t stride =
+              std::max<std::size_t>(1, points.size() / kMaxPlanSegments + 1);
+          for (std::size_t i = 0; i < points.size(); i += stride) {
+            const Eigen::Vector2d& p = points[i].position_W;
+            planned.points_W.emplace_back(p.x(), p.y(), world.GroundHeight(p) + 0.05);
           }
           overlay.polylines.assign(1, std::move(planned));
         }

@@ -112,7 +112,7 @@ std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options
       << "  <include file=\"" << options.robot_model_path << "\"/>\n"
       << "  <option timestep=\"" << options.timestep_s << "\"/>\n"
       << "  <visual>\n"
-      << "    <quality shadowsize=\"1024\" offsamples=\"0\"/>\n"
+      << "    <quality shadowsize=\"1024\" offsamples=\"0\" numslices=\"12\" numstacks=\"8\"/>\n"
       << "    <map znear=\"0.01\" zfar=\"" << far << "\" haze=\"0.2\"/>\n"
       << "    <headlight ambient=\"0.25 0.25 0.25\" diffuse=\"0.25 0.25 0.25\"/>\n"
       << "    <rgba haze=\"0.75 0.82 0.9 1\"/>\n"
