@@ -1,0 +1,66 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace trav::scenarios {
+
+/// Settings of the plots of a run.
+struct PlotOptions {
+  int width{800};   ///< image width [pixels], 100..4096
+  int height{480};  ///< image height [pixels], 100..4096
+  /// The gnuplot program: a name looked up on the PATH, or a path (containing '/').
+  std::string gnuplot{"gnuplot"};
+};
+
+/// How writing the plots of a run went.
+enum class PlotStatus {
+  kWritten,        ///< gnuplot ran; `PlotResult::written` lists the plots that had data
+  kNoGnuplot,      ///< gnuplot is not installed: nothing written
+  kNoTimeseries,   ///< the folder has no timeseries.csv (a run of mode navigate writes it)
+  kGnuplotFailed,  ///< gnuplot ran but failed: nothing written (its error in the message)
+};
+
+/// The plots of a run that were written, and why the others were not.
+struct PlotResult {
+  PlotStatus status{PlotStatus::kWritten};
+  /// File names written into the output folder, in the order speed.png, roll_pitch.png,
+  /// mapping_error.png, compute.png (each only if it had data).
+  std::vector<std::string> written;
+  /// Why plots are missing ("gnuplot is not installed ...", "compute.png: no compute columns
+  /// ..."); empty when every plot was written.
+  std::string message;
+
+  [[nodiscard]] bool ok() const { return status == PlotStatus::kWritten; }
+};
+
+/// Reads `output_dir`/timeseries.csv (as the runner writes it in mode navigate: columns t,
+/// v_forward, cmd_v, roll_deg, pitch_deg, mapping_error and, when present, the compute columns
+/// lidar_ms, mapping_ms, planning_ms, control_ms, physics_ms, render_ms) and writes with gnuplot
+/// (terminal pngcairo, or png where gnuplot has no cairo) into `output_dir`:
+/// - speed.png: v_forward and cmd_v over t [m/s];
+/// - roll_pitch.png: roll_deg and pitch_deg over t [deg];
+/// - mapping_error.png: mapping_error over t, rows without a value (NaN) skipped; not written
+///   when no row has one (mapping off);
+/// - compute.png: the wall time of each module per row interval over t [ms]; not written when
+///   the file has none of the compute columns.
+/// A plot is skipped when one of its columns is absent or none of its rows has finite values;
+/// rows with a field count other than the header's (a truncated last line) are ignored. The
+/// gnuplot script is a temporary file in `output_dir`, removed afterwards, and each image is
+/// written under a temporary name and renamed once gnuplot has succeeded, so no half-written
+/// PNG is ever left under a final name. A missing gnuplot or timeseries.csv, or a failing
+/// gnuplot, is reported in the result, not thrown.
+/// @throws common::InputError if the options are out of range; std::runtime_error if
+/// timeseries.csv exists but cannot be read, or gnuplot cannot be started although found.
+[[nodiscard]] PlotResult WriteRunPlots(const std::string& output_dir,
+                                       const PlotOptions& options = {});
+
+/// summary.json's "plots": the written file names as an array when gnuplot ran, else null.
+nlohmann::json PlotsJson(const PlotResult& result);
+
+/// Whether `program` (a name on the PATH, or a path containing '/') is an executable file.
+bool ProgramAvailable(const std::string& program);
+
+}  // namespace trav::scenarios
