@@ -271,9 +271,10 @@ void FsgpBgkMapper::MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eig
     for (int iy = low.y(); iy <= high.y(); ++iy) {
       const float value = seen(ix - low.x(), iy - low.y());
       if (!std::isnan(value)) obstacle(ix, iy) = value;
-      if (obstacle(ix, iy) == 1.0f) out(ix, iy) = 1.0f;
     }
   }
+  // over the whole map: smoothing rewrote a margin around the window too
+  out = (obstacle.array() == 1.0f).select(1.0f, out);
 }
 
 void FsgpBgkMapper::Smooth(const Eigen::Vector2i& low, const Eigen::Vector2i& high) {

@@ -71,11 +71,20 @@ Eigen::MatrixXf ObstacleCells(const Eigen::Matrix3Xf& points_W, const common::Gr
     lowest(local.x(), local.y()) = std::min(lowest(local.x(), local.y()), points_W(2, i));
     highest(local.x(), local.y()) = std::max(highest(local.x(), local.y()), points_W(2, i));
   }
-  Eigen::MatrixXf obstacle(size.x(), size.y());
-  for (Eigen::Index i = 0; i < obstacle.size(); ++i) {
-    obstacle.data()[i] = std::isinf(lowest.data()[i])
-                             ? NAN
-                             : (highest.data()[i] - lowest.data()[i] > min_span_m ? 1.0f : 0.0f);
+  // each cell's highest point against the lowest of its 3 x 3 neighbourhood (the ground beside a
+  // face: sparse points high on a wall still read as a wall)
+  Eigen::MatrixXf obstacle = Eigen::MatrixXf::Constant(size.x(), size.y(), NAN);
+  for (int ix = 0; ix < size.x(); ++ix) {
+    for (int iy = 0; iy < size.y(); ++iy) {
+      if (std::isinf(lowest(ix, iy))) continue;
+      float ground = lowest(ix, iy);
+      for (int jx = std::max(0, ix - 1); jx <= std::min(size.x() - 1, ix + 1); ++jx) {
+        for (int jy = std::max(0, iy - 1); jy <= std::min(size.y() - 1, iy + 1); ++jy) {
+          ground = std::min(ground, lowest(jx, jy));
+        }
+      }
+      obstacle(ix, iy) = highest(ix, iy) - ground > min_span_m ? 1.0f : 0.0f;
+    }
   }
   return obstacle;
 }

@@ -23,10 +23,11 @@ Eigen::Matrix3Xf CropWindow(
     double max_height_above_ground_m = std::numeric_limits<double>::infinity(),
     Eigen::Matrix3Xf* below_robot = nullptr);
 
-/// Per cell of `g` between `low` and `high` (inclusive): 1 where the points of `points_W` span more
-/// than `min_span_m` in height (a vertical face: wall, trunk, box side), 0 where they span less,
-/// NaN where there is none. A slope of angle a spans at most resolution * sqrt(2) * tan(a) in a
-/// cell, so a span above 0.3 m at 0.2 m cells means a face steeper than about 47 deg.
+/// Per cell of `g` between `low` and `high` (inclusive): 1 where the highest point of the cell lies
+/// more than `min_span_m` above the lowest point of its 3 x 3 cell neighbourhood (a vertical face:
+/// wall, trunk, box side, even where the face's points are sparse), 0 where it does not, NaN where
+/// the cell has no point. Ground of slope a rises at most 2 sqrt(2) resolution tan(a) across the
+/// neighbourhood: 0.3 m at 0.2 m cells means slopes steeper than about 28 deg read as faces.
 Eigen::MatrixXf ObstacleCells(const Eigen::Matrix3Xf& points_W, const common::GridGeometry& g,
                               const Eigen::Vector2i& low, const Eigen::Vector2i& high,
                               double min_span_m);

@@ -93,6 +93,56 @@ TEST(CropWindowTest, KeepsTheWindowAndOnlyTheFootOfTallStructures) {
   EXPECT_EQ(result.window_points, 44);
 }
 
+TEST(ObstacleCellsTest, AFaceAboveItsNeighbourhoodIsAnObstacleAndASlopeIsNot) {
+  const common::GridGeometry g =
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(2, 2), 0.2);
+  std::vector<Eigen::Vector3f> points;
+  // a 20 deg slope along x, sampled every 5 cm
+  for (double x = -1.0; x <= 1.0; x += 0.05) {
+    for (double y = -1.0; y <= 1.0; y += 0.05) {
+      points.emplace_back(static_cast<float>(x), static_cast<float>(y),
+                          static_cast<float>(std::tan(20.0 * M_PI / 180.0) * x));
+    }
+  }
+  // two sparse points high on a wall face in the cell at (0.4, 0.4): 0.9 and 1.0 m up
+  const float base = static_cast<float>(std::tan(20.0 * M_PI / 180.0) * 0.4);
+  points.emplace_back(0.41f, 0.4f, base + 0.9f);
+  points.emplace_back(0.42f, 0.39f, base + 1.0f);
+  const Eigen::Matrix3Xf cloud = common::MakePointCloud(points).points;
+  const Eigen::Vector2i low(0, 0), high(g.num_x - 1, g.num_y - 1);
+  const Eigen::MatrixXf dut = ObstacleCells(cloud, g, low, high, 0.3);
+  const Eigen::Vector2i wall = *g.CellIndex({0.4, 0.4});
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      EXPECT_EQ(dut(ix, iy), (Eigen::Vector2i(ix, iy) == wall) ? 1.0f : 0.0f) << ix << "," << iy;
+    }
+  }
+  // no points: unknown
+  EXPECT_TRUE(std::isnan(ObstacleCells(Eigen::Matrix3Xf(3, 0), g, low, high, 0.3)(3, 3)));
+}
+
+TEST(FsgpBgkMapperTest, AWallIsUntraversableAndItsCellsClearWhenSeenFree) {
+  FsgpBgkMapper dut(FsgpConfig{});
+  common::PointCloud scan = Surface([](double, double) { return 0.0; }, {0, 0});
+  std::vector<Eigen::Vector3f> with_wall;
+  for (Eigen::Index i = 0; i < scan.size(); ++i) with_wall.emplace_back(scan.points.col(i));
+  for (double y = -1.0; y <= 1.0; y += 0.1) {
+    for (double z = 0.0; z <= 1.5; z += 0.1) {
+      with_wall.emplace_back(2.0f, static_cast<float>(y), static_cast<float>(z));
+    }
+  }
+  ASSERT_EQ(dut.Update(common::MakePointCloud(with_wall), RobotAt(0, 0), 0.0).status,
+            MapUpdateStatus::kUpdated);
+  const Eigen::Vector2d wall_W(2.0, 0.0);
+  EXPECT_EQ(*dut.map().At(layers::kTraversability, wall_W), 1.0f);
+  EXPECT_EQ(*dut.map().At(layers::kObstacle, wall_W), 1.0f);
+  EXPECT_LT(*dut.map().At(layers::kTraversability, {-2.0, 0.0}), 0.1f);
+  // the wall is gone (a mover walked away): the next frame of bare ground clears it
+  ASSERT_EQ(dut.Update(scan, RobotAt(0, 0), 0.1).status, MapUpdateStatus::kUpdated);
+  EXPECT_EQ(*dut.map().At(layers::kObstacle, wall_W), 0.0f);
+  EXPECT_LT(*dut.map().At(layers::kTraversability, wall_W), 0.5f);
+}
+
 TEST(FsgpBgkMapperTest, FlatGroundIsEasyEverywhere) {
   FsgpBgkMapper dut(FsgpConfig{});
   const MapUpdateResult result =
