@@ -1,0 +1,96 @@
+// The closed loop's real-time factor: the suite's hilly scenario (30 m traverse with LiDAR,
+// FSGP-BGK mapping, planning and MPC) for 8 s of simulated time, without video (budget 3x real
+// time or more) and with 640 x 480 video through OSMesa (0.5x or more). One run per benchmark;
+// the time includes terrain generation, world and BVH building and writing the outputs, as in
+// `trav run`. Counters: real_time_factor (simulated / wall seconds of RunScenario) and the share
+// of that wall time spent in each module (share_lidar, share_mapping, share_planning,
+// share_control, share_physics, share_render) as summary.json's "compute" measures it, with
+// share_other for the rest (terrain, world, metrics, video encoding, files).
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "common/yaml_reader.h"
+#include "renders/renderer.h"
+#include "scenarios/scenario.h"
+#include "scenarios/scenario_run.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using trav::scenarios::RunSummary;
+using trav::scenarios::Scenario;
+
+constexpr char kScenarioFile[] = "/scenarios/suite/hilly.yaml";
+constexpr double kDuration_s = 8.0;
+// The modules of summary.json's "compute".
+constexpr const char* kModules[] = {"lidar", "mapping", "planning", "control", "physics", "render"};
+
+// A fresh folder for one run's outputs, removed with the object.
+class TemporaryFolder {
+ public:
+  explicit TemporaryFolder(const std::string& name)
+      : path_(fs::temp_directory_path() /
+              ("trav_loop_benchmark_" + std::to_string(getpid()) + "_" + name)) {
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TemporaryFolder() {
+    std::error_code error;
+    fs::remove_all(path_, error);
+  }
+  TemporaryFolder(const TemporaryFolder&) = delete;
+  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
+  std::string path() const { return path_.string(); }
+
+ private:
+  fs::path path_;
+};
+
+void RunClosedLoop(benchmark::State& state, bool video) {
+  Scenario scenario = trav::scenarios::LoadScenario(
+      trav::common::YamlDocument::Load(std::string(TRAV_SOURCE_DIR) + kScenarioFile));
+  scenario.duration_s = kDuration_s;
+  scenario.video.enabled = video;
+  scenario.video.render.width = 640;
+  scenario.video.render.height = 480;
+  scenario.video.render.backend = trav::renders::GlBackend::kOsmesa;
+  const std::string model = trav::scenarios::RobotModelPath(scenario, TRAV_MODELS_DIR);
+
+  RunSummary summary;
+  double wall_s = 0.0;
+  for (auto _ : state) {
+    const TemporaryFolder output(video ? "video" : "no_video");
+    const auto start = std::chrono::steady_clock::now();
+    summary = trav::scenarios::RunScenario(scenario, model, output.path());
+    wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    state.SetIterationTime(wall_s);
+  }
+
+  state.counters["sim_time_s"] = summary.sim_time_s;
+  state.counters["real_time_factor"] = summary.sim_time_s / wall_s;
+  state.counters["video_frames"] = summary.video_frames;
+  double modules_s = 0.0;
+  for (const char* module : kModules) {
+    const double total_s =
+        summary.compute.contains(module) ? summary.compute[module]["total_s"].get<double>() : 0.0;
+    modules_s += total_s;
+    state.counters[std::string("share_") + module] = total_s / wall_s;
+  }
+  state.counters["share_other"] = 1.0 - modules_s / wall_s;
+  state.SetLabel(std::string("outcome ") + trav::scenarios::OutcomeName(summary.outcome));
+}
+
+void BM_ClosedLoopNoVideo(benchmark::State& state) { RunClosedLoop(state, /*video=*/false); }
+BENCHMARK(BM_ClosedLoopNoVideo)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+
+void BM_ClosedLoopVideo640x480(benchmark::State& state) { RunClosedLoop(state, /*video=*/true); }
+BENCHMARK(BM_ClosedLoopVideo640x480)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
