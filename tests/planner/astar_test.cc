@@ -7,9 +7,12 @@
 #include <gtest/gtest.h>
 
 #include "common/random.h"
+#include "tests/planner/planner_test_util.h"
 
 namespace trav::planner {
 namespace {
+
+using test_util::Paint;
 
 // A 10 x 10 m map at 0.1 m, every cell easy (cost 0).
 common::GridLayers EmptyMap() {
@@ -18,17 +21,6 @@ common::GridLayers EmptyMap() {
       {"traversability"});
   map.Layer("traversability").setZero();
   return map;
-}
-
-// Sets the cost of every cell whose centre satisfies `inside`.
-template <typename Inside>
-void Paint(common::GridLayers* map, float value, Inside inside) {
-  const common::GridGeometry& g = map->geometry();
-  for (int ix = 0; ix < g.num_x; ++ix) {
-    for (int iy = 0; iy < g.num_y; ++iy) {
-      if (inside(g.CellCenter(ix, iy))) map->Layer("traversability")(ix, iy) = value;
-    }
-  }
 }
 
 double Length(const std::vector<Eigen::Vector2d>& points) {

@@ -5,9 +5,12 @@
 #include <gtest/gtest.h>
 
 #include "common/input_error.h"
+#include "tests/planner/planner_test_util.h"
 
 namespace trav::planner {
 namespace {
+
+using test_util::Paint;
 
 // 16 x 10 m at 0.1 m with cost `cost` everywhere.
 common::GridLayers FlatMap(float cost = 0.0f) {
@@ -16,17 +19,6 @@ common::GridLayers FlatMap(float cost = 0.0f) {
       {"traversability"});
   map.Layer("traversability").setConstant(cost);
   return map;
-}
-
-// Sets the cost of every cell whose centre satisfies `inside`.
-template <typename Inside>
-void Paint(common::GridLayers* map, float value, Inside inside) {
-  const common::GridGeometry& g = map->geometry();
-  for (int ix = 0; ix < g.num_x; ++ix) {
-    for (int iy = 0; iy < g.num_y; ++iy) {
-      if (inside(g.CellCenter(ix, iy))) map->Layer("traversability")(ix, iy) = value;
-    }
-  }
 }
 
 TrajectoryRequest StraightRequest() {
