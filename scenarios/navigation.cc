@@ -12,6 +12,10 @@ namespace {
 
 // Events replan at most this often [s]: a deviation that persists must not replan every tick.
 constexpr double kMinEventInterval_s = 0.1;
+// Progress stalls when the plan asks for this speed [m/s] and the robot has been slower than a
+// tenth of it for kStallTime_s.
+constexpr double kStallSpeed_m_s = 0.3;
+constexpr double kStallTime_s = 1.0;
 // Spacing of the samples of the safety and lethal-cell checks along the plan [s].
 constexpr double kCheckStep_s = 0.05;
 
@@ -34,6 +38,27 @@ bool Lethal(const common::GridLayers& map, const planner::CostMapConfig& config,
 
 }  // namespace
 
+Localization::Localization(const NavigationSettings& settings)
+    : settings_(settings), random_(settings.localization_seed) {}
+
+common::RobotState Localization::Estimate(const common::RobotState& truth) {
+  const NavigationSettings& s = settings_;
+  if (s.position_noise_m == 0.0 && s.yaw_noise_rad == 0.0 && s.drift_m_per_sqrt_s == 0.0) {
+    return truth;
+  }
+  const double dt = std::max(0.0, truth.time_s - last_time_s_);
+  last_time_s_ = truth.time_s;
+  const double step = s.drift_m_per_sqrt_s * std::sqrt(dt);
+  drift_W_ += step * Eigen::Vector2d(random_.Normal(), random_.Normal());
+  common::RobotState estimate = truth;
+  estimate.X_WB.translation().head<2>() +=
+      drift_W_ + s.position_noise_m * Eigen::Vector2d(random_.Normal(), random_.Normal());
+  estimate.X_WB.linear() =
+      Eigen::AngleAxisd(s.yaw_noise_rad * random_.Normal(), Eigen::Vector3d::UnitZ()) *
+      truth.X_WB.linear();
+  return estimate;
+}
+
 void ValidateNavigationSettings(const NavigationSettings& s) {
   using common::RequireValue;
   RequireValue(s.goal_radius_m > 0.0, "navigation.goal_radius", s.goal_radius_m, "must be > 0");
@@ -48,6 +73,13 @@ void ValidateNavigationSettings(const NavigationSettings& s) {
                "must be > 0");
   RequireValue(s.mover_sensing_range_m > 0.0, "navigation.mover_sensing_range",
                s.mover_sensing_range_m, "must be > 0");
+  RequireValue(s.position_noise_m >= 0.0, "navigation.position_noise", s.position_noise_m,
+               "must be >= 0");
+  RequireValue(s.yaw_noise_rad >= 0.0, "navigation.yaw_noise", s.yaw_noise_rad, "must be >= 0");
+  RequireValue(s.drift_m_per_sqrt_s >= 0.0, "navigation.drift", s.drift_m_per_sqrt_s,
+               "must be >= 0");
+  RequireValue(s.mapping_latency_s >= 0.0, "navigation.mapping_latency", s.mapping_latency_s,
+               "must be >= 0");
   RequireValue(s.planning_failure_time_s > 0.0, "navigation.planning_failure_time",
                s.planning_failure_time_s, "must be > 0");
 }
@@ -111,6 +143,13 @@ ReplanReason Navigator::ReasonToReplan(const common::RobotState& state,
     return ReplanReason::kNone;
   }
   if (force_replan_) return ReplanReason::kSafetyStop;
+  const double planned_speed = std::abs(trajectory_.Sample(now).v);
+  if (planned_speed < kStallSpeed_m_s || std::abs(state.v_WB_B.x()) > 0.1 * kStallSpeed_m_s) {
+    last_moving_s_ = now;
+  } else if (now - last_moving_s_ > kStallTime_s) {
+    last_moving_s_ = now;
+    return ReplanReason::kStalled;
+  }
   const Eigen::Vector2d position_W = state.X_WB.translation().head<2>();
   if ((trajectory_.Sample(now).position_W - position_W).norm() > settings_.replan_deviation_m) {
     return ReplanReason::kDeviation;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -8,6 +9,7 @@
 
 #include "common/grid.h"
 #include "common/pose.h"
+#include "common/random.h"
 #include "common/trajectory.h"
 #include "controller/mpc.h"
 #include "planner/navigation_planner.h"
@@ -28,13 +30,49 @@ struct NavigationSettings {
   /// `mover_sensing_range_m` of the robot, as a stand-in for perception).
   bool movers_from_ground_truth{true};
   double mover_sensing_range_m{15.0};  ///< [m], > 0
+  /// Localisation: the navigator sees the true pose plus white noise (standard deviations) and a
+  /// drift (a random walk of the position offset, growing by `drift_m_per_sqrt_s` per sqrt(s)),
+  /// drawn from `localization_seed`. Zero: ground truth.
+  double position_noise_m{0.0};
+  double yaw_noise_rad{0.0};
+  double drift_m_per_sqrt_s{0.0};
+  std::uint64_t localization_seed{1};
+  /// The map reaches the planner this long after the frame it comes from [s], >= 0.
+  double mapping_latency_s{0.0};
+};
+
+/// The pose the navigator believes: the true one with the settings' noise and drift. Seeded and
+/// repeatable; with zero noise and drift it returns the true state unchanged.
+class Localization {
+ public:
+  explicit Localization(const NavigationSettings& settings);
+
+  /// The estimate of `truth` (the state at its time; call once per control step, in time order).
+  common::RobotState Estimate(const common::RobotState& truth);
+
+  /// The current drift offset [m].
+  const Eigen::Vector2d& drift_W() const { return drift_W_; }
+
+ private:
+  NavigationSettings settings_;
+  common::Random random_;
+  Eigen::Vector2d drift_W_{Eigen::Vector2d::Zero()};
+  double last_time_s_{0.0};
 };
 
 /// Checks settings. @throws common::InputError naming `navigation.<key>` and the value.
 void ValidateNavigationSettings(const NavigationSettings& settings);
 
 /// Why the navigator replanned.
-enum class ReplanReason { kNone, kFirst, kPeriodic, kNewLethalCells, kDeviation, kSafetyStop };
+enum class ReplanReason {
+  kNone,
+  kFirst,
+  kPeriodic,
+  kNewLethalCells,
+  kDeviation,
+  kSafetyStop,
+  kStalled,  ///< the plan says move, the robot has not for a second
+};
 
 /// The autonomy stack of one robot: plans on the latest traversability map at a fixed rate and on
 /// events (the plan crosses newly lethal cells, the robot strays from it, a safety stop), tracks
@@ -96,6 +134,7 @@ class Navigator {
   double next_plan_s_{0.0};
   double last_valid_plan_s_{0.0};
   bool force_replan_{false};
+  double last_moving_s_{0.0};  // last time the robot moved or was meant to stand still
   Statistics statistics_;
 };
 

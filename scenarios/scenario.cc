@@ -447,6 +447,11 @@ void VisitScenario(Archive& a, Scenario& s) {
     NavigationSettings& k = s.navigation;
     n.Field("movers_from_ground_truth", &k.movers_from_ground_truth);
     n.Field("mover_sensing_range", &k.mover_sensing_range_m);
+    n.Field("position_noise", &k.position_noise_m);
+    n.Field("yaw_noise", &k.yaw_noise_rad);
+    n.Field("drift", &k.drift_m_per_sqrt_s);
+    n.Field("localization_seed", &k.localization_seed);
+    n.Field("mapping_latency", &k.mapping_latency_s);
     n.Field("goal_radius", &k.goal_radius_m);
     n.Field("planning_rate", &k.planning_rate_hz);
     n.Field("replan_deviation", &k.replan_deviation_m);

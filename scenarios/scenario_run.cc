@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -207,6 +208,14 @@ void RemoveMoverPoints(const Scenario& scenario, const sim::Simulation& simulati
   cloud_W->line_ids.resize(0);
 }
 
+// A LiDAR frame on its way to the mapper (mapping latency).
+struct PendingFrame {
+  double ready_s;  // simulation time at which the mapper gets it
+  common::PointCloud cloud_W;
+  Eigen::Isometry3d X_WB;
+  double scan_time_s;
+};
+
 double MillisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
@@ -303,6 +312,9 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   std::vector<planner::MovingObstacle> predicted_movers;
   std::vector<sim::RobotContact> contacts;
   std::map<std::string, double> module_totals_ms;
+  std::deque<PendingFrame> pending_frames;
+  std::optional<Localization> localization;
+  if (navigate) localization.emplace(scenario.navigation);
   std::vector<Eigen::Vector2d> driven_W = {scenario.start_W.position};
   Eigen::Matrix3Xf latest_points_W;
   double sum_vertical_acceleration2 = 0.0;
@@ -387,7 +399,8 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
       const int plans_before = stats.plans;
       const std::size_t solves_before = stats.control_ms.size();
       const auto navigation_start = std::chrono::steady_clock::now();
-      command = navigator->Update(state, navigation_map, map_changed, predicted_movers);
+      command = navigator->Update(localization->Estimate(state), navigation_map, map_changed,
+                                  predicted_movers);
       const double navigation_ms = MillisecondsSince(navigation_start);
       if (stats.plans > plans_before) {
         times.Add("planning", navigation_ms);
@@ -430,24 +443,34 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
           if (navigator) latest_points_W = cloud_W.points;
         }
         if (mapper) {
-          const auto map_start = std::chrono::steady_clock::now();
+          // movers are removed with their poses at scan time; the frame reaches the mapper after
+          // the modelled latency
           if (simulation.num_movers() > 0) RemoveMoverPoints(scenario, simulation, &cloud_W);
-          mapper->Update(cloud_W, state.X_WB, simulation.time());
-          mapping_ms.push_back(MillisecondsSince(map_start));
-          times.Add("mapping", mapping_ms.back());
-          navigation_map = &mapper->map();
-          map_changed = true;
-          if (truth_W) {
-            last_mapping_error =
-                CompareWithTruth(mapper->map(), *truth_W, mapping::layers::kTraversability).mean;
-          }
-          // the closed loop shows the map in its panel: no need to draw it as thousands of geoms
-          if (video && !navigator) overlay.grids.assign(1, DrawableMap(mapper->map()));
+          pending_frames.push_back({simulation.time() + scenario.navigation.mapping_latency_s,
+                                    std::move(cloud_W), state.X_WB, simulation.time()});
         }
         if (run_options.max_lidar_frames > 0 &&
             summary.lidar_frames >= run_options.max_lidar_frames)
           break;
       }
+    }
+
+    while (mapper && !pending_frames.empty() &&
+           pending_frames.front().ready_s <= simulation.time() + 1e-9) {
+      const PendingFrame& pending = pending_frames.front();
+      const auto map_start = std::chrono::steady_clock::now();
+      mapper->Update(pending.cloud_W, pending.X_WB, pending.scan_time_s);
+      mapping_ms.push_back(MillisecondsSince(map_start));
+      times.Add("mapping", mapping_ms.back());
+      pending_frames.pop_front();
+      navigation_map = &mapper->map();
+      map_changed = true;
+      if (truth_W) {
+        last_mapping_error =
+            CompareWithTruth(mapper->map(), *truth_W, mapping::layers::kTraversability).mean;
+      }
+      // the closed loop shows the map in its panel: no need to draw it as thousands of geoms
+      if (video && !navigator) overlay.grids.assign(1, DrawableMap(mapper->map()));
     }
 
     if (video && simulation.time() >= next_frame_s - 1e-9) {
@@ -520,8 +543,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
           planned.rgba = Eigen::Vector4f(1.0f, 1.0f, 1.0f, 1.0f);
           // at most kMaxPlanSegments capsules: each is one geom for the software renderer
           const std::vector<common::TrajectoryPoint>& points = navigator->trajectory().points();
-          const std::size_t stride =
-              std::max<std::size_t>(1, points.size() / kMaxPlanSegments + 1);
+          const std::size_t stride = std::max<std::size_t>(1, points.size() / kMaxPlanSegments + 1);
           for (std::size_t i = 0; i < points.size(); i += stride) {
             const Eigen::Vector2d& p = points[i].position_W;
             planned.points_W.emplace_back(p.x(), p.y(), world.GroundHeight(p) + 0.05);

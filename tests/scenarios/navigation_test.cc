@@ -120,6 +120,16 @@ TEST(NavigationRunTest, TheSameScenarioGivesTheSameRun) {
   fs::remove_all(second);
 }
 
+TEST(NavigationRunTest, MapsArriveAfterTheModelledLatency) {
+  Scenario scenario = LoadFile("suite/hilly.yaml");
+  scenario.duration_s = 1.0;
+  scenario.navigation.mapping_latency_s = 0.25;
+  const RunSummary summary = RunHeadless(scenario, "latency");
+  // frames every 0.1 s; those of the last 0.25 s have not reached the mapper yet
+  EXPECT_EQ(summary.lidar_frames, 10);
+  EXPECT_EQ(summary.mapping_updates, 7);
+}
+
 TEST(NavigationRunTest, BadMoversAreInputErrorsNamingTheKeyAndValue) {
   const std::string text = R"(schema_version: 1
 mode: navigate
