@@ -259,6 +259,34 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   return result;
 }
 
+namespace {
+
+// Morphological closing (dilation, then erosion) of a mask by the 3 x 3 cell square.
+Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> ClosedMask(
+    const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic>& mask) {
+  const Eigen::Index nx = mask.rows(), ny = mask.cols();
+  auto neighbourhood = [&](const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic>& in, bool all) {
+    Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> result(nx, ny);
+    for (Eigen::Index ix = 0; ix < nx; ++ix) {
+      for (Eigen::Index iy = 0; iy < ny; ++iy) {
+        bool value = all;
+        for (Eigen::Index jx = std::max<Eigen::Index>(0, ix - 1); jx <= std::min(nx - 1, ix + 1);
+             ++jx) {
+          for (Eigen::Index jy = std::max<Eigen::Index>(0, iy - 1); jy <= std::min(ny - 1, iy + 1);
+               ++jy) {
+            value = all ? (value && in(jx, jy)) : (value || in(jx, jy));
+          }
+        }
+        result(ix, iy) = value;
+      }
+    }
+    return result;
+  };
+  return neighbourhood(neighbourhood(mask, false), true);
+}
+
+}  // namespace
+
 void FsgpBgkMapper::MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eigen::Vector2i& low,
                                   const Eigen::Vector2i& high) {
   // the faces the height regression cannot see (their points were cropped as not terrain): the
@@ -273,8 +301,9 @@ void FsgpBgkMapper::MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eig
       if (!std::isnan(value)) obstacle(ix, iy) = value;
     }
   }
-  // over the whole map: smoothing rewrote a margin around the window too
-  out = (obstacle.array() == 1.0f).select(1.0f, out);
+  // over the whole map (smoothing rewrote a margin around the window too), closed by one cell:
+  // faces seen edge-on or occluded leave gaps of a cell or two in a wall, never a passage
+  out = (ClosedMask(obstacle.array() == 1.0f)).select(1.0f, out);
 }
 
 void FsgpBgkMapper::Smooth(const Eigen::Vector2i& low, const Eigen::Vector2i& high) {

@@ -143,6 +143,35 @@ TEST(FsgpBgkMapperTest, AWallIsUntraversableAndItsCellsClearWhenSeenFree) {
   EXPECT_LT(*dut.map().At(layers::kTraversability, wall_W), 0.5f);
 }
 
+// Flat ground with a 1.5 m high wall along y at x = 2 from y = -2 to 2, but for a gap of `gap` m
+// centred on y = 0 where the LiDAR saw nothing at all (no wall and no ground).
+common::PointCloud WallWithGap(double gap) {
+  const common::PointCloud floor = Surface([](double, double) { return 0.0; }, {0, 0});
+  std::vector<Eigen::Vector3f> points;
+  for (Eigen::Index i = 0; i < floor.size(); ++i) {
+    const Eigen::Vector3f p = floor.points.col(i);
+    if (std::abs(p.x() - 2.0f) < 0.3f && std::abs(p.y()) < 0.5 * gap) continue;
+    points.emplace_back(p);
+  }
+  for (double y = -2.0; y <= 2.0; y += 0.05) {
+    if (std::abs(y) < 0.5 * gap) continue;
+    for (double z = 0.0; z <= 1.5; z += 0.1) {
+      points.emplace_back(2.0f, static_cast<float>(y), static_cast<float>(z));
+    }
+  }
+  return common::MakePointCloud(points);
+}
+
+TEST(FsgpBgkMapperTest, AWallsUnseenCellsAreClosedButADoorwayStaysOpen) {
+  FsgpBgkMapper closed(FsgpConfig{});
+  ASSERT_EQ(closed.Update(WallWithGap(0.2), RobotAt(0, 0), 0.0).status, MapUpdateStatus::kUpdated);
+  EXPECT_EQ(*closed.map().At(layers::kTraversability, {2.0, 0.0}), 1.0f);
+  FsgpBgkMapper door(FsgpConfig{});
+  ASSERT_EQ(door.Update(WallWithGap(1.0), RobotAt(0, 0), 0.0).status, MapUpdateStatus::kUpdated);
+  EXPECT_LT(*door.map().At(layers::kTraversability, {2.0, 0.0}), 0.8f);
+  EXPECT_EQ(*door.map().At(layers::kTraversability, {2.0, 1.0}), 1.0f);
+}
+
 TEST(FsgpBgkMapperTest, FlatGroundIsEasyEverywhere) {
   FsgpBgkMapper dut(FsgpConfig{});
   const MapUpdateResult result =
