@@ -91,8 +91,9 @@ struct OptimizedTrajectory {
 /// (liblbfgs, backtracking Wolfe line search). The initial guess follows the request's guide path
 /// at a fraction of the limits, straight along its segments and turning in place at its sharp
 /// vertices; replanning toward the same goal starts from the previous plan shifted to the new start
-/// time, and from the guide path again if that ends infeasible (the map changed). Deterministic: the same calls in the same order give the same
-/// results (no decision depends on wall time). Failure is a status, never an exception.
+/// time, and from the guide path again if that ends infeasible (the map changed). Deterministic:
+/// the same calls in the same order give the same results (no decision depends on wall time).
+/// Failure is a status, never an exception.
 class TrajectoryOptimizer {
  public:
   /// @throws common::InputError for an invalid config.
