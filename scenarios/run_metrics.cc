@@ -26,12 +26,14 @@ LayerError CompareWithTruth(const common::GridLayers& map, const common::GridLay
                             const std::string& layer) {
   const common::GridGeometry& g = map.geometry();
   const Eigen::MatrixXf& predicted = map.Layer(layer);
+  const Eigen::MatrixXf& truth_layer = truth_W.Layer(layer);
   Eigen::MatrixXf truth = Eigen::MatrixXf::Constant(g.num_x, g.num_y, NAN);
   for (int iy = 0; iy < g.num_y; ++iy) {
     for (int ix = 0; ix < g.num_x; ++ix) {
       if (std::isnan(predicted(ix, iy))) continue;
-      const std::optional<float> value = truth_W.At(layer, g.CellCenter(ix, iy));
-      if (value) truth(ix, iy) = *value;
+      const std::optional<Eigen::Vector2i> cell =
+          truth_W.geometry().CellIndex(g.CellCenter(ix, iy));
+      if (cell) truth(ix, iy) = truth_layer(cell->x(), cell->y());
     }
   }
   return CompareLayers(predicted, truth);
