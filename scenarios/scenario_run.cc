@@ -22,6 +22,7 @@
 #include "renders/video_writer.h"
 #include "scenarios/mappers.h"
 #include "scenarios/navigation.h"
+#include "scenarios/plots.h"
 #include "scenarios/pcd_io.h"
 #include "scenarios/run_metrics.h"
 #include "scenarios/tracking.h"
@@ -646,6 +647,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
     summary.navigation = navigation;
     timeseries.close();
     if (!timeseries) throw std::runtime_error("cannot write " + output_dir + "/timeseries.csv");
+    summary.plots = PlotsJson(WriteRunPlots(output_dir));
   }
   summary.compute = times.ToJson();
   if (mapper && !mapping_ms.empty()) {
@@ -734,6 +736,7 @@ std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
                          {"time_s", summary.collision->time_s}};
   }
   json["compute"] = summary.compute;
+  if (summary.navigation) json["plots"] = summary.plots;
   if (summary.tracking) {
     const TrackingMetrics& m = *summary.tracking;
     json["tracking"] = {

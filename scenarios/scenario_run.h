@@ -71,6 +71,9 @@ struct RunSummary {
   std::optional<CollisionRecord> collision;     ///< outcome collision only
   /// Wall time per module: {module: {calls, median_ms, max_ms, total_s}}.
   nlohmann::json compute = nlohmann::json::object();
+  /// Mode navigate: the PNG plots written (speed, roll and pitch, mapping error, compute), or null
+  /// when gnuplot is missing.
+  nlohmann::json plots;
 };
 
 /// Options of a run that are not part of the scenario.
