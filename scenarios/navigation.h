@@ -26,8 +26,8 @@ struct NavigationSettings {
   double stuck_time_s{10.0};       ///< stuck: within `stuck_distance_m` of one place this long [s]
   double stuck_distance_m{0.3};    ///< [m]
   double planning_failure_time_s{5.0};  ///< no valid plan for this long is a planning failure [s]
-  /// The planner knows every mover's true position and velocity (else only those within
-  /// `mover_sensing_range_m` of the robot, as a stand-in for perception).
+  /// The planner knows every mover's true position and velocity; else it gets the movers it
+  /// perceives in the scans within `mover_sensing_range_m` (mapping::MoverTracker).
   bool movers_from_ground_truth{true};
   double mover_sensing_range_m{15.0};  ///< [m], > 0
   /// Localisation: the navigator sees the true pose plus white noise (standard deviations) and a

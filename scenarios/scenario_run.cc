@@ -15,6 +15,7 @@
 
 #include "controller/skid_steer.h"
 #include "mapping/ground_truth.h"
+#include "mapping/mover_tracker.h"
 #include "planner/astar.h"
 #include "renders/image.h"
 #include "renders/map_panel.h"
@@ -22,8 +23,8 @@
 #include "renders/video_writer.h"
 #include "scenarios/mappers.h"
 #include "scenarios/navigation.h"
-#include "scenarios/plots.h"
 #include "scenarios/pcd_io.h"
+#include "scenarios/plots.h"
 #include "scenarios/run_metrics.h"
 #include "scenarios/tracking.h"
 #include "sim/lidar/lidar_emulator.h"
@@ -167,21 +168,26 @@ renders::PanelOverlay NavigationPanel(const Navigator& navigator,
 
 // The movers as the planner sees them now: discs at constant velocity, from their true state,
 // all of them or those within the sensing range.
-std::vector<planner::MovingObstacle> PredictedMovers(const Scenario& scenario,
-                                                     const sim::Simulation& simulation,
-                                                     const common::RobotState& state) {
+std::vector<planner::MovingObstacle> TrueMovers(const Scenario& scenario,
+                                                const sim::Simulation& simulation, double t_s) {
   std::vector<planner::MovingObstacle> movers;
   for (int i = 0; i < simulation.num_movers(); ++i) {
     planner::MovingObstacle mover;
     mover.position_W = simulation.MoverPose(i).translation().head<2>();
     mover.velocity_W = simulation.MoverVelocity(i);
     mover.radius_m = sim::MoverFootprintRadius(scenario.movers[static_cast<std::size_t>(i)]);
-    mover.t_s = state.time_s;
-    const double range = (mover.position_W - state.X_WB.translation().head<2>()).norm();
-    if (scenario.navigation.movers_from_ground_truth ||
-        range <= scenario.navigation.mover_sensing_range_m) {
-      movers.push_back(mover);
-    }
+    mover.t_s = t_s;
+    movers.push_back(mover);
+  }
+  return movers;
+}
+
+// The movers the planner perceived: the tracker's moving tracks, at constant velocity from their
+// last update.
+std::vector<planner::MovingObstacle> PerceivedMovers(const mapping::MoverTracker& tracker) {
+  std::vector<planner::MovingObstacle> movers;
+  for (const mapping::TrackedMover& track : tracker.Movers()) {
+    movers.push_back({track.position_W, track.velocity_W, track.radius_m, track.t_s});
   }
   return movers;
 }
@@ -311,11 +317,20 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
            "physics_ms,render_ms\n";
   }
   std::vector<planner::MovingObstacle> predicted_movers;
+  double tracking_error_sum = 0.0;
+  int tracking_error_count = 0;
   std::vector<sim::RobotContact> contacts;
   std::map<std::string, double> module_totals_ms;
   std::deque<PendingFrame> pending_frames;
   std::optional<Localization> localization;
   if (navigate) localization.emplace(scenario.navigation);
+  // movers perceived from the scans, when the scenario does not give the planner their true state
+  std::optional<mapping::MoverTracker> mover_tracker;
+  if (navigate && lidar && !scenario.navigation.movers_from_ground_truth) {
+    mapping::MoverTrackerConfig tracker_config;
+    tracker_config.range_m = scenario.navigation.mover_sensing_range_m;
+    mover_tracker.emplace(tracker_config);
+  }
   std::vector<Eigen::Vector2d> driven_W = {scenario.start_W.position};
   Eigen::Matrix3Xf latest_points_W;
   double sum_vertical_acceleration2 = 0.0;
@@ -384,11 +399,24 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
         if (ray_scene) ray_scene->SetMovingPose(i, simulation.MoverPose(i));
       }
       if (navigator) {
-        predicted_movers = PredictedMovers(scenario, simulation, state);
-        for (const planner::MovingObstacle& mover : predicted_movers) {
+        const std::vector<planner::MovingObstacle> movers =
+            TrueMovers(scenario, simulation, simulation.time());
+        for (const planner::MovingObstacle& mover : movers) {
           const double gap = (mover.position_W - state.X_WB.translation().head<2>()).norm() -
                              mover.radius_m - scenario.planner.optimizer.robot_radius_m;
           navigation.min_mover_clearance_m = std::min(navigation.min_mover_clearance_m, gap);
+        }
+        predicted_movers = mover_tracker ? PerceivedMovers(*mover_tracker) : movers;
+        // perception: each perceived mover against the nearest true one, now
+        for (const planner::MovingObstacle& seen :
+             mover_tracker ? predicted_movers : std::vector<planner::MovingObstacle>{}) {
+          double nearest = std::numeric_limits<double>::infinity();
+          for (const planner::MovingObstacle& mover : movers) {
+            nearest =
+                std::min(nearest, (seen.PositionAt(simulation.time()) - mover.position_W).norm());
+          }
+          tracking_error_sum += nearest;
+          ++tracking_error_count;
         }
       }
     }
@@ -435,13 +463,16 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
         }
         // the frame in W, each point placed with its own sensor pose: once for video and mapping
         common::PointCloud cloud_W;
-        if (video || mapper) {
+        if (video || mapper || mover_tracker) {
           cloud_W.points = lidar::PointsInWorld(lidar_frame);
           cloud_W.stamp_s = lidar_frame.points_L.stamp_s;
         }
         if (video) {
           overlay.points.assign(1, DrawablePoints(lidar_frame, cloud_W.points));
           if (navigator) latest_points_W = cloud_W.points;
+        }
+        if (mover_tracker) {
+          mover_tracker->Update(cloud_W, state.X_WB.translation(), simulation.time());
         }
         if (mapper) {
           // movers are removed with their poses at scan time; the frame reaches the mapper after
@@ -632,6 +663,10 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
     navigation.failed_plans = stats.failed_plans;
     navigation.replans_on_events = stats.replans_on_events;
     navigation.safety_stops = stats.safety_stops;
+    if (tracking_error_count > 0) {
+      navigation.mover_tracking_error_m = tracking_error_sum / tracking_error_count;
+      navigation.perceived_mover_samples = tracking_error_count;
+    }
     navigation.last_planner_status = stats.last_status;
     navigation.final_goal_distance_m =
         (state.X_WB.translation().head<2>() - scenario.goal_W).norm();
@@ -725,6 +760,8 @@ std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
                           {"replans_on_events", n.replans_on_events},
                           {"safety_stops", n.safety_stops},
                           {"last_planner_status", n.last_planner_status},
+                          {"mover_tracking_error_m", n.mover_tracking_error_m},
+                          {"perceived_mover_samples", n.perceived_mover_samples},
                           {"min_mover_clearance_m", std::isfinite(n.min_mover_clearance_m)
                                                         ? nlohmann::json(n.min_mover_clearance_m)
                                                         : nlohmann::json(nullptr)}};

@@ -27,6 +27,11 @@ struct NavigationMetrics {
   int replans_on_events{0};
   int safety_stops{0};
   std::string last_planner_status;
+  /// Movers perceived from the scans (navigation.movers_from_ground_truth false): the mean distance
+  /// from each perceived mover to the nearest true one, over every physics step [m], and how many
+  /// such samples there were.
+  double mover_tracking_error_m{0.0};
+  int perceived_mover_samples{0};
   /// Smallest gap between the robot's disc and a mover's footprint (infinite: no movers) [m].
   double min_mover_clearance_m{std::numeric_limits<double>::infinity()};
 };

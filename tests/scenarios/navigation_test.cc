@@ -120,6 +120,18 @@ TEST(NavigationRunTest, TheSameScenarioGivesTheSameRun) {
   fs::remove_all(second);
 }
 
+TEST(NavigationRunTest, ACrossingPedestrianPerceivedFromTheScansAlone) {
+  Scenario scenario = LoadFile("suite/crossing.yaml");
+  scenario.navigation.movers_from_ground_truth = false;
+  const RunSummary summary = RunHeadless(scenario, "perceived");
+  ASSERT_EQ(summary.outcome, Outcome::kSuccess);
+  const NavigationMetrics& n = *summary.navigation;
+  // the tracker saw the pedestrian for most of the run, within a few decimetres of where it was
+  EXPECT_GT(n.perceived_mover_samples, 4000);
+  EXPECT_LT(n.mover_tracking_error_m, 0.35);
+  EXPECT_GE(n.min_mover_clearance_m, 0.0);
+}
+
 TEST(NavigationRunTest, MapsArriveAfterTheModelledLatency) {
   Scenario scenario = LoadFile("suite/hilly.yaml");
   scenario.duration_s = 1.0;
