@@ -49,6 +49,9 @@ common::Polyline GuidePath(const TrajectoryRequest& request) {
   return common::Polyline(std::move(points));
 }
 
+// Shortest piece a warm start keeps [s].
+constexpr double kMinimumDuration_s = 1e-3;
+
 // Turns sharper than this at a guide-path vertex get a piece of their own [rad].
 constexpr double kTurnInPlace_rad = 0.3;
 
@@ -110,13 +113,15 @@ std::optional<Guess> WarmGuess(const MinimumJerkPolynomial& previous, double ela
   int first = 0;
   double local = elapsed_s;
   while (first < n - 1 && local >= durations(first)) local -= durations(first++);
+  // the state now, before a nearly finished piece is merged into the next
+  const Eigen::RowVectorXd now = previous.Evaluate(first, std::min(local, durations(first)), 0);
   double head_duration = durations(first) - local;
   if (head_duration < 0.25 * durations(first) && first < n - 1) {
     ++first;
     head_duration += durations(first);
   }
-  const Eigen::RowVectorXd now =
-      previous.Evaluate(first, std::max(0.0, durations(first) - head_duration), 0);
+  // rounding can leave a sliver of the last piece: the polynomial needs positive durations
+  head_duration = std::max(head_duration, kMinimumDuration_s);
   const int pieces = n - first;
   Eigen::VectorXd new_durations = durations.tail(pieces);
   new_durations(0) = head_duration;
@@ -135,7 +140,9 @@ std::optional<Guess> WarmGuess(const MinimumJerkPolynomial& previous, double ela
   return guess;
 }
 
-// liblbfgs works on C callbacks; the instance pointer carries the cost.
+// liblbfgs works on C callbacks; the instance pointer carries the cost. No exception may cross
+// them: a step to virtual times whose durations are not finite and positive (overflow of the
+// duration map) is answered with the largest value, which makes the line search step back.
 struct LbfgsProblem {
   TrajectoryCost* cost;
   Eigen::VectorXd z;
@@ -149,6 +156,16 @@ lbfgsfloatval_t EvaluateCost(void* instance, const lbfgsfloatval_t* x, lbfgsfloa
   auto* problem = static_cast<LbfgsProblem*>(instance);
   ++problem->evaluations;
   problem->z = Eigen::Map<const Eigen::VectorXd>(x, n);
+  const int pieces = problem->cost->num_pieces();
+  bool valid = problem->z.allFinite();
+  for (int i = 0; i < pieces && valid; ++i) {
+    const double duration = TrajectoryCost::DurationFromVirtual(problem->z(2 * pieces + i));
+    valid = std::isfinite(duration) && duration > 0.0;
+  }
+  if (!valid) {
+    std::fill(g, g + n, 0.0);
+    return std::numeric_limits<double>::max();
+  }
   const double value = problem->cost->Evaluate(problem->z, &problem->gradient);
   if (!std::isfinite(value) || !problem->gradient.allFinite()) {
     std::fill(g, g + n, 0.0);

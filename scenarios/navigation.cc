@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 
 #include "common/input_error.h"
 
@@ -135,6 +134,8 @@ common::Twist2 Navigator::Update(const common::RobotState& state, const common::
 
 ReplanReason Navigator::ReasonToReplan(const common::RobotState& state,
                                        const common::GridLayers* map, bool map_updated) {
+  // a map update during the event blackout is checked when the blackout ends, not dropped
+  map_check_pending_ = map_check_pending_ || map_updated;
   const double now = state.time_s;
   if (map == nullptr) return ReplanReason::kNone;
   if (trajectory_.empty()) return now >= next_plan_s_ ? ReplanReason::kFirst : ReplanReason::kNone;
@@ -154,7 +155,8 @@ ReplanReason Navigator::ReasonToReplan(const common::RobotState& state,
   if ((trajectory_.Sample(now).position_W - position_W).norm() > settings_.replan_deviation_m) {
     return ReplanReason::kDeviation;
   }
-  if (map_updated) {
+  if (map_check_pending_) {
+    map_check_pending_ = false;
     for (double t = now; t <= trajectory_.end_time(); t += kCheckStep_s) {
       if (Lethal(*map, planner_.config().search, trajectory_.Sample(t).position_W)) {
         return ReplanReason::kNewLethalCells;
@@ -194,32 +196,13 @@ void Navigator::Replan(const common::RobotState& state, const common::GridLayers
   start.acceleration = std::clamp(start.acceleration, -a_max, a_max);
 
   const planner::NavigationPlan plan = planner_.Plan(map, start, goal_W_, movers);
+  map_check_pending_ = false;  // the new plan saw the latest map
   ++statistics_.plans;
   if (reason != ReplanReason::kPeriodic && reason != ReplanReason::kFirst) {
     ++statistics_.replans_on_events;
   }
   statistics_.planning_ms.push_back(1e3 * (plan.search_time_s + plan.optimization_time_s));
   statistics_.last_status = planner::ToString(plan.status);
-  if (plan.status == planner::NavigationStatus::kOptimizerFailed && statistics_.failed_plans == 3) {
-    FILE* f = std::fopen("/tmp/dump_map.txt", "w");
-    const common::GridGeometry& g = map.geometry();
-    std::fprintf(f, "%f %f %f %d %d\n", g.origin_W.x(), g.origin_W.y(), g.resolution_m, g.num_x,
-                 g.num_y);
-    for (int iy = 0; iy < g.num_y; ++iy) {
-      for (int ix = 0; ix < g.num_x; ++ix)
-        std::fprintf(f, "%.3f ", map.Layer("traversability")(ix, iy));
-      std::fprintf(f, "\n");
-    }
-    std::fprintf(f, "start %f %f %f %f %f\n", start.position_W.x(), start.position_W.y(), start.yaw,
-                 start.v, start.omega);
-    std::fprintf(f, "goal %f %f\n", plan.waypoints_W.back().x(), plan.waypoints_W.back().y());
-    for (auto& w : plan.waypoints_W) std::fprintf(f, "wp %f %f\n", w.x(), w.y());
-    for (auto& p : plan.optimized.trajectory.points())
-      std::fprintf(f, "tp %f %f %f %f\n", p.t_s, p.position_W.x(), p.position_W.y(), p.v);
-    std::fprintf(f, "clearance %f min %f\n", plan.optimized.diagnostics.clearance_m,
-                 plan.optimized.diagnostics.min_clearance_m);
-    std::fclose(f);
-  }
   if (plan.status == planner::NavigationStatus::kOptimizerFailed) {
     const planner::OptimizationDiagnostics& d = plan.optimized.diagnostics;
     statistics_.last_status += " (" + d.worst_constraint + " violated by " +

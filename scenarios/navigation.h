@@ -134,7 +134,8 @@ class Navigator {
   double next_plan_s_{0.0};
   double last_valid_plan_s_{0.0};
   bool force_replan_{false};
-  double last_moving_s_{0.0};  // last time the robot moved or was meant to stand still
+  bool map_check_pending_{false};  // a map update not yet checked against the plan
+  double last_moving_s_{0.0};      // last time the robot moved or was meant to stand still
   Statistics statistics_;
 };
 

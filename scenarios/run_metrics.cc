@@ -54,11 +54,8 @@ bool ProgressMonitor::Update(double t_s, const Eigen::Vector2d& position_W) {
 }
 
 double ModuleTimes::Total(const std::string& module) const {
-  const auto it = samples_.find(module);
-  if (it == samples_.end()) return 0.0;
-  double total = 0.0;
-  for (double ms : it->second) total += ms;
-  return total;
+  const auto it = totals_ms_.find(module);
+  return it == totals_ms_.end() ? 0.0 : it->second;
 }
 
 nlohmann::json ModuleTimes::ToJson() const {

@@ -51,7 +51,10 @@ class ProgressMonitor {
 /// Wall time per module and per call [ms], for the summary's median and maximum.
 class ModuleTimes {
  public:
-  void Add(const std::string& module, double ms) { samples_[module].push_back(ms); }
+  void Add(const std::string& module, double ms) {
+    samples_[module].push_back(ms);
+    totals_ms_[module] += ms;
+  }
 
   /// Total time of a module so far [ms].
   double Total(const std::string& module) const;
@@ -61,6 +64,7 @@ class ModuleTimes {
 
  private:
   std::map<std::string, std::vector<double>> samples_;
+  std::map<std::string, double> totals_ms_;
 };
 
 }  // namespace trav::scenarios

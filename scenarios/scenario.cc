@@ -571,6 +571,12 @@ Scenario LoadScenario(const common::YamlDocument& document) {
   } catch (const common::InputError& e) {
     throw common::InputError(document.source() + ": " + e.what());
   }
+  if (scenario.mode == RunMode::kNavigate && scenario.mapper != MapperMethod::kGroundTruth &&
+      !(scenario.lidar.enabled && scenario.mapping_enabled)) {
+    throw common::InputError(document.source(), "mapping.method",
+                             "mode navigate maps from the LiDAR: enable lidar and mapping, or use "
+                             "the 'ground-truth' map");
+  }
   // a closed-loop run is expected to reach its goal unless the file says otherwise
   if (scenario.mode == RunMode::kNavigate && !document.Root().Has("expect")) {
     scenario.expected_outcome = Outcome::kSuccess;

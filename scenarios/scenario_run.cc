@@ -166,8 +166,7 @@ renders::PanelOverlay NavigationPanel(const Navigator& navigator,
   return panel;
 }
 
-// The movers as the planner sees them now: discs at constant velocity, from their true state,
-// all of them or those within the sensing range.
+// Every mover as a disc at constant velocity from its true state at t.
 std::vector<planner::MovingObstacle> TrueMovers(const Scenario& scenario,
                                                 const sim::Simulation& simulation, double t_s) {
   std::vector<planner::MovingObstacle> movers;
@@ -392,32 +391,39 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   int progress_step = 0;
 
   for (int step = 0; step < total_steps; ++step) {
-    // movers to their place at this time, for physics, LiDAR and the planner's predictions
+    // movers to their place at this time, for physics and LiDAR
     if (simulation.num_movers() > 0) {
       simulation.SetMoverPoses(simulation.time());
       for (int i = 0; i < simulation.num_movers(); ++i) {
         if (ray_scene) ray_scene->SetMovingPose(i, simulation.MoverPose(i));
       }
-      if (navigator) {
-        const std::vector<planner::MovingObstacle> movers =
-            TrueMovers(scenario, simulation, simulation.time());
-        for (const planner::MovingObstacle& mover : movers) {
-          const double gap = (mover.position_W - state.X_WB.translation().head<2>()).norm() -
-                             mover.radius_m - scenario.planner.optimizer.robot_radius_m;
-          navigation.min_mover_clearance_m = std::min(navigation.min_mover_clearance_m, gap);
-        }
-        predicted_movers = mover_tracker ? PerceivedMovers(*mover_tracker) : movers;
-        // perception: each perceived mover against the nearest true one, now
-        for (const planner::MovingObstacle& seen :
-             mover_tracker ? predicted_movers : std::vector<planner::MovingObstacle>{}) {
+    }
+    // the planner's predictions: the true movers, or those perceived in the scans (false
+    // positives included: they reach the planner whether or not true movers exist)
+    if (navigator) {
+      const std::vector<planner::MovingObstacle> movers =
+          TrueMovers(scenario, simulation, simulation.time());
+      for (const planner::MovingObstacle& mover : movers) {
+        const double gap = (mover.position_W - state.X_WB.translation().head<2>()).norm() -
+                           mover.radius_m - scenario.planner.optimizer.robot_radius_m;
+        navigation.min_mover_clearance_m = std::min(navigation.min_mover_clearance_m, gap);
+      }
+      if (mover_tracker) {
+        predicted_movers = PerceivedMovers(*mover_tracker);
+        // each perceived mover against the nearest true one, now
+        for (const planner::MovingObstacle& seen : predicted_movers) {
           double nearest = std::numeric_limits<double>::infinity();
           for (const planner::MovingObstacle& mover : movers) {
             nearest =
                 std::min(nearest, (seen.PositionAt(simulation.time()) - mover.position_W).norm());
           }
-          tracking_error_sum += nearest;
-          ++tracking_error_count;
+          if (std::isfinite(nearest)) {
+            tracking_error_sum += nearest;
+            ++tracking_error_count;
+          }
         }
+      } else {
+        predicted_movers = movers;
       }
     }
     common::Twist2 command;

@@ -68,8 +68,8 @@ TEST_P(SuiteTest, ReachesTheGoal) {
   EXPECT_FALSE(summary.collision.has_value());
   EXPECT_GT(n.plans, 0);
   if (!scenario.movers.empty()) {
-    // the movers never came closer than the planner's clearance allows (with 5 % slack)
-    EXPECT_GE(n.min_mover_clearance_m, 0.0);
+    // the movers never came closer than the planner's gap (with 5 % slack)
+    EXPECT_GE(n.min_mover_clearance_m, 0.95 * scenario.planner.optimizer.obstacle_clearance_m);
   }
 }
 
@@ -140,6 +140,22 @@ TEST(NavigationRunTest, MapsArriveAfterTheModelledLatency) {
   // frames every 0.1 s; those of the last 0.25 s have not reached the mapper yet
   EXPECT_EQ(summary.lidar_frames, 10);
   EXPECT_EQ(summary.mapping_updates, 7);
+}
+
+TEST(NavigationRunTest, NavigatingWithoutAMapSourceIsAnInputError) {
+  const std::string text = R"(schema_version: 1
+mode: navigate
+lidar: {enabled: false}
+)";
+  EXPECT_THAT([&] { LoadScenario(common::YamlDocument::Parse(text, "blind.yaml")); },
+              testing::ThrowsMessage<common::InputError>(testing::AllOf(
+                  testing::HasSubstr("blind.yaml"), testing::HasSubstr("mapping.method"))));
+  const std::string oracle = R"(schema_version: 1
+mode: navigate
+lidar: {enabled: false}
+mapping: {method: ground-truth}
+)";
+  EXPECT_NO_THROW(LoadScenario(common::YamlDocument::Parse(oracle, "oracle.yaml")));
 }
 
 TEST(NavigationRunTest, BadMoversAreInputErrorsNamingTheKeyAndValue) {
