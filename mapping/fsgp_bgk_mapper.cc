@@ -303,17 +303,11 @@ void FsgpBgkMapper::MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eig
   }
   // over the whole map (smoothing rewrote a margin around the window too), closed by one cell:
   // faces seen edge-on or occluded leave gaps of a cell or two in a wall, never a passage
+  // a cleared cell that the regression has never scored keeps its 1 (sparse views of a real
+  // obstacle clear more often than movers do, and movers are kept out of the frames)
   const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> lethal =
       ClosedMask(obstacle.array() == 1.0f);
   out = lethal.select(1.0f, out);
-  // a window cell no longer lethal that the regression has never scored is unknown again (its 1
-  // came from an obstacle, not from the terrain)
-  const Eigen::MatrixXf& fused = fused_.Layer(kFused);
-  for (int ix = low.x(); ix <= high.x(); ++ix) {
-    for (int iy = low.y(); iy <= high.y(); ++iy) {
-      if (!lethal(ix, iy) && std::isnan(fused(ix, iy))) out(ix, iy) = NAN;
-    }
-  }
 }
 
 void FsgpBgkMapper::Smooth(const Eigen::Vector2i& low, const Eigen::Vector2i& high) {
