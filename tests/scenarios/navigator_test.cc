@@ -38,7 +38,7 @@ TEST(NavigatorTest, WaitsForAMapThenPlansAndDrives) {
   for (int k = 0; k < 25; ++k) command = dut.Update(At(0.02 * k, 0.0), &map, k == 0, {});
   EXPECT_EQ(dut.statistics().plans, 3);  // at 5 Hz: t = 0, 0.2 and 0.4 s
   EXPECT_EQ(dut.statistics().replans_on_events, 0);
-  EXPECT_GT(command.v, 0.0);             // accelerating along the plan toward the goal
+  EXPECT_GT(command.v, 0.0);  // accelerating along the plan toward the goal
   EXPECT_NEAR(dut.trajectory().points().back().position_W.x(), 8.0, 0.05);
   EXPECT_EQ(dut.statistics().last_status, "planned");
 }
