@@ -198,18 +198,24 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
       sampled_inputs.row(static_cast<Eigen::Index>(k)) = test.row(sampled[k]);
     Eigen::VectorXd sampled_variance;
     gp_.PredictVariance(sampled_inputs, &sampled_variance);
-    Eigen::MatrixXd block_variance =
-        Eigen::MatrixXd::Constant(g.num_x, g.num_y, std::numeric_limits<double>::quiet_NaN());
+    // the sampled variances on the window's cells (NaN elsewhere), indexed from `low`
+    const Eigen::Vector2i window_size = high - low + Eigen::Vector2i::Ones();
+    Eigen::MatrixXd block_variance = Eigen::MatrixXd::Constant(
+        window_size.x(), window_size.y(), std::numeric_limits<double>::quiet_NaN());
     for (std::size_t k = 0; k < sampled.size(); ++k) {
       const Eigen::Vector2i& cell =
           cell_index[static_cast<std::size_t>(supported[static_cast<std::size_t>(sampled[k])])];
-      block_variance(cell.x(), cell.y()) = sampled_variance[static_cast<Eigen::Index>(k)];
+      block_variance(cell.x() - low.x(), cell.y() - low.y()) =
+          sampled_variance[static_cast<Eigen::Index>(k)];
     }
     variance.resize(t_count);
     for (Eigen::Index s = 0; s < t_count; ++s) {
       const Eigen::Vector2i& cell =
           cell_index[static_cast<std::size_t>(supported[static_cast<std::size_t>(s)])];
-      const double v = block_variance(cell.x() - cell.x() % stride, cell.y() - cell.y() % stride);
+      const Eigen::Vector2i corner =
+          Eigen::Vector2i(cell.x() - cell.x() % stride, cell.y() - cell.y() % stride) - low;
+      const double v = (corner.array() >= 0).all() ? block_variance(corner.x(), corner.y())
+                                                   : std::numeric_limits<double>::quiet_NaN();
       // a block whose corner cell is unsupported: the prior variance (least certain)
       variance[s] = std::isnan(v) ? gp_.prior_variance() : v;
     }
@@ -301,23 +307,43 @@ void FsgpBgkMapper::MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eig
       if (!std::isnan(value)) obstacle(ix, iy) = value;
     }
   }
-  // over the whole map (smoothing rewrote a margin around the window too), closed by one cell:
-  // faces seen edge-on or occluded leave gaps of a cell or two in a wall, never a passage
-  // a cleared cell that the regression has never scored keeps its 1 (sparse views of a real
-  // obstacle clear more often than movers do, and movers are kept out of the frames)
+  // closed by one cell: faces seen edge-on or occluded leave gaps of a cell or two in a wall,
+  // never a passage. A cleared cell that the regression has never scored keeps its 1 (sparse
+  // views of a real obstacle clear more often than movers do, and movers are kept out of the
+  // frames). Only cells near the window can change: the closing there (the obstacle layer changed
+  // in the window only) and the smoothed cost in the window and its margin; everywhere else the
+  // previous frames already wrote the closed mask, so the result equals closing the whole map.
+  const common::GridGeometry& g = map_.geometry();
+  const int margin = std::max(SmoothingRadiusCells(), 2);
+  const Eigen::Vector2i out_low = (low.array() - margin).max(0);
+  const Eigen::Vector2i out_high =
+      (high.array() + margin).min(Eigen::Array2i(g.num_x - 1, g.num_y - 1));
+  // the closing of a cell reads the mask two cells around it
+  const Eigen::Vector2i mask_low = (out_low.array() - 2).max(0);
+  const Eigen::Vector2i mask_high =
+      (out_high.array() + 2).min(Eigen::Array2i(g.num_x - 1, g.num_y - 1));
+  const Eigen::Vector2i size = mask_high - mask_low + Eigen::Vector2i::Ones();
   const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> lethal =
-      ClosedMask(obstacle.array() == 1.0f);
-  out = lethal.select(1.0f, out);
+      ClosedMask(obstacle.block(mask_low.x(), mask_low.y(), size.x(), size.y()).array() == 1.0f);
+  for (int ix = out_low.x(); ix <= out_high.x(); ++ix) {
+    for (int iy = out_low.y(); iy <= out_high.y(); ++iy) {
+      if (lethal(ix - mask_low.x(), iy - mask_low.y())) out(ix, iy) = 1.0f;
+    }
+  }
+}
+
+int FsgpBgkMapper::SmoothingRadiusCells() const {
+  return config_.smoothing_sigma_m > 0.0
+             ? static_cast<int>(
+                   std::floor(config_.smoothing_radius_m / map_.geometry().resolution_m + 1e-9))
+             : 0;
 }
 
 void FsgpBgkMapper::Smooth(const Eigen::Vector2i& low, const Eigen::Vector2i& high) {
   const common::GridGeometry& g = map_.geometry();
   const Eigen::MatrixXf& fused = fused_.Layer(kFused);
   Eigen::MatrixXf& out = map_.Layer(layers::kTraversability);
-  const int radius =
-      config_.smoothing_sigma_m > 0.0
-          ? static_cast<int>(std::floor(config_.smoothing_radius_m / g.resolution_m + 1e-9))
-          : 0;
+  const int radius = SmoothingRadiusCells();
   const double inverse_two_sigma2 =
       config_.smoothing_sigma_m > 0.0
           ? 1.0 / (2.0 * config_.smoothing_sigma_m * config_.smoothing_sigma_m)

@@ -33,6 +33,8 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   void MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eigen::Vector2i& low,
                      const Eigen::Vector2i& high);
   void Smooth(const Eigen::Vector2i& low, const Eigen::Vector2i& high);
+  // The smoothing kernel's radius in cells (0: no smoothing).
+  int SmoothingRadiusCells() const;
 
   FsgpConfig config_;
   GpHyperparameters hyper_;
