@@ -20,6 +20,7 @@
 #include <sys/wait.h>
 
 #include "common/input_error.h"
+#include "scenarios/process_pool.h"
 
 extern char** environ;
 
@@ -32,6 +33,8 @@ namespace fs = std::filesystem;
 constexpr std::pair<const char*, const char*> kComputeColumns[] = {
     {"lidar_ms", "lidar"},     {"mapping_ms", "mapping"}, {"planning_ms", "planning"},
     {"control_ms", "control"}, {"physics_ms", "physics"}, {"render_ms", "render"}};
+
+constexpr const char* kTimeLabel = "simulation time [s]";
 
 // At most this much of gnuplot's error output goes into a result's message.
 constexpr std::size_t kMaxErrorChars = 600;
@@ -83,21 +86,6 @@ Table ReadCsv(const std::string& path) {
   return table;
 }
 
-// One curve of a plot: a column of the table against t.
-struct Series {
-  std::string column;
-  std::string title;
-};
-
-// One image: its curves and labels.
-struct PlotSpec {
-  std::string file;
-  std::string title;
-  std::string y_label;
-  std::vector<Series> series;
-  bool y_from_zero{false};  // values are never negative
-};
-
 // A gnuplot string literal: single quotes take everything literally except '' for a quote.
 std::string Quote(const std::string& text) {
   std::string quoted = "'";
@@ -108,11 +96,11 @@ std::string Quote(const std::string& text) {
   return quoted + "'";
 }
 
-// The rows of `spec` as "t value..." lines, skipping rows with a non-finite value; empty when no
+// The rows of `spec` as "x value..." lines, skipping rows with a non-finite value; empty when no
 // row has one.
-std::string DataBlock(const Table& table, const PlotSpec& spec) {
-  std::vector<std::size_t> indices = {*table.Column("t")};
-  for (const Series& series : spec.series) indices.push_back(*table.Column(series.column));
+std::string DataBlock(const Table& table, const LinePlot& spec) {
+  std::vector<std::size_t> indices = {*table.Column(spec.x_column)};
+  for (const PlotSeries& series : spec.series) indices.push_back(*table.Column(series.column));
   std::string block;
   char number[32];
   for (const std::vector<double>& row : table.rows) {
@@ -141,46 +129,41 @@ std::string ComputeLabel(const Table& table) {
   return label;
 }
 
-// The plots timeseries.csv has the columns for, and why the others are left out.
-std::vector<PlotSpec> PlotSpecs(const Table& table, std::vector<std::string>* reasons) {
-  std::vector<PlotSpec> candidates = {
+// The plots of timeseries.csv: speed, roll and pitch, mapping error, and compute when the file
+// has compute columns (else a reason in `reasons`).
+std::vector<LinePlot> RunPlotSpecs(const Table& table, std::vector<std::string>* reasons) {
+  std::vector<LinePlot> specs = {
       {"speed.png",
        "Forward speed",
+       "t",
+       kTimeLabel,
        "speed [m/s]",
        {{"v_forward", "measured (v_forward)"}, {"cmd_v", "commanded (cmd_v)"}},
        false},
       {"roll_pitch.png",
        "Roll and pitch of the base",
+       "t",
+       kTimeLabel,
        "angle [deg]",
        {{"roll_deg", "roll"}, {"pitch_deg", "pitch"}},
        false},
       {"mapping_error.png",
        "Mapping error against the ground truth",
+       "t",
+       kTimeLabel,
        "mean |traversability - ground truth|",
        {{"mapping_error", "mapping error"}},
        true},
   };
-  PlotSpec compute{"compute.png", "Compute per module", ComputeLabel(table), {}, true};
+  LinePlot compute{"compute.png", "Compute per module", "t", kTimeLabel, ComputeLabel(table), {},
+                   true};
   for (const auto& [column, title] : kComputeColumns) {
     if (table.Column(column)) compute.series.push_back({column, title});
   }
   if (compute.series.empty()) {
     reasons->push_back("compute.png: no compute columns in timeseries.csv");
   } else {
-    candidates.push_back(std::move(compute));
-  }
-
-  std::vector<PlotSpec> specs;
-  for (PlotSpec& spec : candidates) {
-    std::string missing = table.Column("t") ? "" : "t";
-    for (const Series& series : spec.series) {
-      if (!table.Column(series.column)) missing += (missing.empty() ? "" : ", ") + series.column;
-    }
-    if (missing.empty()) {
-      specs.push_back(std::move(spec));
-    } else {
-      reasons->push_back(spec.file + ": no column " + missing + " in timeseries.csv");
-    }
+    specs.push_back(std::move(compute));
   }
   return specs;
 }
@@ -204,34 +187,6 @@ class TemporaryFiles {
   std::vector<std::string> paths_;
 };
 
-// Runs `program` on `script` with its error output into `log`, and returns its exit status (-1
-// when it did not exit normally). @throws std::runtime_error if it cannot be started.
-int RunGnuplot(const std::string& program, const std::string& script, const std::string& log) {
-  std::vector<std::string> args = {program, script};
-  std::vector<char*> argv;
-  for (std::string& arg : args) argv.push_back(arg.data());
-  argv.push_back(nullptr);
-
-  // no terminal input, no output but errors, which go to the log
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, log.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = -1;
-  const int status = posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (status != 0) {
-    throw std::runtime_error("cannot start " + program + ": " + std::strerror(status));
-  }
-  int exit_status = 0;
-  while (waitpid(pid, &exit_status, 0) < 0) {
-    if (errno != EINTR) throw std::runtime_error("cannot wait for " + program);
-  }
-  return WIFEXITED(exit_status) ? WEXITSTATUS(exit_status) : -1;
-}
-
 // The start of a text file, whitespace collapsed to single spaces.
 std::string ErrorText(const std::string& path) {
   std::ifstream file(path);
@@ -248,52 +203,43 @@ std::string Join(const std::vector<std::string>& parts) {
   return text;
 }
 
-}  // namespace
-
-bool ProgramAvailable(const std::string& program) {
-  if (program.empty()) return false;
-  if (program.find('/') != std::string::npos) return access(program.c_str(), X_OK) == 0;
-  const char* path = std::getenv("PATH");
-  if (path == nullptr) return false;
-  std::stringstream directories(path);
-  for (std::string directory; std::getline(directories, directory, ':');) {
-    if (!directory.empty() && access((directory + "/" + program).c_str(), X_OK) == 0) return true;
-  }
-  return false;
-}
-
-PlotResult WriteRunPlots(const std::string& output_dir, const PlotOptions& options) {
+void ValidatePlotOptions(const PlotOptions& options) {
   common::RequireValue(options.width >= 100 && options.width <= 4096, "plots.width", options.width,
                        "must be in [100, 4096]");
   common::RequireValue(options.height >= 100 && options.height <= 4096, "plots.height",
                        options.height, "must be in [100, 4096]");
+}
+
+PlotResult NoGnuplot(const PlotOptions& options) {
+  PlotResult result;
+  result.status = PlotStatus::kNoGnuplot;
+  result.message = "no plots: gnuplot is not installed (no '" + options.gnuplot +
+                   "' on the PATH; install the gnuplot-nox package)";
+  return result;
+}
+
+// Writes the plots of `table` that have their columns and at least one row of finite values into
+// `output_dir`; `reasons` already lists plots left out by the caller.
+PlotResult PlotTable(const Table& table, const std::vector<LinePlot>& specs,
+                     std::vector<std::string> reasons, const std::string& output_dir,
+                     const PlotOptions& options) {
   PlotResult result;
   const fs::path folder(output_dir);
-  const std::string csv_path = (folder / "timeseries.csv").string();
-  std::error_code error;
-  if (!fs::is_regular_file(csv_path, error)) {
-    result.status = PlotStatus::kNoTimeseries;
-    result.message = "no plots: " + csv_path + " does not exist (written in mode navigate)";
-    return result;
-  }
-  if (!ProgramAvailable(options.gnuplot)) {
-    result.status = PlotStatus::kNoGnuplot;
-    result.message = "no plots: gnuplot is not installed (no '" + options.gnuplot +
-                     "' on the PATH; install the gnuplot-nox package)";
-    return result;
-  }
-
-  // the plots that have their columns and at least one row of finite values
-  const Table table = ReadCsv(csv_path);
-  std::vector<std::string> reasons;
-  std::vector<PlotSpec> specs = PlotSpecs(table, &reasons);
-  std::vector<std::pair<PlotSpec, std::string>> plots;
-  for (PlotSpec& spec : specs) {
+  std::vector<std::pair<LinePlot, std::string>> plots;
+  for (const LinePlot& spec : specs) {
+    std::string missing = table.Column(spec.x_column) ? "" : spec.x_column;
+    for (const PlotSeries& series : spec.series) {
+      if (!table.Column(series.column)) missing += (missing.empty() ? "" : ", ") + series.column;
+    }
+    if (!missing.empty()) {
+      reasons.push_back(spec.file + ": no column " + missing);
+      continue;
+    }
     std::string block = DataBlock(table, spec);
     if (block.empty()) {
-      reasons.push_back(spec.file + ": no row with values in timeseries.csv");
+      reasons.push_back(spec.file + ": no row with values");
     } else {
-      plots.emplace_back(std::move(spec), std::move(block));
+      plots.emplace_back(spec, std::move(block));
     }
   }
   if (plots.empty()) {
@@ -319,8 +265,7 @@ PlotResult WriteRunPlots(const std::string& output_dir, const PlotOptions& optio
       "}\n"
       "set grid\n"
       "set key below horizontal\n"
-      "set autoscale xfix\n"
-      "set xlabel 'simulation time [s]'\n";
+      "set autoscale xfix\n";
   std::vector<std::string> partial_paths;
   for (std::size_t p = 0; p < plots.size(); ++p) {
     const auto& [spec, block] = plots[p];
@@ -330,12 +275,14 @@ PlotResult WriteRunPlots(const std::string& output_dir, const PlotOptions& optio
     script += data + " << EOD\n" + block + "EOD\n";
     script += "set output " + Quote(partial_paths.back()) + "\n";
     script += "set title " + Quote(spec.title) + "\n";
+    script += "set xlabel " + Quote(spec.x_label) + "\n";
     script += "set ylabel " + Quote(spec.y_label) + "\n";
     script += spec.y_from_zero ? "set yrange [0:*]\n" : "set yrange [*:*]\n";
     script += "plot ";
     for (std::size_t s = 0; s < spec.series.size(); ++s) {
       script += (s == 0 ? "" : ", ") + data + " using 1:" + std::to_string(s + 2) +
-                " with lines lw 1.5 title " + Quote(spec.series[s].title);
+                (spec.markers ? " with linespoints lw 1.5 pt 7 ps 0.6" : " with lines lw 1.5") +
+                " title " + Quote(spec.series[s].title);
     }
     script += "\nunset output\n";
   }
@@ -346,7 +293,10 @@ PlotResult WriteRunPlots(const std::string& output_dir, const PlotOptions& optio
   }
 
   // gnuplot, then the images under their final names only if every one of them was written
-  const int exit_status = RunGnuplot(options.gnuplot, script_path, log_path);
+  const ProcessResult run = RunProcess({{options.gnuplot, script_path}, log_path});
+  if (run.end == ProcessEnd::kNotStarted) throw std::runtime_error(run.message);
+  const int exit_status = run.end == ProcessEnd::kExited ? run.exit_code : -1;
+  std::error_code error;
   bool complete = exit_status == 0;
   for (const std::string& path : partial_paths) {
     complete = complete && fs::is_regular_file(path, error) && fs::file_size(path, error) > 0;
@@ -367,6 +317,44 @@ PlotResult WriteRunPlots(const std::string& output_dir, const PlotOptions& optio
   }
   result.message = Join(reasons);
   return result;
+}
+
+}  // namespace
+
+bool ProgramAvailable(const std::string& program) {
+  if (program.empty()) return false;
+  if (program.find('/') != std::string::npos) return access(program.c_str(), X_OK) == 0;
+  const char* path = std::getenv("PATH");
+  if (path == nullptr) return false;
+  std::stringstream directories(path);
+  for (std::string directory; std::getline(directories, directory, ':');) {
+    if (!directory.empty() && access((directory + "/" + program).c_str(), X_OK) == 0) return true;
+  }
+  return false;
+}
+
+PlotResult WriteLinePlots(const std::string& csv_path, const std::vector<LinePlot>& plots,
+                          const std::string& output_dir, const PlotOptions& options) {
+  ValidatePlotOptions(options);
+  if (!ProgramAvailable(options.gnuplot)) return NoGnuplot(options);
+  return PlotTable(ReadCsv(csv_path), plots, {}, output_dir, options);
+}
+
+PlotResult WriteRunPlots(const std::string& output_dir, const PlotOptions& options) {
+  ValidatePlotOptions(options);
+  const std::string csv_path = (fs::path(output_dir) / "timeseries.csv").string();
+  std::error_code error;
+  if (!fs::is_regular_file(csv_path, error)) {
+    PlotResult result;
+    result.status = PlotStatus::kNoTimeseries;
+    result.message = "no plots: " + csv_path + " does not exist (written in mode navigate)";
+    return result;
+  }
+  if (!ProgramAvailable(options.gnuplot)) return NoGnuplot(options);
+  const Table table = ReadCsv(csv_path);
+  std::vector<std::string> reasons;
+  const std::vector<LinePlot> specs = RunPlotSpecs(table, &reasons);
+  return PlotTable(table, specs, reasons, output_dir, options);
 }
 
 nlohmann::json PlotsJson(const PlotResult& result) {

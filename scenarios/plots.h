@@ -36,6 +36,35 @@ struct PlotResult {
   [[nodiscard]] bool ok() const { return status == PlotStatus::kWritten; }
 };
 
+/// One curve of a line plot: a column of a CSV file against the plot's x column.
+struct PlotSeries {
+  std::string column;
+  std::string title;
+};
+
+/// One PNG line plot of columns of a CSV file.
+struct LinePlot {
+  std::string file;  ///< image name in the output folder ("speed.png")
+  std::string title;
+  std::string x_column{"t"};
+  std::string x_label{"simulation time [s]"};
+  std::string y_label;
+  std::vector<PlotSeries> series;
+  bool y_from_zero{false};  ///< values are never negative
+  bool markers{false};      ///< a marker at every row (few rows), else plain lines
+};
+
+/// Writes `plots` of the CSV file `csv_path` (a header line, then numbers; fields that are not
+/// numbers read as missing) with gnuplot into `output_dir`, as WriteRunPlots does: a plot whose
+/// columns are absent, or with no row of finite values, is skipped with its reason in the
+/// message; images appear under their final names only when gnuplot has written all of them.
+/// @throws common::InputError if the options are out of range; std::runtime_error if the file
+/// cannot be read, or gnuplot cannot be started although found.
+[[nodiscard]] PlotResult WriteLinePlots(const std::string& csv_path,
+                                        const std::vector<LinePlot>& plots,
+                                        const std::string& output_dir,
+                                        const PlotOptions& options = {});
+
 /// Reads `output_dir`/timeseries.csv (as the runner writes it in mode navigate: columns t,
 /// v_forward, cmd_v, roll_deg, pitch_deg, mapping_error and, when present, the compute columns
 /// lidar_ms, mapping_ms, planning_ms, control_ms, physics_ms, render_ms) and writes with gnuplot

@@ -1,0 +1,222 @@
+#include "scenarios/process_pool.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstring>
+#include <stdexcept>
+#include <thread>
+
+#include <sys/wait.h>
+
+extern char** environ;
+
+namespace trav::scenarios {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Set by SIGINT or SIGTERM while a pool runs.
+volatile std::sig_atomic_t g_interrupted = 0;
+
+void OnInterrupt(int) { g_interrupted = 1; }
+
+// Installs the interrupt handler for its lifetime and restores the previous one after.
+class InterruptGuard {
+ public:
+  InterruptGuard() {
+    g_interrupted = 0;
+    struct sigaction action {};
+    action.sa_handler = OnInterrupt;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, &previous_int_);
+    sigaction(SIGTERM, &action, &previous_term_);
+  }
+  ~InterruptGuard() {
+    sigaction(SIGINT, &previous_int_, nullptr);
+    sigaction(SIGTERM, &previous_term_, nullptr);
+  }
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+
+ private:
+  struct sigaction previous_int_ {};
+  struct sigaction previous_term_ {};
+};
+
+// A started child.
+struct Running {
+  std::size_t index;
+  pid_t pid;
+  Clock::time_point start;
+};
+
+// Starts `task` in a process group of its own; returns its pid, or -1 with `result` filled in.
+pid_t Start(const ProcessTask& task, ProcessResult* result) {
+  if (task.argv.empty()) {
+    result->end = ProcessEnd::kNotStarted;
+    result->message = "empty command";
+    return -1;
+  }
+  std::vector<std::string> args = task.argv;
+  std::vector<char*> argv;
+  for (std::string& arg : args) argv.push_back(arg.data());
+  argv.push_back(nullptr);
+
+  const char* output = task.log_path.empty() ? "/dev/null" : task.log_path.c_str();
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, output, O_WRONLY | O_CREAT | O_TRUNC,
+                                   0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attributes, 0);
+  pid_t pid = -1;
+  const int status = posix_spawnp(&pid, argv[0], &actions, &attributes, argv.data(), environ);
+  posix_spawnattr_destroy(&attributes);
+  posix_spawn_file_actions_destroy(&actions);
+  if (status != 0) {
+    result->end = ProcessEnd::kNotStarted;
+    result->message = "cannot start " + task.argv[0] + ": " + std::strerror(status);
+    return -1;
+  }
+  return pid;
+}
+
+// The result of a child that has ended with wait status `status`.
+ProcessResult Ended(int status) {
+  ProcessResult result;
+  if (WIFEXITED(status)) {
+    result.end = ProcessEnd::kExited;
+    result.exit_code = WEXITSTATUS(status);
+  } else {
+    result.end = ProcessEnd::kSignaled;
+    result.signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
+  }
+  return result;
+}
+
+// Kills the child's process group and reaps the child.
+void KillAndReap(pid_t pid) {
+  kill(-pid, SIGKILL);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+}
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+const char* ProcessEndName(ProcessEnd end) {
+  switch (end) {
+    case ProcessEnd::kExited:
+      return "exited";
+    case ProcessEnd::kSignaled:
+      return "signaled";
+    case ProcessEnd::kTimedOut:
+      return "timed_out";
+    case ProcessEnd::kNotStarted:
+      return "not_started";
+    case ProcessEnd::kCancelled:
+      return "cancelled";
+  }
+  return "exited";
+}
+
+std::vector<ProcessResult> RunProcessPool(const std::vector<ProcessTask>& tasks,
+                                          const ProcessPoolOptions& options,
+                                          const ProcessDoneCallback& on_done) {
+  if (options.jobs < 1) throw std::invalid_argument("process pool: jobs must be >= 1");
+  if (!(options.time_limit_s >= 0.0)) {
+    throw std::invalid_argument("process pool: the time limit must be >= 0");
+  }
+  std::vector<ProcessResult> results(tasks.size());
+  std::vector<bool> finished(tasks.size(), false);
+  auto finish = [&](std::size_t index, ProcessResult result) {
+    results[index] = std::move(result);
+    finished[index] = true;
+    if (on_done) on_done(index, results[index]);
+  };
+
+  const InterruptGuard guard;
+  std::vector<Running> running;
+  std::size_t next = 0;
+  while (next < tasks.size() || !running.empty()) {
+    if (g_interrupted) break;
+    while (next < tasks.size() && static_cast<int>(running.size()) < options.jobs) {
+      ProcessResult not_started;
+      const pid_t pid = Start(tasks[next], &not_started);
+      if (pid < 0) {
+        finish(next, not_started);
+      } else {
+        running.push_back({next, pid, Clock::now()});
+      }
+      ++next;
+    }
+    bool reaped = false;
+    for (std::size_t r = 0; r < running.size();) {
+      const Running& child = running[r];
+      int status = 0;
+      const pid_t waited = waitpid(child.pid, &status, WNOHANG);
+      const double elapsed_s = SecondsSince(child.start);
+      if (waited == child.pid) {
+        ProcessResult result = Ended(status);
+        result.wall_s = elapsed_s;
+        finish(child.index, result);
+      } else if (options.time_limit_s > 0.0 && elapsed_s > options.time_limit_s) {
+        KillAndReap(child.pid);
+        ProcessResult result;
+        result.end = ProcessEnd::kTimedOut;
+        result.wall_s = elapsed_s;
+        finish(child.index, result);
+      } else {
+        ++r;
+        continue;
+      }
+      running.erase(running.begin() + static_cast<std::ptrdiff_t>(r));
+      reaped = true;
+    }
+    if (!reaped) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+
+  // interrupted: stop what runs, and mark it and the rest cancelled
+  for (const Running& child : running) KillAndReap(child.pid);
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    if (finished[i]) continue;
+    ProcessResult cancelled;
+    cancelled.end = ProcessEnd::kCancelled;
+    results[i] = cancelled;
+  }
+  return results;
+}
+
+ProcessResult RunProcess(const ProcessTask& task) {
+  ProcessResult result;
+  const Clock::time_point start = Clock::now();
+  const pid_t pid = Start(task, &result);
+  if (pid < 0) return result;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) {
+      result.end = ProcessEnd::kNotStarted;
+      result.message = "cannot wait for " + task.argv[0] + ": " + std::strerror(errno);
+      return result;
+    }
+  }
+  result = Ended(status);
+  result.wall_s = SecondsSince(start);
+  return result;
+}
+
+}  // namespace trav::scenarios
