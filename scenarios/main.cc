@@ -1,12 +1,14 @@
-// The trav command line: `trav run`, `trav scan`, `trav terrain`, `trav calibrate`.
+// The trav command line: `trav run`, `trav scan`, `trav terrain`, `trav calibrate`, `trav eval`.
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -15,6 +17,7 @@
 #include "common/logging.h"
 #include "common/yaml_reader.h"
 #include "scenarios/calibration.h"
+#include "scenarios/evaluation.h"
 #include "scenarios/output_folder.h"
 #include "scenarios/scenario.h"
 #include "scenarios/scenario_run.h"
@@ -59,13 +62,7 @@ Scenario ResolveScenario(const ScenarioOptions& options, std::optional<bool> vid
       options.path.empty()
           ? common::YamlDocument::Parse(DefaultScenarioYaml(), "<built-in default>")
           : common::YamlDocument::Load(options.path);
-  for (const std::string& assignment : options.sets) {
-    const std::size_t equals = assignment.find('=');
-    if (equals == std::string::npos || equals == 0) {
-      throw common::InputError("--set", assignment, "expected key.path=value");
-    }
-    document.Set(assignment.substr(0, equals), assignment.substr(equals + 1));
-  }
+  ApplyOverrides(options.sets, &document);
   if (options.seed) document.Set("terrain.seed", std::to_string(*options.seed));
   if (video) document.Set("video.enabled", *video ? "true" : "false");
   if (options.out) document.SetString("output.dir", *options.out);
@@ -185,6 +182,28 @@ int Calibrate(const ScenarioOptions& options) {
   return kExitExpected;
 }
 
+// The command line as typed, for the report.
+std::string CommandLine(int argc, char** argv) {
+  std::string line = "trav";
+  for (int i = 1; i < argc; ++i) line += std::string(" ") + argv[i];
+  return line;
+}
+
+int Eval(const EvalOptions& options, const std::string& out, const std::string& command_line) {
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+  const EvalRunResult result =
+      RunEvaluation(options, out, self, command_line, isatty(STDERR_FILENO) != 0);
+  if (result.interrupted) {
+    std::printf("interrupted: %d of %d scenes finished in %s; run the same command to resume\n",
+                result.resumed + result.finished, result.scenes, out.c_str());
+    return kExitOtherOutcome;
+  }
+  std::printf("%d scenes finished (%d kept from before), %d failed\n",
+              result.resumed + result.finished, result.resumed, result.failed);
+  std::printf("results: %s/results.md (results.json, results.csv, plots)\n", out.c_str());
+  return result.failed == 0 ? kExitExpected : kExitOtherOutcome;
+}
+
 int Main(int argc, char** argv) {
   CLI::App app{"trav: physics-simulated navigation testbed for the Scout Mini on uneven terrain"};
   app.require_subcommand(1);
@@ -224,6 +243,54 @@ int Main(int argc, char** argv) {
       "calibrate", "Measure the skid-steer mapping of the scenario's robot on flat ground");
   AddScenarioOptions(calibrate, &calibrate_options);
 
+  EvalOptions eval_options;
+  eval_options.jobs = std::max(1u, std::thread::hardware_concurrency());
+  std::string eval_out = "out/eval";
+  bool no_ablation = false;
+  CLI::App* eval = app.add_subcommand(
+      "eval",
+      "Evaluate the mappers against the ground truth over seeded scenes of each terrain type "
+      "(the paper's Tables I-III, error over time, inducing-point ablation); resumable");
+  eval->add_option("--out", eval_out, "Output folder")->capture_default_str();
+  eval->add_option("--scenes", eval_options.scenes, "Scenes per terrain type")
+      ->capture_default_str();
+  eval->add_option("--seed", eval_options.seed, "Terrain seed of each type's first scene")
+      ->capture_default_str();
+  eval->add_option("--jobs", eval_options.jobs, "Scenes run at once (worker processes)")
+      ->capture_default_str();
+  eval->add_option("--terrains", eval_options.terrains, "Terrain types, comma-separated")
+      ->delimiter(',')
+      ->capture_default_str();
+  eval->add_option("--methods", eval_options.methods,
+                   "Methods, comma-separated: sgp, fsgp, fsgp-bgk, fsgp-accumulation, em, "
+                   "ground-truth, constant=C")
+      ->delimiter(',')
+      ->capture_default_str();
+  eval->add_option("--inducing", eval_options.inducing_points,
+                   "FSGP-BGK inducing-point counts of the ablation, comma-separated")
+      ->delimiter(',')
+      ->capture_default_str();
+  eval->add_flag("--no-ablation", no_ablation, "Skip the inducing-point ablation");
+  eval->add_option("--route-length", eval_options.route_length_m, "Distance from start to goal [m]")
+      ->capture_default_str();
+  eval->add_option("--frames", eval_options.max_frames,
+                   "LiDAR frames per scene (0: until the drive ends)")
+      ->capture_default_str();
+  eval->add_option("--time-limit", eval_options.scene_time_limit_s,
+                   "Wall time allowed per scene [s]")
+      ->capture_default_str();
+  eval->add_option("--set", eval_options.sets,
+                   "Override a value of every scene's scenario: --set key.path=value")
+      ->type_name("KEY=VALUE");
+
+  std::string scene_folder, scene_terrain;
+  std::uint64_t scene_seed = 0;
+  CLI::App* eval_scene = app.add_subcommand("eval-scene", "");  // trav eval's worker (hidden)
+  eval_scene->group("");
+  eval_scene->add_option("folder", scene_folder)->required();
+  eval_scene->add_option("terrain", scene_terrain)->required();
+  eval_scene->add_option("seed", scene_seed)->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -236,6 +303,14 @@ int Main(int argc, char** argv) {
     if (run->parsed()) return Run(run_options, video, record_clouds);
     if (scan->parsed()) return Scan(scan_options, scan_frames);
     if (calibrate->parsed()) return Calibrate(calibrate_options);
+    if (eval->parsed()) {
+      if (no_ablation) eval_options.inducing_points.clear();
+      return Eval(eval_options, eval_out, CommandLine(argc, argv));
+    }
+    if (eval_scene->parsed()) {
+      RunEvalSceneInFolder(scene_folder, {scene_terrain, scene_seed}, ModelsDirectory());
+      return kExitExpected;
+    }
     return Terrain(terrain_options);
   } catch (const common::InputError& e) {
     std::fprintf(stderr, "trav: error: %s\n", e.what());

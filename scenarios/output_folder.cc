@@ -55,4 +55,15 @@ void WriteTextFile(const std::string& path, const std::string& text) {
   if (!file) throw std::runtime_error("cannot write " + path);
 }
 
+void WriteTextFileAtomically(const std::string& path, const std::string& text) {
+  const std::string partial = path + ".partial-" + std::to_string(getpid());
+  WriteTextFile(partial, text);
+  std::error_code error;
+  std::filesystem::rename(partial, path, error);
+  if (error) {
+    std::filesystem::remove(partial, error);
+    throw std::runtime_error("cannot write " + path);
+  }
+}
+
 }  // namespace trav::scenarios

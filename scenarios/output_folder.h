@@ -33,4 +33,8 @@ class OutputFolder {
 /// Writes `text` to `path`. @throws std::runtime_error on failure.
 void WriteTextFile(const std::string& path, const std::string& text);
 
+/// Writes `text` to `path` under a temporary name ("<path>.partial-<pid>") and renames it, so
+/// `path` is either complete or as it was. @throws std::runtime_error on failure.
+void WriteTextFileAtomically(const std::string& path, const std::string& text);
+
 }  // namespace trav::scenarios

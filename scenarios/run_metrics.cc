@@ -2,24 +2,53 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+
+#include "mapping/window.h"
 
 namespace trav::scenarios {
+namespace {
+
+// Mean and variance of absolute errors added one by one.
+class ErrorAccumulator {
+ public:
+  void Add(double absolute_error) {
+    sum_ += absolute_error;
+    sum2_ += absolute_error * absolute_error;
+    ++count_;
+  }
+  LayerError Result() const {
+    LayerError error;
+    error.known_cells = count_;
+    if (count_ > 0) {
+      error.mean = sum_ / count_;
+      error.variance = std::max(0.0, sum2_ / count_ - error.mean * error.mean);
+    }
+    return error;
+  }
+
+ private:
+  double sum_{0.0};
+  double sum2_{0.0};
+  int count_{0};
+};
+
+}  // namespace
+
+double Quantile(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  const auto k = static_cast<std::size_t>(q * static_cast<double>(values.size() - 1));
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+  return values[k];
+}
 
 LayerError CompareLayers(const Eigen::MatrixXf& predicted, const Eigen::MatrixXf& truth) {
-  LayerError error;
-  double sum = 0.0, sum2 = 0.0;
+  ErrorAccumulator error;
   for (Eigen::Index i = 0; i < predicted.size(); ++i) {
     if (std::isnan(predicted.data()[i]) || std::isnan(truth.data()[i])) continue;
-    const double e = std::abs(predicted.data()[i] - truth.data()[i]);
-    sum += e;
-    sum2 += e * e;
-    ++error.known_cells;
+    error.Add(std::abs(predicted.data()[i] - truth.data()[i]));
   }
-  if (error.known_cells > 0) {
-    error.mean = sum / error.known_cells;
-    error.variance = std::max(0.0, sum2 / error.known_cells - error.mean * error.mean);
-  }
-  return error;
+  return error.Result();
 }
 
 LayerError CompareWithTruth(const common::GridLayers& map, const common::GridLayers& truth_W,
@@ -37,6 +66,43 @@ LayerError CompareWithTruth(const common::GridLayers& map, const common::GridLay
     }
   }
   return CompareLayers(predicted, truth);
+}
+
+ObservedCells::ObservedCells(const common::GridGeometry& geometry, const mapping::MapArea& area)
+    : geometry_(geometry),
+      area_(area),
+      observed_(static_cast<std::size_t>(geometry.num_x) * geometry.num_y, false) {}
+
+int ObservedCells::Add(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB) {
+  mapping::MapUpdateResult counts;
+  const Eigen::Matrix3Xf window =
+      mapping::CropWindow(points_W, p_WB, area_.window_m, area_.max_height_above_robot_m, &counts);
+  int added = 0;
+  for (Eigen::Index i = 0; i < window.cols(); ++i) {
+    const std::optional<Eigen::Vector2i> cell =
+        geometry_.CellIndex(window.col(i).head<2>().cast<double>());
+    if (!cell) continue;
+    const std::size_t index = static_cast<std::size_t>(cell->x() + cell->y() * geometry_.num_x);
+    if (observed_[index]) continue;
+    observed_[index] = true;
+    cells_.push_back(*cell);
+    ++added;
+  }
+  return added;
+}
+
+LayerError CompareObserved(const common::GridLayers& map, const common::GridLayers& truth_W,
+                           const ObservedCells& observed, const std::string& layer) {
+  const Eigen::MatrixXf& truth = truth_W.Layer(layer);
+  ErrorAccumulator error;
+  for (const Eigen::Vector2i& cell : observed.cells()) {
+    const float expected = truth(cell.x(), cell.y());
+    if (std::isnan(expected)) continue;
+    const std::optional<float> predicted =
+        map.At(layer, observed.geometry().CellCenter(cell.x(), cell.y()));
+    if (predicted) error.Add(std::abs(static_cast<double>(*predicted) - expected));
+  }
+  return error.Result();
 }
 
 double BarnScore(bool success, double actual_time_s, double optimal_time_s) {

@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "common/grid.h"
+#include "common/point_cloud.h"
+#include "mapping/fsgp_config.h"
 
 namespace trav::scenarios {
 
@@ -24,6 +26,39 @@ LayerError CompareLayers(const Eigen::MatrixXf& predicted, const Eigen::MatrixXf
 /// centre (nearest cell).
 LayerError CompareWithTruth(const common::GridLayers& map, const common::GridLayers& truth_W,
                             const std::string& layer);
+
+/// The q-quantile of `values` (q in [0, 1]; the element at floor(q (n - 1)) in sorted order), 0
+/// if there are none.
+double Quantile(std::vector<double> values, double q);
+
+/// The cells of a world grid that LiDAR points have fallen in so far, in the order first observed:
+/// the cells over which `trav eval` scores a map (the paper scores observed cells only, so
+/// occlusion gaps that a regression fills in do not count). A point counts where the mappers take
+/// it: in the square window around the base, no higher than the height limit above it.
+class ObservedCells {
+ public:
+  /// `geometry`: the grid of the ground truth; `area`: the mappers' window and height limit.
+  ObservedCells(const common::GridGeometry& geometry, const mapping::MapArea& area);
+
+  /// Adds the cells of one frame's points (W), taken with the base at p_WB; returns how many
+  /// cells are new.
+  int Add(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB);
+
+  /// The observed cells (ix, iy) of the grid, in the order first observed.
+  const std::vector<Eigen::Vector2i>& cells() const { return cells_; }
+  const common::GridGeometry& geometry() const { return geometry_; }
+
+ private:
+  common::GridGeometry geometry_;
+  mapping::MapArea area_;
+  std::vector<bool> observed_;  // per cell, ix + iy * num_x
+  std::vector<Eigen::Vector2i> cells_;
+};
+
+/// `map`'s `layer` against the ground truth `truth_W` (on `observed`'s grid) over the observed
+/// cells: each observed cell whose centre lies in a known cell of the map counts once.
+LayerError CompareObserved(const common::GridLayers& map, const common::GridLayers& truth_W,
+                           const ObservedCells& observed, const std::string& layer);
 
 /// BARN Challenge score (since 2024): 1_success * OT / clip(AT, 2 OT, 8 OT), in [0, 0.5]; OT the
 /// optimal time, AT the actual time [s]. 0 if OT is not positive.

@@ -616,6 +616,16 @@ common::Twist2 DriveCommandAt(const std::vector<DriveSegment>& drive, double t_s
   return {};
 }
 
+void ApplyOverrides(const std::vector<std::string>& assignments, common::YamlDocument* document) {
+  for (const std::string& assignment : assignments) {
+    const std::size_t equals = assignment.find('=');
+    if (equals == std::string::npos || equals == 0) {
+      throw common::InputError("--set", assignment, "expected key.path=value");
+    }
+    document->Set(assignment.substr(0, equals), assignment.substr(equals + 1));
+  }
+}
+
 const std::string& DefaultScenarioYaml() {
   static const std::string kYaml =
       R"(# trav's built-in default scenario: the Scout Mini crosses 30 m of hilly, wooded ground to a

@@ -107,6 +107,10 @@ struct Scenario {
 /// common::InputError naming the source, the key path and the value.
 Scenario LoadScenario(const common::YamlDocument& document);
 
+/// Applies `--set` overrides ("key.path=value", the value in YAML) to `document` in order.
+/// @throws common::InputError naming --set and the assignment if one has no '=' or no key.
+void ApplyOverrides(const std::vector<std::string>& assignments, common::YamlDocument* document);
+
 /// The YAML text of the built-in default scenario (hilly terrain, a 30 s drive with video).
 const std::string& DefaultScenarioYaml();
 

@@ -112,30 +112,6 @@ renders::GroundGrid DrawableMap(const common::GridLayers& map) {
   return grid;
 }
 
-// The ground-truth traversability of the whole world at the mapping resolution.
-common::GridLayers WorldGroundTruth(const Scenario& scenario, const sim::TerrainWorld& world) {
-  const common::GridGeometry geometry = common::GridGeometry::Centered(
-      world.geometry.Center(), world.geometry.Extent(), scenario.mapping.area.resolution_m);
-  return mapping::ComputeGroundTruth(geometry, world.geometry, world.height_m,
-                                     sim::ObstacleHeightGrid(world), scenario.mapping,
-                                     scenario.ground_truth);
-}
-
-// Length of the simplified A* path from start to goal on the ground truth (0 if there is none).
-double OptimalPathLength(const Scenario& scenario, const common::GridLayers& truth) {
-  const planner::GridPlanner search(truth, scenario.planner.search);
-  const planner::GridPath path = search.Plan(scenario.start_W.position, scenario.goal_W);
-  if (path.status != planner::PlanStatus::kFound) return 0.0;
-  std::vector<Eigen::Vector2d> waypoints =
-      search.Simplify(path.points_W, scenario.planner.simplify_tolerance);
-  waypoints.front() = scenario.start_W.position;
-  waypoints.back() = scenario.goal_W;
-  double length = 0.0;
-  for (std::size_t i = 1; i < waypoints.size(); ++i)
-    length += (waypoints[i] - waypoints[i - 1]).norm();
-  return length;
-}
-
 // The top-down panel of the closed loop: the navigation map around the robot, the plan (white),
 // the driven path (blue), the goal (magenta), the movers (orange), the robot (black) and the latest
 // LiDAR points.
@@ -228,6 +204,28 @@ double MillisecondsSince(std::chrono::steady_clock::time_point start) {
 }
 
 }  // namespace
+
+common::GridLayers WorldGroundTruth(const Scenario& scenario, const sim::TerrainWorld& world) {
+  const common::GridGeometry geometry = common::GridGeometry::Centered(
+      world.geometry.Center(), world.geometry.Extent(), scenario.mapping.area.resolution_m);
+  return mapping::ComputeGroundTruth(geometry, world.geometry, world.height_m,
+                                     sim::ObstacleHeightGrid(world), scenario.mapping,
+                                     scenario.ground_truth);
+}
+
+double OptimalPathLength(const Scenario& scenario, const common::GridLayers& truth) {
+  const planner::GridPlanner search(truth, scenario.planner.search);
+  const planner::GridPath path = search.Plan(scenario.start_W.position, scenario.goal_W);
+  if (path.status != planner::PlanStatus::kFound) return 0.0;
+  std::vector<Eigen::Vector2d> waypoints =
+      search.Simplify(path.points_W, scenario.planner.simplify_tolerance);
+  waypoints.front() = scenario.start_W.position;
+  waypoints.back() = scenario.goal_W;
+  double length = 0.0;
+  for (std::size_t i = 1; i < waypoints.size(); ++i)
+    length += (waypoints[i] - waypoints[i - 1]).norm();
+  return length;
+}
 
 std::string RobotModelPath(const Scenario& scenario, const std::string& models_dir) {
   const std::filesystem::path model(scenario.robot_model);
@@ -469,7 +467,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
         }
         // the frame in W, each point placed with its own sensor pose: once for video and mapping
         common::PointCloud cloud_W;
-        if (video || mapper || mover_tracker) {
+        if (video || mapper || mover_tracker || run_options.on_lidar_frame) {
           cloud_W.points = lidar::PointsInWorld(lidar_frame);
           cloud_W.stamp_s = lidar_frame.points_L.stamp_s;
         }
@@ -480,10 +478,15 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
         if (mover_tracker) {
           mover_tracker->Update(cloud_W, state.X_WB.translation(), simulation.time());
         }
+        // movers are removed with their poses at scan time
+        if ((mapper || run_options.on_lidar_frame) && simulation.num_movers() > 0) {
+          RemoveMoverPoints(scenario, simulation, &cloud_W);
+        }
+        if (run_options.on_lidar_frame) {
+          run_options.on_lidar_frame(cloud_W, state.X_WB, simulation.time());
+        }
         if (mapper) {
-          // movers are removed with their poses at scan time; the frame reaches the mapper after
-          // the modelled latency
-          if (simulation.num_movers() > 0) RemoveMoverPoints(scenario, simulation, &cloud_W);
+          // the frame reaches the mapper after the modelled latency
           pending_frames.push_back({simulation.time() + scenario.navigation.mapping_latency_s,
                                     std::move(cloud_W), state.X_WB, simulation.time()});
         }

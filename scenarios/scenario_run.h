@@ -6,10 +6,14 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include "common/grid.h"
+#include "common/point_cloud.h"
 #include "common/pose.h"
 #include "scenarios/scenario.h"
+#include "sim/terrain.h"
 
 namespace trav::scenarios {
 
@@ -81,10 +85,16 @@ struct RunSummary {
   nlohmann::json plots;
 };
 
+/// Called with every complete LiDAR frame: its points in W (each placed with its own sensor
+/// pose, movers removed), the base pose X_WB and the simulation time at the frame's end [s].
+using LidarFrameCallback = std::function<void(const common::PointCloud& points_W,
+                                              const Eigen::Isometry3d& X_WB, double t_s)>;
+
 /// Options of a run that are not part of the scenario.
 struct RunOptions {
   bool record_clouds{false};  ///< write every LiDAR frame as clouds/frame_NNNNNN.pcd
   int max_lidar_frames{0};    ///< stop after this many frames (0: run the scenario's duration)
+  LidarFrameCallback on_lidar_frame;  ///< every frame, when set (the LiDAR must be enabled)
 };
 
 /// Progress reports: fraction of the scenario's duration simulated so far, in [0, 1].
@@ -103,6 +113,13 @@ using ProgressCallback = std::function<void(double fraction)>;
 RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_path,
                        const std::string& output_dir, const RunOptions& options = {},
                        const ProgressCallback& progress = {});
+
+/// The ground-truth traversability of the whole world at the scenario's mapping resolution.
+common::GridLayers WorldGroundTruth(const Scenario& scenario, const sim::TerrainWorld& world);
+
+/// Length of the simplified A* path (the scenario's search settings) from the scenario's start to
+/// its goal on the ground truth `truth_W` [m]; 0 if there is none.
+double OptimalPathLength(const Scenario& scenario, const common::GridLayers& truth_W);
 
 /// Absolute path of the robot model of `scenario` (robot.model in `models_dir` unless absolute).
 std::string RobotModelPath(const Scenario& scenario, const std::string& models_dir);

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/input_error.h"
+#include "scenarios/run_metrics.h"
 
 namespace trav::scenarios {
 namespace {
@@ -88,13 +89,6 @@ double MaxAbs(const std::vector<double>& values) {
   double largest = 0.0;
   for (double v : values) largest = std::max(largest, std::abs(v));
   return largest;
-}
-
-double Quantile(std::vector<double> values, double q) {
-  if (values.empty()) return 0.0;
-  const auto k = static_cast<std::size_t>(q * static_cast<double>(values.size() - 1));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
-  return values[k];
 }
 
 }  // namespace

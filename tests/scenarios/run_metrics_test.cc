@@ -67,5 +67,80 @@ TEST(ModuleTimesTest, ReportsCallsMedianMaximumAndTotal) {
   EXPECT_DOUBLE_EQ(dut.Total("mapping"), 0.0);
 }
 
+TEST(QuantileTest, TakesTheElementAtTheFlooredRank) {
+  EXPECT_DOUBLE_EQ(Quantile({}, 0.5), 0.0);
+  EXPECT_DOUBLE_EQ(Quantile({5.0, 1.0, 3.0}, 0.5), 3.0);
+  EXPECT_DOUBLE_EQ(Quantile({4.0, 1.0, 3.0, 2.0}, 0.5), 2.0);  // rank floor(1.5) = 1
+  EXPECT_DOUBLE_EQ(Quantile({4.0, 1.0, 3.0, 2.0}, 1.0), 4.0);
+  EXPECT_DOUBLE_EQ(Quantile({4.0, 1.0, 3.0, 2.0}, 0.0), 1.0);
+}
+
+// A 1 m grid of 11 x 11 cells centred on the origin, and an area with a 4 m window.
+common::GridGeometry UnitGrid() {
+  return common::GridGeometry::Centered({0.0, 0.0}, {10.0, 10.0}, 1.0);
+}
+mapping::MapArea SmallWindow() {
+  mapping::MapArea area;
+  area.window_m = 4.0;
+  area.resolution_m = 1.0;
+  area.map_size_m = 10.0;
+  area.max_height_above_robot_m = 1.0;
+  return area;
+}
+
+TEST(ObservedCellsTest, CountsEachCellOnceInTheWindowAndBelowTheHeightLimit) {
+  ObservedCells observed(UnitGrid(), SmallWindow());
+  const common::PointCloud frame = common::MakePointCloud({
+      {0.1f, 0.2f, 0.0f},   // cell (5, 5)
+      {-0.2f, 0.1f, 0.0f},  // cell (5, 5) again
+      {1.0f, 1.9f, 0.5f},   // cell (6, 7)
+      {3.0f, 0.0f, 0.0f},   // outside the 4 m window
+      {1.0f, 0.0f, 1.5f},   // higher than 1 m above the base
+      {NAN, 0.0f, 0.0f},    // invalid
+  });
+  EXPECT_EQ(observed.Add(frame, {0.0, 0.0, 0.0}), 2);
+  ASSERT_EQ(observed.cells().size(), 2u);
+  EXPECT_EQ(observed.cells()[0], Eigen::Vector2i(5, 5));
+  EXPECT_EQ(observed.cells()[1], Eigen::Vector2i(6, 7));
+  // the same points from a base moved 2 m along x: (3, 0) now lies in the window
+  EXPECT_EQ(observed.Add(frame, {2.0, 0.0, 0.0}), 1);
+  EXPECT_EQ(observed.cells().back(), Eigen::Vector2i(8, 5));
+}
+
+TEST(CompareObservedTest, ScoresObservedCellsTheMapKnows) {
+  const common::GridGeometry geometry = UnitGrid();
+  common::GridLayers truth(geometry, {"traversability"});
+  for (int ix = 0; ix < geometry.num_x; ++ix) {
+    for (int iy = 0; iy < geometry.num_y; ++iy) {
+      truth.Layer("traversability")(ix, iy) = 0.1f * static_cast<float>(ix % 3);
+    }
+  }
+  ObservedCells observed(geometry, SmallWindow());
+  observed.Add(common::MakePointCloud({{0.0f, 0.0f, 0.0f},     // (5, 5): truth 0.2
+                                       {1.0f, 0.0f, 0.0f},     // (6, 5): truth 0.0
+                                       {-1.0f, 1.0f, 0.0f}}),  // (4, 6): truth 0.1
+               {0.0, 0.0, 0.0});
+
+  // the oracle scores zero; a constant scores its distance to the truth
+  EXPECT_EQ(CompareObserved(truth, truth, observed, "traversability").mean, 0.0);
+  common::GridLayers constant(geometry, {"traversability"});
+  constant.Layer("traversability").setConstant(0.3f);
+  const LayerError error = CompareObserved(constant, truth, observed, "traversability");
+  ASSERT_EQ(error.known_cells, 3);
+  EXPECT_NEAR(error.mean, (0.1 + 0.3 + 0.2) / 3.0, 1e-6);
+  EXPECT_NEAR(error.variance, (0.01 + 0.09 + 0.04) / 3.0 - 0.04, 1e-6);
+
+  // unknown cells of the map are not scored; unobserved cells never are
+  constant.Layer("traversability")(6, 5) = NAN;
+  EXPECT_EQ(CompareObserved(constant, truth, observed, "traversability").known_cells, 2);
+  // a map on another grid is looked up at each observed cell's centre
+  common::GridLayers shifted(common::GridGeometry::Centered({0.25, 0.0}, {4.0, 4.0}, 1.0),
+                             {"traversability"});
+  shifted.Layer("traversability").setConstant(0.2f);
+  const LayerError on_shifted = CompareObserved(shifted, truth, observed, "traversability");
+  EXPECT_EQ(on_shifted.known_cells, 3);
+  EXPECT_NEAR(on_shifted.mean, (0.0 + 0.2 + 0.1) / 3.0, 1e-6);
+}
+
 }  // namespace
 }  // namespace trav::scenarios

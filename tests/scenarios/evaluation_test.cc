@@ -1,0 +1,216 @@
+// End-to-end tests of `trav eval`: the tables, plots and records it writes, exact scores for an
+// oracle and a constant method, resuming, failed scenes, and bad arguments.
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+namespace trav::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+struct CommandResult {
+  int exit_code{-1};
+  std::string output;  // stdout and stderr
+};
+
+CommandResult RunTrav(const std::string& arguments) {
+  const std::string command = std::string(TRAV_BINARY) + " " + arguments + " 2>&1";
+  CommandResult result;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return result;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) result.output += buffer;
+  const int status = pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+nlohmann::json ReadJson(const fs::path& path) {
+  std::ifstream file(path);
+  return nlohmann::json::parse(file);
+}
+
+// The record of `method` in results.json.
+nlohmann::json Record(const nlohmann::json& results, const std::string& method) {
+  for (const nlohmann::json& record : results) {
+    if (record.at("method") == method) return record;
+  }
+  ADD_FAILURE() << "no record for " << method;
+  return {};
+}
+
+class EvaluationTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::temp_directory_path() /
+            ("trav_eval_test_" + std::to_string(getpid()) + "_" +
+             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+  }
+  void TearDown() override { fs::remove_all(root_); }
+
+  // Two short scenes on flat ground (ground truth 0 everywhere), with the oracle, a constant, and
+  // FSGP-BGK with a two-point ablation.
+  std::string TinyEval() const {
+    return "eval --out " + (root_ / "eval").string() +
+           " --terrains flat --scenes 2 --seed 5 --frames 6 --jobs 2"
+           " --methods ground-truth,constant=0.25,fsgp-bgk --inducing 50,500";
+  }
+
+  fs::path root_;
+};
+
+TEST_F(EvaluationTest, WritesEveryTableAndPlotAndScoresTheOracleAndAConstantExactly) {
+  const CommandResult run = RunTrav(TinyEval());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const fs::path out = root_ / "eval";
+  for (const char* file :
+       {"options.json", "results.json", "results.csv", "results.md", "error_over_time_flat.csv",
+        "ablation.csv", "scenes/flat-5.json", "scenes/flat-6.json"}) {
+    EXPECT_TRUE(fs::is_regular_file(out / file)) << file;
+  }
+  if (access("/usr/bin/gnuplot", X_OK) == 0) {
+    for (const char* plot :
+         {"error_over_time_flat.png", "ablation_error.png", "ablation_runtime.png"}) {
+      EXPECT_GT(fs::file_size(out / plot), 1000u) << plot;
+    }
+  }
+
+  // one record per terrain type and method, with the interface's fields
+  const nlohmann::json results = ReadJson(out / "results.json");
+  ASSERT_EQ(results.size(), 4u);  // ground-truth, constant, fsgp-bgk, fsgp-bgk-m50
+  for (const nlohmann::json& record : results) {
+    for (const char* field : {"terrain", "method", "mean_error", "error_variance",
+                              "runtime_ms_median", "peak_memory_mb"}) {
+      EXPECT_TRUE(record.contains(field)) << field;
+    }
+    EXPECT_EQ(record.at("terrain"), "flat");
+    EXPECT_EQ(record.at("scenes"), 2);
+    EXPECT_EQ(record.at("frames"), 12);
+  }
+  const nlohmann::json oracle = Record(results, "ground-truth");
+  EXPECT_EQ(oracle.at("mean_error").get<double>(), 0.0);
+  EXPECT_EQ(oracle.at("error_variance").get<double>(), 0.0);
+  EXPECT_EQ(oracle.at("coverage").get<double>(), 1.0);
+  const nlohmann::json constant = Record(results, "constant=0.25");
+  EXPECT_EQ(constant.at("mean_error").get<double>(), 0.25);
+  EXPECT_EQ(constant.at("error_variance").get<double>(), 0.0);
+  // FSGP-BGK on flat ground: nearly free everywhere, in a few milliseconds
+  const nlohmann::json fsgp_bgk = Record(results, "fsgp-bgk");
+  EXPECT_LT(fsgp_bgk.at("mean_error").get<double>(), 0.05);
+  EXPECT_GT(fsgp_bgk.at("runtime_ms_median").get<double>(), 0.0);
+  EXPECT_GT(fsgp_bgk.at("peak_memory_mb").get<double>(), 0.0);
+  EXPECT_TRUE(Record(results, "fsgp-bgk-m50").contains("mean_error"));
+
+  // each scene keeps its per-frame numbers
+  const nlohmann::json scene = ReadJson(out / "scenes/flat-5.json");
+  EXPECT_EQ(scene.at("terrain"), "flat");
+  EXPECT_EQ(scene.at("drive").at("frames"), 6);
+  const nlohmann::json& frames = scene.at("methods").at("ground-truth").at("frames");
+  EXPECT_EQ(frames.at("mean_error").size(), 6u);
+  EXPECT_GT(frames.at("observed_cells").back().get<int>(), 100);
+  EXPECT_EQ(frames.at("compared_cells"), frames.at("observed_cells"));
+
+  // the markdown holds the paper's tables next to ours
+  std::ifstream md_file(out / "results.md");
+  std::stringstream md;
+  md << md_file.rdbuf();
+  for (const char* heading : {"Table I", "Table II", "Table III", "Inducing-point ablation"}) {
+    EXPECT_THAT(md.str(), HasSubstr(heading));
+  }
+  EXPECT_THAT(md.str(), HasSubstr("0.1237 / 0.0085"));  // the paper's FSGP-BGK on hilly
+  EXPECT_THAT(md.str(), HasSubstr("| flat | 0.0000 / 0.0000 | 0.2500 / 0.0000 |"));
+}
+
+TEST_F(EvaluationTest, ResumesWithoutRedoingFinishedScenes) {
+  ASSERT_EQ(RunTrav(TinyEval()).exit_code, 0);
+  const fs::path out = root_ / "eval";
+  // an interrupted run: one scene not finished, a half-written record, no report
+  fs::remove(out / "scenes/flat-6.json");
+  fs::remove(out / "results.json");
+  std::ofstream(out / "scenes/flat-6.json.partial-99999") << "{\"half\":";
+  struct stat before {};
+  ASSERT_EQ(stat((out / "scenes/flat-5.json").c_str(), &before), 0);
+  const std::string finished_text = [&] {
+    std::ifstream file(out / "scenes/flat-5.json");
+    std::stringstream text;
+    text << file.rdbuf();
+    return text.str();
+  }();
+
+  const CommandResult resumed = RunTrav(TinyEval());
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_THAT(resumed.output, HasSubstr("1 of 2 scenes already finished"));
+  EXPECT_THAT(resumed.output, HasSubstr("scene flat-6 finished"));
+  EXPECT_THAT(resumed.output, ::testing::Not(HasSubstr("scene flat-5 finished")));
+  struct stat after {};
+  ASSERT_EQ(stat((out / "scenes/flat-5.json").c_str(), &after), 0);
+  EXPECT_EQ(after.st_ino, before.st_ino);
+  EXPECT_EQ(after.st_mtim.tv_nsec, before.st_mtim.tv_nsec);
+  EXPECT_EQ(after.st_mtim.tv_sec, before.st_mtim.tv_sec);
+  std::ifstream file(out / "scenes/flat-5.json");
+  std::stringstream text;
+  text << file.rdbuf();
+  EXPECT_EQ(text.str(), finished_text);
+  EXPECT_TRUE(fs::is_regular_file(out / "scenes/flat-6.json"));
+  EXPECT_FALSE(fs::exists(out / "scenes/flat-6.json.partial-99999"));
+  EXPECT_EQ(ReadJson(out / "results.json").size(), 4u);
+
+  // the same folder with other options is refused
+  const CommandResult other = RunTrav(TinyEval() + " --route-length 10");
+  EXPECT_EQ(other.exit_code, 2);
+  EXPECT_THAT(other.output, HasSubstr("options.json"));
+}
+
+TEST_F(EvaluationTest, RecordsAFailedSceneAndReportsTheOthers) {
+  // a time limit no scene can meet: every scene is killed and recorded, the run exits 1
+  const CommandResult run = RunTrav("eval --out " + (root_ / "eval").string() +
+                                    " --terrains flat --scenes 1 --frames 6 --methods em"
+                                    " --no-ablation --time-limit 0.01");
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("1 failed"));
+  const nlohmann::json failure = ReadJson(root_ / "eval/failed/flat-1.json");
+  EXPECT_EQ(failure.at("end"), "timed_out");
+  std::ifstream md_file(root_ / "eval/results.md");
+  std::stringstream md;
+  md << md_file.rdbuf();
+  EXPECT_THAT(md.str(), HasSubstr("| flat-1 | timed_out |"));
+  EXPECT_EQ(ReadJson(root_ / "eval/results.json").size(), 0u);
+}
+
+TEST_F(EvaluationTest, BadArgumentsExitWithTwoAndWriteNothing) {
+  const std::string out = " --out " + (root_ / "eval").string();
+  const std::pair<std::string, std::string> cases[] = {
+      {"--scenes 0", "--scenes"},
+      {"--methods fsgp,magic", "magic"},
+      {"--methods constant=2", "constant=2"},
+      {"--terrains hilly,moon", "moon"},
+      {"--set mapping.nonsense=1", "mapping.nonsense"},
+      {"--route-length -3", "--route-length"},
+      {"--jobs 0", "--jobs"},
+      {"--inducing 5", "--inducing"},
+      {"--frames x", "--frames"},
+  };
+  for (const auto& [arguments, named] : cases) {
+    const CommandResult run = RunTrav("eval" + out + " " + arguments);
+    EXPECT_EQ(run.exit_code, 2) << arguments << ": " << run.output;
+    EXPECT_THAT(run.output, HasSubstr(named)) << arguments;
+    EXPECT_FALSE(fs::exists(root_ / "eval")) << arguments;
+  }
+}
+
+}  // namespace
+}  // namespace trav::scenarios
