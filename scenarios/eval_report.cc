@@ -186,6 +186,28 @@ std::string Comparison(const std::vector<nlohmann::json>& scenes, const std::str
   return md.str();
 }
 
+// "Drives ...: success 9, planning_failure 1 (indoor-2)." from the scenes' drive outcomes.
+std::string DriveOutcomes(const std::vector<nlohmann::json>& scenes) {
+  std::map<std::string, std::vector<std::string>> by_outcome;
+  for (const nlohmann::json& scene : scenes) {
+    by_outcome[scene.at("drive").at("outcome").get<std::string>()].push_back(
+        scene.value("id", std::string()));
+  }
+  std::string text =
+      "Drives (the closed loop on the ground-truth oracle; every frame until the "
+      "drive ends is scored):";
+  bool first = true;
+  for (const auto& [outcome, ids] : by_outcome) {
+    text += std::string(first ? " " : ", ") + outcome + " " + std::to_string(ids.size());
+    first = false;
+    if (outcome == "success" || outcome == "completed") continue;
+    std::string list;
+    for (const std::string& id : ids) list += (list.empty() ? "" : ", ") + id;
+    text += " (" + list + ")";
+  }
+  return text + ".";
+}
+
 }  // namespace
 
 std::vector<EvalAggregate> AggregateScenes(const std::vector<nlohmann::json>& scenes,
@@ -323,7 +345,7 @@ void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
   if (!failures.empty()) md << ", " << failures.size() << " failed";
   md << " (" << options.scenes << " per terrain type, seeds " << options.seed << " to "
      << options.seed + static_cast<std::uint64_t>(options.scenes) - 1
-     << "); per-frame numbers in scenes/<id>.json.\n\n"
+     << "); per-frame numbers in scenes/<id>.json. " << DriveOutcomes(scenes) << "\n\n"
      << TableOne(rows, options, methods) << "\n"
      << Comparison(
             scenes, "Table II: FSGP-BGK against the elevation map (all terrain types)",
