@@ -38,6 +38,7 @@ using Clock = std::chrono::steady_clock;
 constexpr const char* kConstantPrefix = "constant=";
 constexpr const char* kAblationPrefix = "fsgp-bgk-m";
 constexpr int kRouteDraws = 16;
+constexpr double kBytesPerMiB = 1024.0 * 1024.0;
 
 // The scene scenario of a terrain type before its route: 50 x 50 m like the paper's scenes, the
 // MID-360 with 15 % of each frame occluded as in the paper's evaluation, a rolling map large
@@ -170,7 +171,7 @@ nlohmann::json EvaluateMethod(const std::string& method, const Scenario& scene,
   double peak_heap = 0.0;
   std::unique_ptr<mapping::TraversabilityMapper> mapper = MakeEvalMapper(method, scene, truth_W);
   ObservedCells observed(truth_W.geometry(), scene.mapping.area);
-  std::vector<double> t, mean, variance, runtime;
+  std::vector<double> t, mean, variance, runtime, heap_mb;
   std::vector<int> compared, observed_count;
   double mean_sum = 0.0, variance_sum = 0.0;
   int scored = 0;
@@ -178,7 +179,9 @@ nlohmann::json EvaluateMethod(const std::string& method, const Scenario& scene,
     const auto start = Clock::now();
     mapper->Update(frame.points_W, frame.X_WB, frame.t_s);
     runtime.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
-    peak_heap = std::max(peak_heap, HeapInUseBytes() - heap_before);
+    const double heap = HeapInUseBytes() - heap_before;
+    peak_heap = std::max(peak_heap, heap);
+    heap_mb.push_back(heap / kBytesPerMiB);
     observed.Add(frame.points_W, frame.X_WB.translation());
     const LayerError error =
         CompareObserved(mapper->map(), truth_W, observed, mapping::layers::kTraversability);
@@ -209,7 +212,7 @@ nlohmann::json EvaluateMethod(const std::string& method, const Scenario& scene,
       {"scored_frames", scored},
       {"runtime_ms_median", Quantile(runtime, 0.5)},
       {"runtime_ms_max", runtime.empty() ? 0.0 : *std::max_element(runtime.begin(), runtime.end())},
-      {"peak_memory_mb", peak_heap / (1024.0 * 1024.0)},
+      {"peak_memory_mb", peak_heap / kBytesPerMiB},
       {"coverage", last_observed > 0 ? compared.back() / last_observed : 0.0},
       {"frames",
        {{"t_s", t},
@@ -217,7 +220,8 @@ nlohmann::json EvaluateMethod(const std::string& method, const Scenario& scene,
         {"error_variance", with_nulls(variance)},
         {"compared_cells", compared},
         {"observed_cells", observed_count},
-        {"runtime_ms", runtime}}},
+        {"runtime_ms", runtime},
+        {"heap_mb", heap_mb}}},
   };
 }
 
