@@ -7,12 +7,17 @@
 namespace trav::common {
 namespace {
 
-std::string ScalarText(const YAML::Node& node) {
-  if (node.IsScalar()) return "'" + node.Scalar() + "'";
-  std::ostringstream out;
+// A node as YAML text: a scalar's text, anything else in flow style.
+std::string NodeText(const YAML::Node& node) {
+  if (node.IsScalar()) return node.Scalar();
   YAML::Emitter emitter;
   emitter << YAML::Flow << node;
   return emitter.c_str();
+}
+
+// A node for error messages: a scalar quoted, anything else in flow style.
+std::string ScalarText(const YAML::Node& node) {
+  return node.IsScalar() ? "'" + node.Scalar() + "'" : NodeText(node);
 }
 
 }  // namespace
@@ -240,6 +245,26 @@ std::vector<YamlReader> YamlReader::MapSequence(const std::string& key) {
     items.emplace_back(node[i], source_, item_path);
   }
   return items;
+}
+
+void YamlReader::Read(const std::string& key, std::vector<std::string>* value) {
+  if (!Has(key)) return;
+  const YAML::Node node = Get(key);
+  if (!node.IsSequence()) Fail(key, "expected a sequence, got " + ScalarText(node));
+  value->clear();
+  for (const YAML::Node& element : node) value->push_back(NodeText(element));
+}
+
+void YamlReader::ReadText(const std::string& key, std::string* value) {
+  if (!Has(key)) return;
+  *value = NodeText(Get(key));
+}
+
+std::vector<std::string> YamlReader::Keys() const {
+  std::vector<std::string> keys;
+  if (!map_->IsMap()) return keys;
+  for (const auto& entry : *map_) keys.push_back(entry.first.as<std::string>());
+  return keys;
 }
 
 void YamlReader::Finish() const {

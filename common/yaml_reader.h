@@ -83,6 +83,14 @@ class YamlReader {
   void Read(const std::string& key, Eigen::Matrix<double, 6, 1>* value);
   /// Reads a sequence of points, each a sequence of 2 numbers ([[x, y], ...]).
   void Read(const std::string& key, std::vector<Eigen::Vector2d>* value);
+  /// Reads a sequence as the YAML text of each element ("3", "hilly", "[80, 80, 4]").
+  void Read(const std::string& key, std::vector<std::string>* value);
+
+  /// Reads any value as YAML text (a scalar's text, or a sequence or map in flow style).
+  void ReadText(const std::string& key, std::string* value);
+
+  /// The keys of the map, in document order.
+  std::vector<std::string> Keys() const;
 
   /// Reads an enum by name from `names`; an unknown name is an error listing the valid ones.
   template <typename Enum>

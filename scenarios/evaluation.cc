@@ -265,17 +265,6 @@ std::optional<nlohmann::json> FinishedScene(const fs::path& path) {
   return record;
 }
 
-std::string Duration(double seconds) {
-  char text[32];
-  const int s = static_cast<int>(std::lround(seconds));
-  if (s >= 3600) {
-    std::snprintf(text, sizeof(text), "%dh%02dm", s / 3600, (s / 60) % 60);
-  } else {
-    std::snprintf(text, sizeof(text), "%dm%02ds", s / 60, s % 60);
-  }
-  return text;
-}
-
 }  // namespace
 
 void ValidateEvalOptions(const EvalOptions& options) {
@@ -483,7 +472,7 @@ EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_d
                  result.scenes, out_dir.c_str());
   }
 
-  const auto start = Clock::now();
+  ProgressLine progress(result.scenes, result.resumed, "scene", progress_bar);
   auto on_done = [&](std::size_t index, const ProcessResult& process) {
     const EvalScene& scene = pending[index];
     const fs::path failed_path = folder / "failed" / (scene.Id() + ".json");
@@ -500,24 +489,10 @@ EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_d
                                       {"wall_s", process.wall_s},
                                       {"message", process.message},
                                       {"log", "logs/" + scene.Id() + ".log"}};
-      WriteTextFileAtomically(failed_path, failure.dump(1) + "\n");
+      WriteTextFileAtomically(failed_path.string(), failure.dump(1) + "\n");
     }
-    const int done = result.finished + result.failed;
-    const double elapsed_s = std::chrono::duration<double>(Clock::now() - start).count();
-    const double eta_s = elapsed_s / done * static_cast<double>(tasks.size() - done);
-    const int total_done = result.resumed + done;
-    if (progress_bar) {
-      const int width = 30;
-      const int filled = total_done * width / result.scenes;
-      std::fprintf(stderr, "\r[%s%s] %d/%d scenes, %d failed, %s elapsed, ETA %s   ",
-                   std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
-                   total_done, result.scenes, result.failed, Duration(elapsed_s).c_str(),
-                   Duration(eta_s).c_str());
-      if (done == static_cast<int>(tasks.size())) std::fprintf(stderr, "\n");
-    } else {
-      std::fprintf(stderr, "scene %s %s in %.0f s [%d/%d, ETA %s]\n", scene.Id().c_str(),
-                   process.succeeded() && written ? "finished" : "FAILED", process.wall_s,
-                   total_done, result.scenes, Duration(eta_s).c_str());
+    if (process.end != ProcessEnd::kCancelled) {
+      progress.Ended(scene.Id(), process.succeeded() && written, process.wall_s);
     }
   };
   ProcessPoolOptions pool;

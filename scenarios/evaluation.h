@@ -62,9 +62,9 @@ std::vector<std::string> EvalMethods(const EvalOptions& options);
 int BaseInducingPoints(const EvalOptions& options);
 
 /// Runs one scene and returns its record: the route, the drive's outcome, and per method the
-/// per-frame error, observed and compared cells, update time and heap growth, with the scene's summary (mean
-/// over frames of the mean error and of the error variance, median update time, peak heap
-/// growth). Methods run one after the other on the recorded frames, so each is timed alone and
+/// per-frame error, observed and compared cells, update time and heap growth, with the scene's
+/// summary (mean over frames of the mean error and of the error variance, median update time, peak
+/// heap growth). Methods run one after the other on the recorded frames, so each is timed alone and
 /// its memory is its own.
 /// @throws common::InputError on a bad override or terrain; std::runtime_error if no route is
 /// found on the ground truth in 16 draws.

@@ -1,4 +1,5 @@
-// The trav command line: `trav run`, `trav scan`, `trav terrain`, `trav calibrate`, `trav eval`.
+// The trav command line: `trav run`, `trav scan`, `trav terrain`, `trav calibrate`, `trav eval`,
+// `trav batch`.
 #include <unistd.h>
 
 #include <algorithm>
@@ -16,6 +17,7 @@
 #include "common/input_error.h"
 #include "common/logging.h"
 #include "common/yaml_reader.h"
+#include "scenarios/batch.h"
 #include "scenarios/calibration.h"
 #include "scenarios/evaluation.h"
 #include "scenarios/output_folder.h"
@@ -103,8 +105,15 @@ RunSummary RunInFolder(const Scenario& scenario, const RunOptions& run_options) 
   return summary;
 }
 
+// Fakes the failure a scenario asks for (test_fault): a crash, or a run that never ends.
+void InjectFault(TestFault fault) {
+  if (fault == TestFault::kCrash) std::abort();
+  while (fault == TestFault::kHang) pause();
+}
+
 int Run(const ScenarioOptions& options, std::optional<bool> video, bool record_clouds) {
   const Scenario scenario = ResolveScenario(options, video);
+  InjectFault(scenario.test_fault);
   RunOptions run_options;
   run_options.record_clouds = record_clouds;
   const RunSummary summary = RunInFolder(scenario, run_options);
@@ -204,6 +213,65 @@ int Eval(const EvalOptions& options, const std::string& out, const std::string& 
   return result.failed == 0 ? kExitExpected : kExitOtherOutcome;
 }
 
+// Options of `trav batch`.
+struct BatchCommand {
+  std::string file;
+  std::string out;
+  std::string collect;
+  int jobs{1};
+  bool slurm{false};
+  SlurmOptions slurm_options;
+  bool no_wait{false};
+};
+
+int Batch(const BatchCommand& command) {
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+  if (!command.collect.empty()) {
+    const int finished = CollectBatch(command.collect);
+    std::printf("%d runs with results; report: %s/report.md\n", finished, command.collect.c_str());
+    return kExitExpected;
+  }
+  if (command.file.empty()) throw common::InputError("BATCH.yaml", "", "trav batch needs a file");
+  if (command.out.empty()) throw common::InputError("--out", "", "trav batch needs --out DIR");
+  if (command.jobs < 1) {
+    throw common::InputError("--jobs", std::to_string(command.jobs), "must be >= 1");
+  }
+  if (command.slurm_options.runs_per_task < 1) {
+    throw common::InputError("--runs-per-task", std::to_string(command.slurm_options.runs_per_task),
+                             "must be >= 1");
+  }
+  const BatchSpec spec = LoadBatchFile(command.file);
+  const std::vector<BatchRun> runs = ExpandBatch(spec);
+  const std::vector<BatchRun> pending = PrepareBatchFolder(spec, runs, command.out);
+  if (command.slurm) {
+    SlurmOptions options = command.slurm_options;
+    options.wait = !command.no_wait;
+    options.trav_executable = self;
+    const std::string job = SubmitBatchToSlurm(runs, pending, command.out, options);
+    if (!options.wait && !job.empty()) {
+      std::printf("job %s submitted; gather what has finished with: trav batch --collect %s\n",
+                  job.c_str(), command.out.c_str());
+    } else {
+      std::printf("report: %s/report.md\n", command.out.c_str());
+    }
+    return kExitExpected;
+  }
+  LocalBatchOptions options;
+  options.jobs = command.jobs;
+  options.trav_executable = self;
+  options.progress_bar = isatty(STDERR_FILENO) != 0;
+  const BatchProgress progress = RunBatchLocally(spec, runs, pending, command.out, options);
+  if (progress.interrupted) {
+    std::printf("interrupted: %d of %d runs finished in %s; run the same command to resume\n",
+                progress.resumed + progress.finished, progress.runs, command.out.c_str());
+    return kExitOtherOutcome;
+  }
+  std::printf("%d runs finished (%d kept from before), %d failed; report: %s/report.md\n",
+              progress.resumed + progress.finished, progress.resumed, progress.failed,
+              command.out.c_str());
+  return progress.failed == 0 ? kExitExpected : kExitOtherOutcome;
+}
+
 int Main(int argc, char** argv) {
   CLI::App app{"trav: physics-simulated navigation testbed for the Scout Mini on uneven terrain"};
   app.require_subcommand(1);
@@ -283,6 +351,35 @@ int Main(int argc, char** argv) {
                    "Override a value of every scene's scenario: --set key.path=value")
       ->type_name("KEY=VALUE");
 
+  BatchCommand batch_command;
+  batch_command.jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  CLI::App* batch = app.add_subcommand(
+      "batch",
+      "Run many scenarios from a batch file (a sweep or a list) as local processes or a Slurm job "
+      "array, and gather every result into one report; resumable");
+  batch->add_option("batch", batch_command.file, "Batch YAML file (docs/batch.md)");
+  batch->add_option("--out", batch_command.out, "Output folder");
+  batch->add_option("--jobs", batch_command.jobs, "Runs at once (local)")->capture_default_str();
+  batch->add_flag("--slurm", batch_command.slurm, "Submit a Slurm job array instead");
+  batch->add_option("--partition", batch_command.slurm_options.partition, "Slurm partition");
+  batch->add_option("--time", batch_command.slurm_options.time,
+                    "Slurm time limit per array task (HH:MM:SS)");
+  batch
+      ->add_option("--runs-per-task", batch_command.slurm_options.runs_per_task,
+                   "Runs per Slurm array task")
+      ->capture_default_str();
+  batch->add_flag("--no-wait", batch_command.no_wait,
+                  "With --slurm: return once submitted (then trav batch --collect DIR)");
+  batch->add_option("--collect", batch_command.collect,
+                    "Write the report of the batch in DIR from what has finished");
+
+  std::string task_file;
+  int task_index = 0;
+  CLI::App* batch_task = app.add_subcommand("batch-task", "");  // a Slurm array task (hidden)
+  batch_task->group("");
+  batch_task->add_option("tasks", task_file)->required();
+  batch_task->add_option("index", task_index)->required();
+
   std::string scene_folder, scene_terrain;
   std::uint64_t scene_seed = 0;
   CLI::App* eval_scene = app.add_subcommand("eval-scene", "");  // trav eval's worker (hidden)
@@ -306,6 +403,11 @@ int Main(int argc, char** argv) {
     if (eval->parsed()) {
       if (no_ablation) eval_options.inducing_points.clear();
       return Eval(eval_options, eval_out, CommandLine(argc, argv));
+    }
+    if (batch->parsed()) return Batch(batch_command);
+    if (batch_task->parsed()) {
+      RunBatchTask(task_file, task_index, std::filesystem::read_symlink("/proc/self/exe").string());
+      return kExitExpected;
     }
     if (eval_scene->parsed()) {
       RunEvalSceneInFolder(scene_folder, {scene_terrain, scene_seed}, ModelsDirectory());

@@ -7,10 +7,13 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include <sys/wait.h>
 
@@ -116,7 +119,46 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+double NowSeconds() {
+  return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+}
+
+std::string Duration(double seconds) {
+  char text[32];
+  const int s = static_cast<int>(std::lround(seconds));
+  if (s >= 3600) {
+    std::snprintf(text, sizeof(text), "%dh%02dm", s / 3600, (s / 60) % 60);
+  } else {
+    std::snprintf(text, sizeof(text), "%dm%02ds", s / 60, s % 60);
+  }
+  return text;
+}
+
 }  // namespace
+
+ProgressLine::ProgressLine(int total, int resumed, std::string noun, bool bar)
+    : total_(total), resumed_(resumed), noun_(std::move(noun)), bar_(bar), start_s_(NowSeconds()) {}
+
+void ProgressLine::Ended(const std::string& id, bool ok, double wall_s) {
+  ++ended_;
+  if (!ok) ++failed_;
+  const double elapsed_s = NowSeconds() - start_s_;
+  const int remaining = total_ - resumed_ - ended_;
+  const double eta_s = elapsed_s / ended_ * remaining;
+  const int done = resumed_ + ended_;
+  if (bar_) {
+    constexpr int kWidth = 30;
+    const int filled = total_ > 0 ? done * kWidth / total_ : kWidth;
+    std::fprintf(stderr, "\r[%s%s] %d/%d %s, %d failed, %s elapsed, ETA %s   ",
+                 std::string(filled, '#').c_str(), std::string(kWidth - filled, '.').c_str(), done,
+                 total_, noun_.c_str(), failed_, Duration(elapsed_s).c_str(),
+                 Duration(eta_s).c_str());
+    if (remaining == 0) std::fprintf(stderr, "\n");
+  } else {
+    std::fprintf(stderr, "%s %s %s in %.0f s [%d/%d, ETA %s]\n", noun_.c_str(), id.c_str(),
+                 ok ? "finished" : "FAILED", wall_s, done, total_, Duration(eta_s).c_str());
+  }
+}
 
 const char* ProcessEndName(ProcessEnd end) {
   switch (end) {

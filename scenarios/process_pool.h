@@ -59,6 +59,25 @@ std::vector<ProcessResult> RunProcessPool(const std::vector<ProcessTask>& tasks,
                                           const ProcessPoolOptions& options,
                                           const ProcessDoneCallback& on_done = {});
 
+/// Progress of many tasks on stderr: with `bar`, one line redrawn ("[####....] 3/10 scenes, 0
+/// failed, 1m10s elapsed, ETA 2m20s"), else one line per task that ends. Tasks finished before
+/// (resumed) count as done; the ETA extrapolates the time per task ended so far.
+class ProgressLine {
+ public:
+  ProgressLine(int total, int resumed, std::string noun, bool bar);
+  /// Reports that task `id` ended after `wall_s` [s], as `ok` or failed.
+  void Ended(const std::string& id, bool ok, double wall_s);
+
+ private:
+  int total_;
+  int resumed_;
+  int ended_{0};
+  int failed_{0};
+  std::string noun_;
+  bool bar_;
+  double start_s_;
+};
+
 /// Runs one task and waits for it to end (no time limit, no signal handling).
 ProcessResult RunProcess(const ProcessTask& task);
 

@@ -46,6 +46,8 @@ const Names<MapperMethod> kMappers = {{"fsgp-bgk", MapperMethod::kFsgpBgk},
                                       {"sgp", MapperMethod::kSgp},
                                       {"em", MapperMethod::kElevationMap},
                                       {"ground-truth", MapperMethod::kGroundTruth}};
+const Names<TestFault> kTestFaults = {
+    {"none", TestFault::kNone}, {"crash", TestFault::kCrash}, {"hang", TestFault::kHang}};
 const Names<Outcome> kOutcomes = {{"completed", Outcome::kCompleted},
                                   {"success", Outcome::kSuccess},
                                   {"collision", Outcome::kCollision},
@@ -331,6 +333,7 @@ void VisitScenario(Archive& a, Scenario& s) {
       "schema_version", &schema_version, [](int v) { return v == 1; },
       "is not supported (this trav reads schema version 1)");
   a.Field("name", &s.name);
+  a.Enum("test_fault", &s.test_fault, kTestFaults);
   a.Map("terrain", [&](Archive& t) {
     t.Enum("type", &s.terrain.type, kTerrainTypes);
     t.Field("seed", &s.terrain.seed);

@@ -46,6 +46,9 @@ enum class MapperMethod { kFsgpBgk, kFsgp, kFsgpAccumulation, kSgp, kElevationMa
 /// Name of a mapper as written in scenario files ("fsgp-bgk", ...).
 const char* MapperMethodName(MapperMethod method);
 
+/// A failure `trav run` fakes on purpose (scenario key test_fault).
+enum class TestFault { kNone, kCrash, kHang };
+
 /// What drives the robot.
 enum class RunMode {
   kDrive,     ///< the open-loop `drive` script
@@ -101,6 +104,9 @@ struct Scenario {
   std::string output_dir{"out/default"};
   /// Exit code 0 iff the run ends this way; default: success in mode navigate, else completed.
   Outcome expected_outcome{Outcome::kCompleted};
+  /// test_fault: makes `trav run` crash (abort) or hang instead of running, to test what runs
+  /// many scenarios (`trav batch`) against failing runs.
+  TestFault test_fault{TestFault::kNone};
 };
 
 /// Loads a scenario strictly: unknown keys, wrong types and out-of-range values throw

@@ -1,0 +1,426 @@
+#include "scenarios/batch.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "common/input_error.h"
+#include "common/yaml_reader.h"
+#include "scenarios/batch_report.h"
+#include "scenarios/output_folder.h"
+#include "scenarios/scenario.h"
+
+namespace trav::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Sweep keys that stand for a scenario key.
+constexpr std::pair<const char*, const char*> kShorthands[] = {
+    {"seed", "terrain.seed"}, {"terrain", "terrain.type"}, {"mapper", "mapping.method"}};
+
+// Letters, digits, '.', '_' and '-' as they are; anything else as '-'.
+std::string Sanitized(const std::string& text) {
+  std::string out = text;
+  for (char& c : out) {
+    const bool plain =
+        std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-';
+    if (!plain) c = '-';
+  }
+  return out;
+}
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+nlohmann::json ReadJsonFile(const fs::path& path) {
+  std::ifstream file(path);
+  if (!file) throw common::InputError(path.string(), "", "cannot read");
+  nlohmann::json json = nlohmann::json::parse(file, nullptr, false);
+  if (json.is_discarded()) throw common::InputError(path.string(), "", "is not valid JSON");
+  return json;
+}
+
+bool Finished(const fs::path& folder, const std::string& id) {
+  std::error_code error;
+  return fs::is_regular_file(folder / "runs" / id / "summary.json", error);
+}
+
+// The `trav run` process of a run.
+ProcessTask RunTask(const fs::path& folder, const std::string& id, const std::string& trav) {
+  return {{trav, "run", (folder / "scenarios" / (id + ".yaml")).string(), "--out",
+           (folder / "runs" / id).string()},
+          (folder / "logs" / (id + ".log")).string()};
+}
+
+// The outcome recorded for a run whose process did not leave a result.
+std::string FailureOutcome(const ProcessResult& end) {
+  switch (end.end) {
+    case ProcessEnd::kTimedOut:
+      return "timed_out";
+    case ProcessEnd::kSignaled:
+      return end.signal == SIGKILL ? "killed" : "crashed";
+    case ProcessEnd::kExited:
+      return end.exit_code == 3 ? "crashed" : "error";
+    case ProcessEnd::kNotStarted:
+    case ProcessEnd::kCancelled:
+      return "error";
+  }
+  return "error";
+}
+
+// Runs `ids` (of the batch in `folder`) as processes and records each end; `progress` reports.
+BatchProgress RunPool(const fs::path& folder, const std::vector<std::string>& ids,
+                      const std::string& trav, int jobs, double time_limit_s,
+                      ProgressLine* progress) {
+  std::vector<ProcessTask> tasks;
+  for (const std::string& id : ids) tasks.push_back(RunTask(folder, id, trav));
+  BatchProgress result;
+  auto on_done = [&](std::size_t index, const ProcessResult& end) {
+    if (end.end == ProcessEnd::kCancelled) return;
+    const bool finished = RecordRunEnd(folder.string(), ids[index], end);
+    ++(finished ? result.finished : result.failed);
+    if (progress != nullptr) progress->Ended(ids[index], finished, end.wall_s);
+  };
+  const std::vector<ProcessResult> ends = RunProcessPool(tasks, {jobs, time_limit_s}, on_done);
+  result.interrupted = std::any_of(ends.begin(), ends.end(), [](const ProcessResult& end) {
+    return end.end == ProcessEnd::kCancelled;
+  });
+  return result;
+}
+
+// Output of a command (its log file) with surrounding whitespace removed.
+std::string Trimmed(std::string text) {
+  const auto first = text.find_first_not_of(" \n\r\t");
+  if (first == std::string::npos) return "";
+  const auto last = text.find_last_not_of(" \n\r\t");
+  return text.substr(first, last - first + 1);
+}
+
+// Quotes a word for /bin/sh.
+std::string ShellQuoted(const std::string& word) {
+  std::string quoted = "'";
+  for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+}  // namespace
+
+BatchSpec LoadBatchFile(const std::string& path) {
+  const common::YamlDocument document = common::YamlDocument::Load(path);
+  common::YamlReader root = document.Root();
+  BatchSpec spec;
+  spec.source = path;
+  spec.name = fs::path(path).stem().string();
+  int schema_version = 1;
+  root.Read("schema_version", &schema_version);
+  root.Check("schema_version", schema_version == 1, "is not supported (expected 1)");
+  root.Read("name", &spec.name);
+  root.Read("scenarios", &spec.scenarios);
+  root.Check("scenarios", !spec.scenarios.empty(), "must list at least one scenario file");
+  const fs::path base = fs::path(path).parent_path();
+  for (std::string& scenario : spec.scenarios) {
+    if (fs::path(scenario).is_relative()) scenario = (base / scenario).lexically_normal().string();
+  }
+  if (root.Has("sweep")) {
+    common::YamlReader sweep = root.Map("sweep");
+    for (const auto& [label, key_path] : kShorthands) {
+      if (!sweep.Has(label)) continue;
+      SweepAxis axis{label, key_path, {}};
+      sweep.Read(label, &axis.values);
+      sweep.Check(label, !axis.values.empty(), "must list at least one value");
+      spec.axes.push_back(std::move(axis));
+    }
+    if (sweep.Has("seeds")) {
+      common::YamlReader seeds = sweep.Map("seeds");
+      int first = 1, count = 0;
+      seeds.ReadRequired("first", &first);
+      seeds.ReadRequired("count", &count);
+      seeds.Check("count", count >= 1, "must be >= 1");
+      seeds.Finish();
+      SweepAxis axis{"seed", "terrain.seed", {}};
+      for (int k = 0; k < count; ++k) axis.values.push_back(std::to_string(first + k));
+      spec.axes.push_back(std::move(axis));
+    }
+    if (sweep.Has("parameters")) {
+      common::YamlReader parameters = sweep.Map("parameters");
+      for (const std::string& key : parameters.Keys()) {
+        SweepAxis axis{key, key, {}};
+        parameters.Read(key, &axis.values);
+        parameters.Check(key, !axis.values.empty(), "must list at least one value");
+        spec.axes.push_back(std::move(axis));
+      }
+      parameters.Finish();
+    }
+    sweep.Finish();
+    std::set<std::string> keys;
+    for (const SweepAxis& axis : spec.axes) {
+      if (!keys.insert(axis.key_path).second) {
+        sweep.Fail(axis.label, "sweeps " + axis.key_path + " a second time");
+      }
+    }
+  }
+  if (root.Has("set")) {
+    common::YamlReader sets = root.Map("set");
+    for (const std::string& key : sets.Keys()) {
+      std::string value;
+      sets.ReadText(key, &value);
+      spec.sets.push_back(key + "=" + value);
+    }
+    sets.Finish();
+  }
+  root.Read("time_limit", &spec.time_limit_s);
+  root.Check("time_limit", spec.time_limit_s > 0.0, "must be > 0 s");
+  root.Finish();
+  return spec;
+}
+
+std::vector<BatchRun> ExpandBatch(const BatchSpec& spec) {
+  std::vector<BatchRun> runs;
+  std::set<std::string> ids;
+  for (const std::string& base : spec.scenarios) {
+    // every combination of the axes' values, the last axis fastest
+    std::vector<std::size_t> choice(spec.axes.size(), 0);
+    while (true) {
+      BatchRun run;
+      Scenario scenario;
+      try {
+        common::YamlDocument document = common::YamlDocument::Load(base);
+        ApplyOverrides(spec.sets, &document);
+        for (std::size_t a = 0; a < spec.axes.size(); ++a) {
+          const std::string& value = spec.axes[a].values[choice[a]];
+          document.Set(spec.axes[a].key_path, value);
+          run.parameters.emplace_back(spec.axes[a].label, value);
+        }
+        scenario = LoadScenario(document);
+      } catch (const common::InputError& e) {
+        throw common::InputError(spec.source, "", std::string("a run of the batch: ") + e.what());
+      }
+      run.scenario_name = scenario.name;
+      run.id = Sanitized(scenario.name);
+      for (const auto& [label, value] : run.parameters) {
+        run.id += "_" + Sanitized(label) + "-" + Sanitized(value);
+      }
+      if (!ids.insert(run.id).second) {
+        throw common::InputError(
+            spec.source, "",
+            "two runs get the id '" + run.id + "' (give the scenarios different names)");
+      }
+      run.scenario_yaml = ResolvedScenarioYaml(scenario);
+      runs.push_back(std::move(run));
+
+      std::size_t a = spec.axes.size();
+      while (a > 0 && ++choice[a - 1] == spec.axes[a - 1].values.size()) choice[--a] = 0;
+      if (a == 0) break;
+    }
+  }
+  return runs;
+}
+
+std::vector<BatchRun> PrepareBatchFolder(const BatchSpec& spec, const std::vector<BatchRun>& runs,
+                                         const std::string& out_dir) {
+  const fs::path folder = fs::absolute(out_dir);
+  nlohmann::json batch = {{"name", spec.name},
+                          {"source", spec.source},
+                          {"time_limit_s", spec.time_limit_s},
+                          {"runs", nlohmann::json::array()}};
+  for (const BatchRun& run : runs) {
+    nlohmann::json parameters = nlohmann::json::object();
+    for (const auto& [label, value] : run.parameters) parameters[label] = value;
+    batch["runs"].push_back(
+        {{"id", run.id}, {"scenario", run.scenario_name}, {"parameters", parameters}});
+  }
+  const fs::path batch_path = folder / "batch.json";
+  std::error_code error;
+  if (fs::exists(batch_path, error)) {
+    const nlohmann::json previous = ReadJsonFile(batch_path);
+    bool same = previous.value("runs", nlohmann::json()) == batch["runs"];
+    for (const BatchRun& run : runs) {
+      const fs::path scenario = folder / "scenarios" / (run.id + ".yaml");
+      same = same && ReadText(scenario) == run.scenario_yaml;
+    }
+    if (!same) {
+      throw common::InputError(batch_path.string(), "",
+                               "the folder holds another batch (other runs or scenarios); use "
+                               "another --out, or the same batch to resume it");
+    }
+  }
+  for (const char* sub : {"scenarios", "runs", "logs", "failed", "slurm"}) {
+    fs::create_directories(folder / sub);
+  }
+  for (const BatchRun& run : runs) {
+    const fs::path scenario = folder / "scenarios" / (run.id + ".yaml");
+    if (!fs::exists(scenario, error)) WriteTextFileAtomically(scenario.string(), run.scenario_yaml);
+  }
+  WriteTextFileAtomically(batch_path.string(), batch.dump(1) + "\n");
+  // what killed runs left half-written
+  for (const char* sub : {"runs", "scenarios", "failed"}) {
+    for (const fs::directory_entry& entry : fs::directory_iterator(folder / sub)) {
+      if (entry.path().filename().string().find(".partial-") != std::string::npos) {
+        fs::remove_all(entry.path(), error);
+      }
+    }
+  }
+  std::vector<BatchRun> pending;
+  for (const BatchRun& run : runs) {
+    if (!Finished(folder, run.id)) pending.push_back(run);
+  }
+  return pending;
+}
+
+bool RecordRunEnd(const std::string& out_dir, const std::string& id, const ProcessResult& end) {
+  const fs::path folder(out_dir);
+  const fs::path failed_path = folder / "failed" / (id + ".json");
+  std::error_code error;
+  if (Finished(folder, id)) {
+    fs::remove(failed_path, error);
+    return true;
+  }
+  const nlohmann::json failure = {{"id", id},
+                                  {"outcome", FailureOutcome(end)},
+                                  {"end", ProcessEndName(end.end)},
+                                  {"exit_code", end.exit_code},
+                                  {"signal", end.signal},
+                                  {"wall_s", end.wall_s},
+                                  {"message", end.message},
+                                  {"log", "logs/" + id + ".log"}};
+  WriteTextFileAtomically(failed_path.string(), failure.dump(1) + "\n");
+  return false;
+}
+
+BatchProgress RunBatchLocally(const BatchSpec& spec, const std::vector<BatchRun>& runs,
+                              const std::vector<BatchRun>& pending, const std::string& out_dir,
+                              const LocalBatchOptions& options) {
+  const fs::path folder = fs::absolute(out_dir);
+  const int resumed = static_cast<int>(runs.size() - pending.size());
+  if (resumed > 0) {
+    std::fprintf(stderr, "%d of %zu runs already finished in %s: kept\n", resumed, runs.size(),
+                 out_dir.c_str());
+  }
+  std::vector<std::string> ids;
+  for (const BatchRun& run : pending) ids.push_back(run.id);
+  ProgressLine progress(static_cast<int>(runs.size()), resumed, "run", options.progress_bar);
+  BatchProgress result =
+      RunPool(folder, ids, options.trav_executable, options.jobs, spec.time_limit_s, &progress);
+  result.runs = static_cast<int>(runs.size());
+  result.resumed = resumed;
+  if (!result.interrupted) WriteBatchReport(folder.string());
+  return result;
+}
+
+std::string SubmitBatchToSlurm(const std::vector<BatchRun>& runs,
+                               const std::vector<BatchRun>& pending, const std::string& out_dir,
+                               const SlurmOptions& options) {
+  const fs::path folder = fs::absolute(out_dir);
+  if (pending.empty()) {
+    WriteBatchReport(folder.string());
+    return "";
+  }
+  // the tasks: runs_per_task pending runs each
+  nlohmann::json tasks = nlohmann::json::array();
+  for (std::size_t i = 0; i < pending.size();
+       i += static_cast<std::size_t>(options.runs_per_task)) {
+    nlohmann::json task = nlohmann::json::array();
+    for (std::size_t j = i; j < std::min(pending.size(), i + options.runs_per_task); ++j) {
+      task.push_back(pending[j].id);
+    }
+    tasks.push_back(task);
+  }
+  int submission = 0;
+  while (fs::exists(folder / "slurm" / ("tasks-" + std::to_string(submission) + ".json"))) {
+    ++submission;
+  }
+  const std::string tag = std::to_string(submission);
+  const fs::path tasks_path = folder / "slurm" / ("tasks-" + tag + ".json");
+  WriteTextFileAtomically(tasks_path.string(), tasks.dump(1) + "\n");
+  std::ostringstream script;
+  script << "#!/bin/sh\n"
+         << "#SBATCH --job-name=trav-batch\n"
+         << "#SBATCH --array=0-" << tasks.size() - 1 << "\n"
+         << "#SBATCH --output=" << (folder / "logs" / "slurm-%A_%a.out").string() << "\n"
+         << "#SBATCH --cpus-per-task=1\n";
+  if (!options.partition.empty()) script << "#SBATCH --partition=" << options.partition << "\n";
+  if (!options.time.empty()) script << "#SBATCH --time=" << options.time << "\n";
+  script << "exec " << ShellQuoted(options.trav_executable) << " batch-task "
+         << ShellQuoted(tasks_path.string()) << " \"$SLURM_ARRAY_TASK_ID\"\n";
+  const fs::path script_path = folder / "slurm" / ("job-" + tag + ".sh");
+  WriteTextFileAtomically(script_path.string(), script.str());
+
+  const fs::path sbatch_log = folder / "slurm" / ("sbatch-" + tag + ".log");
+  const ProcessResult sbatch =
+      RunProcess({{"sbatch", "--parsable", script_path.string()}, sbatch_log.string()});
+  const std::string output = Trimmed(ReadText(sbatch_log));
+  if (!sbatch.succeeded()) {
+    throw std::runtime_error("sbatch failed (" + std::string(ProcessEndName(sbatch.end)) + " " +
+                             std::to_string(sbatch.exit_code) +
+                             "): " + (sbatch.message.empty() ? output : sbatch.message));
+  }
+  const std::string job = output.substr(0, output.find(';'));
+  std::fprintf(stderr, "submitted job %s: %zu tasks for %zu runs (%s)\n", job.c_str(), tasks.size(),
+               pending.size(), script_path.c_str());
+  if (!options.wait) return job;
+
+  // wait until squeue no longer lists the job, reporting finished runs as they appear
+  const fs::path squeue_log = folder / "slurm" / ("squeue-" + tag + ".log");
+  std::size_t reported = 0;
+  while (true) {
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+    std::size_t finished = 0;
+    for (const BatchRun& run : pending) finished += Finished(folder, run.id) ? 1 : 0;
+    if (finished != reported) {
+      std::fprintf(stderr, "job %s: %zu of %zu runs finished\n", job.c_str(), finished,
+                   pending.size());
+      reported = finished;
+    }
+    const ProcessResult squeue =
+        RunProcess({{"squeue", "-h", "-j", job, "-o", "%i"}, squeue_log.string()});
+    if (!squeue.succeeded() || Trimmed(ReadText(squeue_log)).empty()) break;
+  }
+  std::fprintf(stderr, "job %s: done, %zu of %zu runs in the batch have results\n", job.c_str(),
+               static_cast<std::size_t>(CollectBatch(folder.string())), runs.size());
+  return job;
+}
+
+void RunBatchTask(const std::string& tasks_file, int index, const std::string& trav_executable) {
+  const fs::path tasks_path = fs::absolute(tasks_file);
+  const fs::path folder = tasks_path.parent_path().parent_path();
+  const nlohmann::json tasks = ReadJsonFile(tasks_path);
+  if (index < 0 || static_cast<std::size_t>(index) >= tasks.size()) {
+    throw common::InputError(tasks_file, "", "has no task " + std::to_string(index));
+  }
+  const nlohmann::json batch = ReadJsonFile(folder / "batch.json");
+  std::vector<std::string> ids;
+  for (const nlohmann::json& id : tasks[static_cast<std::size_t>(index)]) {
+    if (!Finished(folder, id.get<std::string>())) ids.push_back(id.get<std::string>());
+  }
+  RunPool(folder, ids, trav_executable, 1, batch.value("time_limit_s", 1800.0), nullptr);
+}
+
+int CollectBatch(const std::string& out_dir) {
+  const fs::path folder = fs::absolute(out_dir);
+  const nlohmann::json batch = ReadJsonFile(folder / "batch.json");
+  int finished = 0;
+  for (const nlohmann::json& run : batch.at("runs")) {
+    finished += Finished(folder, run.at("id").get<std::string>()) ? 1 : 0;
+  }
+  WriteBatchReport(folder.string());
+  return finished;
+}
+
+}  // namespace trav::scenarios

@@ -1,0 +1,30 @@
+#pragma once
+
+#include <string>
+
+namespace trav::scenarios {
+
+/// A binomial proportion's 95 % Wilson score interval.
+struct WilsonInterval {
+  double low{0.0};
+  double high{0.0};
+};
+/// The interval of `successes` out of `trials` (trials > 0; [0, 1] when there are none).
+WilsonInterval Wilson95(int successes, int trials);
+
+/// Writes the report of the batch in `out_dir` (batch.json, runs/<id>/summary.json,
+/// failed/<id>.json), each file atomically:
+/// - results.json and results.csv: one row per run with a result or a failure record: id,
+///   scenario, each swept parameter, outcome, success (the run ended as its scenario expects), and
+///   every numeric value of its summary.json (flattened: "navigation.time_to_goal_s");
+/// - report.md: runs per outcome; per group of runs (the same scenario and parameters but the
+///   seed) the success rate with its 95 % Wilson interval and the median and 10th-90th percentiles
+///   of time to goal, path length ratio, max roll and pitch, RMS lateral tracking error, mapping
+///   update and real-time factor; the failed runs with their logs;
+/// - for each swept parameter with two or more numeric values (but the seed): vs_<label>.csv,
+///   success_vs_<label>.png (success rate and interval) and time_vs_<label>.png (median time to
+///   goal and path length ratio) against it, over all other parameters.
+/// Runs without a result yet are counted as pending.
+void WriteBatchReport(const std::string& out_dir);
+
+}  // namespace trav::scenarios
