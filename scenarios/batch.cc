@@ -58,66 +58,21 @@ nlohmann::json ReadJsonFile(const fs::path& path) {
 }
 
 bool Finished(const fs::path& folder, const std::string& id) {
-  std::error_code error;
-  return fs::is_regular_file(folder / "runs" / id / "summary.json", error);
+  return ResultExists((folder / "runs" / id / "summary.json").string());
 }
 
-// The `trav run` process of a run.
-ProcessTask RunTask(const fs::path& folder, const std::string& id, const std::string& trav) {
-  return {{trav, "run", (folder / "scenarios" / (id + ".yaml")).string(), "--out",
-           (folder / "runs" / id).string()},
-          (folder / "logs" / (id + ".log")).string()};
-}
-
-// The outcome recorded for a run whose process did not leave a result.
-std::string FailureOutcome(const ProcessResult& end) {
-  switch (end.end) {
-    case ProcessEnd::kTimedOut:
-      return "timed_out";
-    case ProcessEnd::kSignaled:
-      return end.signal == SIGKILL ? "killed" : "crashed";
-    case ProcessEnd::kExited:
-      return end.exit_code == 3 ? "crashed" : "error";
-    case ProcessEnd::kNotStarted:
-    case ProcessEnd::kCancelled:
-      return "error";
+// The `trav run` jobs of runs.
+std::vector<Job> RunJobs(const fs::path& folder, const std::vector<BatchRun>& runs,
+                         const std::string& trav) {
+  std::vector<Job> jobs;
+  for (const BatchRun& run : runs) {
+    jobs.push_back({run.id,
+                    {trav, "run", (folder / "scenarios" / (run.id + ".yaml")).string(), "--out",
+                     (folder / "runs" / run.id).string()},
+                    (folder / "logs" / (run.id + ".log")).string(),
+                    (folder / "runs" / run.id / "summary.json").string()});
   }
-  return "error";
-}
-
-// Runs `ids` (of the batch in `folder`) as processes and records each end; `progress` reports.
-BatchProgress RunPool(const fs::path& folder, const std::vector<std::string>& ids,
-                      const std::string& trav, int jobs, double time_limit_s,
-                      ProgressLine* progress) {
-  std::vector<ProcessTask> tasks;
-  for (const std::string& id : ids) tasks.push_back(RunTask(folder, id, trav));
-  BatchProgress result;
-  auto on_done = [&](std::size_t index, const ProcessResult& end) {
-    if (end.end == ProcessEnd::kCancelled) return;
-    const bool finished = RecordRunEnd(folder.string(), ids[index], end);
-    ++(finished ? result.finished : result.failed);
-    if (progress != nullptr) progress->Ended(ids[index], finished, end.wall_s);
-  };
-  const std::vector<ProcessResult> ends = RunProcessPool(tasks, {jobs, time_limit_s}, on_done);
-  result.interrupted = std::any_of(ends.begin(), ends.end(), [](const ProcessResult& end) {
-    return end.end == ProcessEnd::kCancelled;
-  });
-  return result;
-}
-
-// Output of a command (its log file) with surrounding whitespace removed.
-std::string Trimmed(std::string text) {
-  const auto first = text.find_first_not_of(" \n\r\t");
-  if (first == std::string::npos) return "";
-  const auto last = text.find_last_not_of(" \n\r\t");
-  return text.substr(first, last - first + 1);
-}
-
-// Quotes a word for /bin/sh.
-std::string ShellQuoted(const std::string& word) {
-  std::string quoted = "'";
-  for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
+  return jobs;
 }
 
 }  // namespace
@@ -284,26 +239,6 @@ std::vector<BatchRun> PrepareBatchFolder(const BatchSpec& spec, const std::vecto
   return pending;
 }
 
-bool RecordRunEnd(const std::string& out_dir, const std::string& id, const ProcessResult& end) {
-  const fs::path folder(out_dir);
-  const fs::path failed_path = folder / "failed" / (id + ".json");
-  std::error_code error;
-  if (Finished(folder, id)) {
-    fs::remove(failed_path, error);
-    return true;
-  }
-  const nlohmann::json failure = {{"id", id},
-                                  {"outcome", FailureOutcome(end)},
-                                  {"end", ProcessEndName(end.end)},
-                                  {"exit_code", end.exit_code},
-                                  {"signal", end.signal},
-                                  {"wall_s", end.wall_s},
-                                  {"message", end.message},
-                                  {"log", "logs/" + id + ".log"}};
-  WriteTextFileAtomically(failed_path.string(), failure.dump(1) + "\n");
-  return false;
-}
-
 BatchProgress RunBatchLocally(const BatchSpec& spec, const std::vector<BatchRun>& runs,
                               const std::vector<BatchRun>& pending, const std::string& out_dir,
                               const LocalBatchOptions& options) {
@@ -313,103 +248,32 @@ BatchProgress RunBatchLocally(const BatchSpec& spec, const std::vector<BatchRun>
     std::fprintf(stderr, "%d of %zu runs already finished in %s: kept\n", resumed, runs.size(),
                  out_dir.c_str());
   }
-  std::vector<std::string> ids;
-  for (const BatchRun& run : pending) ids.push_back(run.id);
   ProgressLine progress(static_cast<int>(runs.size()), resumed, "run", options.progress_bar);
-  BatchProgress result =
-      RunPool(folder, ids, options.trav_executable, options.jobs, spec.time_limit_s, &progress);
+  const JobsProgress jobs =
+      RunJobsLocally(folder.string(), RunJobs(folder, pending, options.trav_executable),
+                     options.jobs, spec.time_limit_s, &progress);
+  BatchProgress result;
+  result.finished = jobs.finished;
+  result.failed = jobs.failed;
+  result.interrupted = jobs.interrupted;
   result.runs = static_cast<int>(runs.size());
   result.resumed = resumed;
   if (!result.interrupted) WriteBatchReport(folder.string());
   return result;
 }
 
-std::string SubmitBatchToSlurm(const std::vector<BatchRun>& runs,
-                               const std::vector<BatchRun>& pending, const std::string& out_dir,
-                               const SlurmOptions& options) {
+std::string SubmitBatchToSlurm(const BatchSpec& spec, const std::vector<BatchRun>& pending,
+                               const std::string& out_dir, const SlurmOptions& options) {
   const fs::path folder = fs::absolute(out_dir);
   if (pending.empty()) {
     WriteBatchReport(folder.string());
     return "";
   }
-  // the tasks: runs_per_task pending runs each
-  nlohmann::json tasks = nlohmann::json::array();
-  for (std::size_t i = 0; i < pending.size();
-       i += static_cast<std::size_t>(options.runs_per_task)) {
-    nlohmann::json task = nlohmann::json::array();
-    for (std::size_t j = i; j < std::min(pending.size(), i + options.runs_per_task); ++j) {
-      task.push_back(pending[j].id);
-    }
-    tasks.push_back(task);
-  }
-  int submission = 0;
-  while (fs::exists(folder / "slurm" / ("tasks-" + std::to_string(submission) + ".json"))) {
-    ++submission;
-  }
-  const std::string tag = std::to_string(submission);
-  const fs::path tasks_path = folder / "slurm" / ("tasks-" + tag + ".json");
-  WriteTextFileAtomically(tasks_path.string(), tasks.dump(1) + "\n");
-  std::ostringstream script;
-  script << "#!/bin/sh\n"
-         << "#SBATCH --job-name=trav-batch\n"
-         << "#SBATCH --array=0-" << tasks.size() - 1 << "\n"
-         << "#SBATCH --output=" << (folder / "logs" / "slurm-%A_%a.out").string() << "\n"
-         << "#SBATCH --cpus-per-task=1\n";
-  if (!options.partition.empty()) script << "#SBATCH --partition=" << options.partition << "\n";
-  if (!options.time.empty()) script << "#SBATCH --time=" << options.time << "\n";
-  script << "exec " << ShellQuoted(options.trav_executable) << " batch-task "
-         << ShellQuoted(tasks_path.string()) << " \"$SLURM_ARRAY_TASK_ID\"\n";
-  const fs::path script_path = folder / "slurm" / ("job-" + tag + ".sh");
-  WriteTextFileAtomically(script_path.string(), script.str());
-
-  const fs::path sbatch_log = folder / "slurm" / ("sbatch-" + tag + ".log");
-  const ProcessResult sbatch =
-      RunProcess({{"sbatch", "--parsable", script_path.string()}, sbatch_log.string()});
-  const std::string output = Trimmed(ReadText(sbatch_log));
-  if (!sbatch.succeeded()) {
-    throw std::runtime_error("sbatch failed (" + std::string(ProcessEndName(sbatch.end)) + " " +
-                             std::to_string(sbatch.exit_code) +
-                             "): " + (sbatch.message.empty() ? output : sbatch.message));
-  }
-  const std::string job = output.substr(0, output.find(';'));
-  std::fprintf(stderr, "submitted job %s: %zu tasks for %zu runs (%s)\n", job.c_str(), tasks.size(),
-               pending.size(), script_path.c_str());
-  if (!options.wait) return job;
-
-  // wait until squeue no longer lists the job, reporting finished runs as they appear
-  const fs::path squeue_log = folder / "slurm" / ("squeue-" + tag + ".log");
-  std::size_t reported = 0;
-  while (true) {
-    std::this_thread::sleep_for(std::chrono::seconds(1));
-    std::size_t finished = 0;
-    for (const BatchRun& run : pending) finished += Finished(folder, run.id) ? 1 : 0;
-    if (finished != reported) {
-      std::fprintf(stderr, "job %s: %zu of %zu runs finished\n", job.c_str(), finished,
-                   pending.size());
-      reported = finished;
-    }
-    const ProcessResult squeue =
-        RunProcess({{"squeue", "-h", "-j", job, "-o", "%i"}, squeue_log.string()});
-    if (!squeue.succeeded() || Trimmed(ReadText(squeue_log)).empty()) break;
-  }
-  std::fprintf(stderr, "job %s: done, %zu of %zu runs in the batch have results\n", job.c_str(),
-               static_cast<std::size_t>(CollectBatch(folder.string())), runs.size());
+  const std::string job =
+      SubmitJobArray(folder.string(), RunJobs(folder, pending, options.trav_executable),
+                     spec.time_limit_s, options);
+  if (options.wait) WriteBatchReport(folder.string());
   return job;
-}
-
-void RunBatchTask(const std::string& tasks_file, int index, const std::string& trav_executable) {
-  const fs::path tasks_path = fs::absolute(tasks_file);
-  const fs::path folder = tasks_path.parent_path().parent_path();
-  const nlohmann::json tasks = ReadJsonFile(tasks_path);
-  if (index < 0 || static_cast<std::size_t>(index) >= tasks.size()) {
-    throw common::InputError(tasks_file, "", "has no task " + std::to_string(index));
-  }
-  const nlohmann::json batch = ReadJsonFile(folder / "batch.json");
-  std::vector<std::string> ids;
-  for (const nlohmann::json& id : tasks[static_cast<std::size_t>(index)]) {
-    if (!Finished(folder, id.get<std::string>())) ids.push_back(id.get<std::string>());
-  }
-  RunPool(folder, ids, trav_executable, 1, batch.value("time_limit_s", 1800.0), nullptr);
 }
 
 int CollectBatch(const std::string& out_dir) {

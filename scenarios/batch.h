@@ -4,6 +4,7 @@
 #include <utility>
 #include <vector>
 
+#include "scenarios/job_array.h"
 #include "scenarios/process_pool.h"
 
 namespace trav::scenarios {
@@ -61,15 +62,6 @@ struct LocalBatchOptions {
   bool progress_bar{false};     ///< redraw one line on stderr, else one line per run
 };
 
-/// Settings of a Slurm submission.
-struct SlurmOptions {
-  std::string partition;        ///< empty: the cluster's default
-  std::string time;             ///< per array task ("HH:MM:SS"), empty: the partition's default
-  int runs_per_task{1};         ///< runs per array task, >= 1
-  bool wait{true};              ///< wait for the job, then write the report
-  std::string trav_executable;  ///< the `trav` the tasks run (on a shared filesystem)
-};
-
 /// Lays out `out_dir` for the runs: batch.json (the runs and the limits), scenarios/<id>.yaml,
 /// runs/, logs/, failed/; removes what a killed run left half-written. Returns the runs not yet
 /// finished (no runs/<id>/summary.json). @throws common::InputError if `out_dir` holds another
@@ -85,25 +77,16 @@ BatchProgress RunBatchLocally(const BatchSpec& spec, const std::vector<BatchRun>
                               const std::vector<BatchRun>& pending, const std::string& out_dir,
                               const LocalBatchOptions& options);
 
-/// Submits the pending runs as a Slurm job array (`sbatch`; one task per `runs_per_task` runs,
-/// each task `trav batch-task`), and with `options.wait` waits until `squeue` no longer lists it,
-/// then writes the report. Returns the job id. @throws std::runtime_error if sbatch fails.
-std::string SubmitBatchToSlurm(const std::vector<BatchRun>& runs,
-                               const std::vector<BatchRun>& pending, const std::string& out_dir,
-                               const SlurmOptions& options);
-
-/// A Slurm array task's side: runs the runs of task `index` listed in `tasks_file` (written by
-/// SubmitBatchToSlurm) one after the other, skipping finished ones, recording each end.
-void RunBatchTask(const std::string& tasks_file, int index, const std::string& trav_executable);
+/// Submits the pending runs as a Slurm job array (SubmitJobArray: each array task runs
+/// `options.jobs_per_task` runs as `trav run` processes), and with `options.wait` writes the report
+/// once the job has ended. Returns the job id (empty if nothing was pending).
+/// @throws std::runtime_error if sbatch fails.
+std::string SubmitBatchToSlurm(const BatchSpec& spec, const std::vector<BatchRun>& pending,
+                               const std::string& out_dir, const SlurmOptions& options);
 
 /// Writes the report of the batch in `out_dir` from whatever has finished (batch.json lists the
 /// runs): results.csv, results.json, report.md and plots (WriteBatchReport). Returns how many
 /// runs have a result. @throws common::InputError if `out_dir` has no batch.json.
 int CollectBatch(const std::string& out_dir);
-
-/// Records how a run's process ended: finished if it wrote runs/<id>/summary.json (removing an
-/// older failure record), else failed/<id>.json with the outcome crashed, killed, timed_out or
-/// error. Returns true if it finished.
-bool RecordRunEnd(const std::string& out_dir, const std::string& id, const ProcessResult& end);
 
 }  // namespace trav::scenarios

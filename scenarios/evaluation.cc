@@ -21,6 +21,7 @@
 #include "common/yaml_reader.h"
 #include "mapping/traversability_mapper.h"
 #include "scenarios/eval_report.h"
+#include "scenarios/job_array.h"
 #include "scenarios/mappers.h"
 #include "scenarios/output_folder.h"
 #include "scenarios/process_pool.h"
@@ -426,7 +427,7 @@ void RunEvalSceneInFolder(const std::string& out_dir, const EvalScene& scene,
 
 EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_dir,
                             const std::string& trav_executable, const std::string& command_line,
-                            bool progress_bar) {
+                            bool progress_bar, const std::optional<SlurmOptions>& slurm) {
   ValidateEvalOptions(options);
   const fs::path folder(out_dir);
   const fs::path options_path = folder / "options.json";
@@ -455,55 +456,46 @@ EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_d
   EvalRunResult result;
   const std::vector<EvalScene> scenes = EvalScenes(options);
   result.scenes = static_cast<int>(scenes.size());
-  std::vector<EvalScene> pending;
-  std::vector<ProcessTask> tasks;
+  const fs::path absolute = fs::absolute(folder);
+  std::vector<Job> jobs;
   for (const EvalScene& scene : scenes) {
-    if (FinishedScene(folder / "scenes" / (scene.Id() + ".json"))) {
+    const fs::path record = absolute / "scenes" / (scene.Id() + ".json");
+    if (FinishedScene(record)) {
       ++result.resumed;
       continue;
     }
-    pending.push_back(scene);
-    tasks.push_back(
-        {{trav_executable, "eval-scene", out_dir, scene.terrain, std::to_string(scene.seed)},
-         (folder / "logs" / (scene.Id() + ".log")).string()});
+    jobs.push_back({scene.Id(),
+                    {trav_executable, "eval-scene", absolute.string(), scene.terrain,
+                     std::to_string(scene.seed)},
+                    (absolute / "logs" / (scene.Id() + ".log")).string(),
+                    record.string()});
   }
   if (result.resumed > 0) {
     std::fprintf(stderr, "%d of %d scenes already finished in %s: kept\n", result.resumed,
                  result.scenes, out_dir.c_str());
   }
+  if (slurm && !jobs.empty()) {
+    result.slurm_job = SubmitJobArray(absolute.string(), jobs, options.scene_time_limit_s, *slurm);
+    if (!slurm->wait) return result;
+    for (const Job& job : jobs) ++(ResultExists(job.result_path) ? result.finished : result.failed);
+  } else {
+    ProgressLine progress(result.scenes, result.resumed, "scene", progress_bar);
+    const JobsProgress ended = RunJobsLocally(absolute.string(), jobs, options.jobs,
+                                              options.scene_time_limit_s, &progress);
+    result.finished = ended.finished;
+    result.failed = ended.failed;
+    result.interrupted = ended.interrupted;
+    if (result.interrupted) return result;
+  }
+  WriteEvalReportFromFolder(out_dir, options, command_line);
+  return result;
+}
 
-  ProgressLine progress(result.scenes, result.resumed, "scene", progress_bar);
-  auto on_done = [&](std::size_t index, const ProcessResult& process) {
-    const EvalScene& scene = pending[index];
-    const fs::path failed_path = folder / "failed" / (scene.Id() + ".json");
-    const bool written = FinishedScene(folder / "scenes" / (scene.Id() + ".json")).has_value();
-    if (process.succeeded() && written) {
-      ++result.finished;
-      fs::remove(failed_path, error);
-    } else if (process.end != ProcessEnd::kCancelled) {
-      ++result.failed;
-      const nlohmann::json failure = {{"id", scene.Id()},
-                                      {"end", ProcessEndName(process.end)},
-                                      {"exit_code", process.exit_code},
-                                      {"signal", process.signal},
-                                      {"wall_s", process.wall_s},
-                                      {"message", process.message},
-                                      {"log", "logs/" + scene.Id() + ".log"}};
-      WriteTextFileAtomically(failed_path.string(), failure.dump(1) + "\n");
-    }
-    if (process.end != ProcessEnd::kCancelled) {
-      progress.Ended(scene.Id(), process.succeeded() && written, process.wall_s);
-    }
-  };
-  ProcessPoolOptions pool;
-  pool.jobs = options.jobs;
-  pool.time_limit_s = options.scene_time_limit_s;
-  const std::vector<ProcessResult> ends = RunProcessPool(tasks, pool, on_done);
-  result.interrupted = std::any_of(ends.begin(), ends.end(), [](const ProcessResult& end) {
-    return end.end == ProcessEnd::kCancelled;
-  });
-  if (result.interrupted) return result;
-
+void WriteEvalReportFromFolder(const std::string& out_dir, const EvalOptions& options,
+                               const std::string& command_line) {
+  const fs::path folder(out_dir);
+  const std::vector<EvalScene> scenes = EvalScenes(options);
+  std::error_code error;
   std::vector<nlohmann::json> records;
   std::vector<nlohmann::json> failures;
   for (const EvalScene& scene : scenes) {
@@ -514,10 +506,20 @@ EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_d
       failures.push_back(ReadJson(folder / "failed" / (scene.Id() + ".json")));
     }
   }
-  nlohmann::json stored = ReadJson(options_path);
+  const nlohmann::json stored = ReadJson(folder / "options.json");
   WriteEvalReport(out_dir, options, BaseInducingPoints(options), records, failures,
                   stored.value("command", command_line));
-  return result;
+}
+
+int CollectEvaluation(const std::string& out_dir) {
+  const fs::path options_path = fs::path(out_dir) / "options.json";
+  const EvalOptions options = EvalOptionsFromJson(ReadJson(options_path), options_path.string());
+  WriteEvalReportFromFolder(out_dir, options, "");
+  int finished = 0;
+  for (const EvalScene& scene : EvalScenes(options)) {
+    finished += FinishedScene(fs::path(out_dir) / "scenes" / (scene.Id() + ".json")) ? 1 : 0;
+  }
+  return finished;
 }
 
 }  // namespace trav::scenarios

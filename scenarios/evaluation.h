@@ -1,10 +1,13 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "scenarios/job_array.h"
 
 namespace trav::scenarios {
 
@@ -78,18 +81,31 @@ struct EvalRunResult {
   int finished{0};  ///< finished by this run
   int failed{0};    ///< crashed, timed out or failed in this run (recorded under failed/)
   bool interrupted{false};
+  std::string slurm_job;  ///< the Slurm job id when submitted there
 };
 
 /// Runs the evaluation into `out_dir`: options.json, scenes/<id>.json per finished scene (written
-/// atomically by worker processes `trav_executable eval-scene OUT TERRAIN SEED`, options.jobs at
-/// a time, their output in logs/<id>.log), failed/<id>.json per failed scene, then the report
-/// (WriteEvalReport). Finished scenes are kept: rerunning into the same folder redoes only the
-/// others. `progress_bar`: redraw one line on stderr, else one line per scene.
+/// atomically by worker jobs `trav_executable eval-scene OUT TERRAIN SEED`, their output in
+/// logs/<id>.log), failed/<id>.json per failed scene (RecordJobEnd), then the report. The jobs run
+/// as local processes, options.jobs at a time, or with `slurm` as a Slurm job array (without
+/// `slurm->wait` it returns once submitted, and `trav eval --collect` writes the report later).
+/// Finished scenes are kept: rerunning into the same folder redoes only the others.
+/// `progress_bar`: redraw one line on stderr, else one line per scene.
 /// @throws common::InputError if the options are invalid or `out_dir` holds an evaluation with
-/// other options.
+/// other options; std::runtime_error if Slurm refuses the job.
 EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_dir,
                             const std::string& trav_executable, const std::string& command_line,
-                            bool progress_bar);
+                            bool progress_bar, const std::optional<SlurmOptions>& slurm);
+
+/// Writes the report (WriteEvalReport) of the evaluation in `out_dir` from the scenes finished
+/// so far and the failure records.
+void WriteEvalReportFromFolder(const std::string& out_dir, const EvalOptions& options,
+                               const std::string& command_line);
+
+/// Writes the report of the evaluation in `out_dir` from what has finished (after a Slurm job
+/// submitted without waiting); returns the number of finished scenes.
+/// @throws common::InputError if `out_dir` has no options.json.
+int CollectEvaluation(const std::string& out_dir);
 
 /// The worker's side: runs one scene of the evaluation in `out_dir` (its options.json) and writes
 /// scenes/<id>.json atomically. @throws common::InputError if options.json is missing or bad.

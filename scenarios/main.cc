@@ -198,10 +198,52 @@ std::string CommandLine(int argc, char** argv) {
   return line;
 }
 
-int Eval(const EvalOptions& options, const std::string& out, const std::string& command_line) {
+// Where a batch or evaluation runs: local processes, or a Slurm job array.
+struct ClusterFlags {
+  bool slurm{false};
+  bool no_wait{false};
+  SlurmOptions options;
+};
+
+void AddClusterFlags(CLI::App* command, ClusterFlags* flags, const std::string& per_task_flag) {
+  command->add_flag("--slurm", flags->slurm, "Submit a Slurm job array instead of local processes");
+  command->add_option("--partition", flags->options.partition, "Slurm partition");
+  command->add_option("--time", flags->options.time, "Slurm time limit per array task (HH:MM:SS)");
+  command->add_option(per_task_flag, flags->options.jobs_per_task, "Jobs per Slurm array task")
+      ->capture_default_str();
+  command->add_flag("--no-wait", flags->no_wait,
+                    "With --slurm: return once submitted (then --collect DIR)");
+}
+
+// The Slurm options of the flags, or nothing for local processes.
+std::optional<SlurmOptions> SlurmOf(const ClusterFlags& flags, const std::string& per_task_flag) {
+  if (!flags.slurm) return std::nullopt;
+  if (flags.options.jobs_per_task < 1) {
+    throw common::InputError(per_task_flag, std::to_string(flags.options.jobs_per_task),
+                             "must be >= 1");
+  }
+  SlurmOptions options = flags.options;
+  options.wait = !flags.no_wait;
+  options.trav_executable = std::filesystem::read_symlink("/proc/self/exe").string();
+  return options;
+}
+
+int Eval(const EvalOptions& options, const std::string& out, const std::string& command_line,
+         const ClusterFlags& cluster, const std::string& collect) {
+  if (!collect.empty()) {
+    const int finished = CollectEvaluation(collect);
+    std::printf("%d scenes finished; results: %s/results.md\n", finished, collect.c_str());
+    return kExitExpected;
+  }
   const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
   const EvalRunResult result =
-      RunEvaluation(options, out, self, command_line, isatty(STDERR_FILENO) != 0);
+      RunEvaluation(options, out, self, command_line, isatty(STDERR_FILENO) != 0,
+                    SlurmOf(cluster, "--scenes-per-task"));
+  if (!result.slurm_job.empty() && cluster.no_wait) {
+    std::printf("Slurm job %s submitted; when it has ended: trav eval --collect %s\n",
+                result.slurm_job.c_str(), out.c_str());
+    return kExitExpected;
+  }
   if (result.interrupted) {
     std::printf("interrupted: %d of %d scenes finished in %s; run the same command to resume\n",
                 result.resumed + result.finished, result.scenes, out.c_str());
@@ -219,9 +261,7 @@ struct BatchCommand {
   std::string out;
   std::string collect;
   int jobs{1};
-  bool slurm{false};
-  SlurmOptions slurm_options;
-  bool no_wait{false};
+  ClusterFlags cluster;
 };
 
 int Batch(const BatchCommand& command) {
@@ -236,19 +276,12 @@ int Batch(const BatchCommand& command) {
   if (command.jobs < 1) {
     throw common::InputError("--jobs", std::to_string(command.jobs), "must be >= 1");
   }
-  if (command.slurm_options.runs_per_task < 1) {
-    throw common::InputError("--runs-per-task", std::to_string(command.slurm_options.runs_per_task),
-                             "must be >= 1");
-  }
   const BatchSpec spec = LoadBatchFile(command.file);
   const std::vector<BatchRun> runs = ExpandBatch(spec);
   const std::vector<BatchRun> pending = PrepareBatchFolder(spec, runs, command.out);
-  if (command.slurm) {
-    SlurmOptions options = command.slurm_options;
-    options.wait = !command.no_wait;
-    options.trav_executable = self;
-    const std::string job = SubmitBatchToSlurm(runs, pending, command.out, options);
-    if (!options.wait && !job.empty()) {
+  if (const std::optional<SlurmOptions> slurm = SlurmOf(command.cluster, "--runs-per-task")) {
+    const std::string job = SubmitBatchToSlurm(spec, pending, command.out, *slurm);
+    if (!slurm->wait && !job.empty()) {
       std::printf("job %s submitted; gather what has finished with: trav batch --collect %s\n",
                   job.c_str(), command.out.c_str());
     } else {
@@ -347,6 +380,11 @@ int Main(int argc, char** argv) {
   eval->add_option("--time-limit", eval_options.scene_time_limit_s,
                    "Wall time allowed per scene [s]")
       ->capture_default_str();
+  ClusterFlags eval_cluster;
+  std::string eval_collect;
+  AddClusterFlags(eval, &eval_cluster, "--scenes-per-task");
+  eval->add_option("--collect", eval_collect,
+                   "Write the report of the evaluation in DIR from what has finished");
   eval->add_option("--set", eval_options.sets,
                    "Override a value of every scene's scenario: --set key.path=value")
       ->type_name("KEY=VALUE");
@@ -360,25 +398,16 @@ int Main(int argc, char** argv) {
   batch->add_option("batch", batch_command.file, "Batch YAML file (docs/batch.md)");
   batch->add_option("--out", batch_command.out, "Output folder");
   batch->add_option("--jobs", batch_command.jobs, "Runs at once (local)")->capture_default_str();
-  batch->add_flag("--slurm", batch_command.slurm, "Submit a Slurm job array instead");
-  batch->add_option("--partition", batch_command.slurm_options.partition, "Slurm partition");
-  batch->add_option("--time", batch_command.slurm_options.time,
-                    "Slurm time limit per array task (HH:MM:SS)");
-  batch
-      ->add_option("--runs-per-task", batch_command.slurm_options.runs_per_task,
-                   "Runs per Slurm array task")
-      ->capture_default_str();
-  batch->add_flag("--no-wait", batch_command.no_wait,
-                  "With --slurm: return once submitted (then trav batch --collect DIR)");
+  AddClusterFlags(batch, &batch_command.cluster, "--runs-per-task");
   batch->add_option("--collect", batch_command.collect,
                     "Write the report of the batch in DIR from what has finished");
 
   std::string task_file;
   int task_index = 0;
-  CLI::App* batch_task = app.add_subcommand("batch-task", "");  // a Slurm array task (hidden)
-  batch_task->group("");
-  batch_task->add_option("tasks", task_file)->required();
-  batch_task->add_option("index", task_index)->required();
+  CLI::App* job_task = app.add_subcommand("job-task", "");  // a Slurm array task (hidden)
+  job_task->group("");
+  job_task->add_option("tasks", task_file)->required();
+  job_task->add_option("index", task_index)->required();
 
   std::string scene_folder, scene_terrain;
   std::uint64_t scene_seed = 0;
@@ -402,11 +431,11 @@ int Main(int argc, char** argv) {
     if (calibrate->parsed()) return Calibrate(calibrate_options);
     if (eval->parsed()) {
       if (no_ablation) eval_options.inducing_points.clear();
-      return Eval(eval_options, eval_out, CommandLine(argc, argv));
+      return Eval(eval_options, eval_out, CommandLine(argc, argv), eval_cluster, eval_collect);
     }
     if (batch->parsed()) return Batch(batch_command);
-    if (batch_task->parsed()) {
-      RunBatchTask(task_file, task_index, std::filesystem::read_symlink("/proc/self/exe").string());
+    if (job_task->parsed()) {
+      RunJobTask(task_file, task_index);
       return kExitExpected;
     }
     if (eval_scene->parsed()) {

@@ -1,0 +1,205 @@
+#include "scenarios/job_array.h"
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "common/input_error.h"
+#include "scenarios/output_folder.h"
+
+namespace trav::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The outcome recorded for a job that ended without its result.
+std::string FailureOutcome(const ProcessResult& end) {
+  switch (end.end) {
+    case ProcessEnd::kTimedOut:
+      return "timed_out";
+    case ProcessEnd::kSignaled:
+      return end.signal == SIGKILL ? "killed" : "crashed";
+    case ProcessEnd::kExited:
+      return end.exit_code == 3 ? "crashed" : "error";
+    case ProcessEnd::kNotStarted:
+    case ProcessEnd::kCancelled:
+      return "error";
+  }
+  return "error";
+}
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+// Text with surrounding whitespace removed.
+std::string Trimmed(const std::string& text) {
+  const auto first = text.find_first_not_of(" \n\r\t");
+  if (first == std::string::npos) return "";
+  const auto last = text.find_last_not_of(" \n\r\t");
+  return text.substr(first, last - first + 1);
+}
+
+// Quotes a word for /bin/sh.
+std::string ShellQuoted(const std::string& word) {
+  std::string quoted = "'";
+  for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+nlohmann::json JobJson(const Job& job) {
+  return {{"id", job.id}, {"argv", job.argv}, {"log", job.log_path}, {"result", job.result_path}};
+}
+
+Job JobFromJson(const nlohmann::json& json) {
+  return {json.at("id").get<std::string>(), json.at("argv").get<std::vector<std::string>>(),
+          json.at("log").get<std::string>(), json.at("result").get<std::string>()};
+}
+
+}  // namespace
+
+bool ResultExists(const std::string& path) {
+  std::error_code error;
+  return fs::is_regular_file(path, error);
+}
+
+bool RecordJobEnd(const std::string& folder, const Job& job, const ProcessResult& end) {
+  const fs::path failed_path = fs::path(folder) / "failed" / (job.id + ".json");
+  std::error_code error;
+  if (ResultExists(job.result_path)) {
+    fs::remove(failed_path, error);
+    return true;
+  }
+  const nlohmann::json failure = {
+      {"id", job.id},
+      {"outcome", FailureOutcome(end)},
+      {"end", ProcessEndName(end.end)},
+      {"exit_code", end.exit_code},
+      {"signal", end.signal},
+      {"wall_s", end.wall_s},
+      {"message", end.message},
+      {"log", fs::path(job.log_path).lexically_relative(folder).string()}};
+  fs::create_directories(failed_path.parent_path());
+  WriteTextFileAtomically(failed_path.string(), failure.dump(1) + "\n");
+  return false;
+}
+
+JobsProgress RunJobsLocally(const std::string& folder, const std::vector<Job>& jobs, int parallel,
+                            double time_limit_s, ProgressLine* progress) {
+  std::vector<ProcessTask> tasks;
+  for (const Job& job : jobs) tasks.push_back({job.argv, job.log_path});
+  JobsProgress result;
+  auto on_done = [&](std::size_t index, const ProcessResult& end) {
+    if (end.end == ProcessEnd::kCancelled) return;
+    const bool finished = RecordJobEnd(folder, jobs[index], end);
+    ++(finished ? result.finished : result.failed);
+    if (progress != nullptr) progress->Ended(jobs[index].id, finished, end.wall_s);
+  };
+  const std::vector<ProcessResult> ends = RunProcessPool(tasks, {parallel, time_limit_s}, on_done);
+  result.interrupted = std::any_of(ends.begin(), ends.end(), [](const ProcessResult& end) {
+    return end.end == ProcessEnd::kCancelled;
+  });
+  return result;
+}
+
+std::string SubmitJobArray(const std::string& folder_path, const std::vector<Job>& jobs,
+                           double time_limit_s, const SlurmOptions& options) {
+  const fs::path folder = fs::absolute(folder_path);
+  const fs::path slurm = folder / "slurm";
+  fs::create_directories(slurm);
+  fs::create_directories(folder / "logs");
+  // the tasks: jobs_per_task jobs each
+  nlohmann::json tasks = nlohmann::json::array();
+  const std::size_t per_task = static_cast<std::size_t>(std::max(1, options.jobs_per_task));
+  for (std::size_t i = 0; i < jobs.size(); i += per_task) {
+    nlohmann::json task = nlohmann::json::array();
+    for (std::size_t j = i; j < std::min(jobs.size(), i + per_task); ++j) {
+      task.push_back(JobJson(jobs[j]));
+    }
+    tasks.push_back(task);
+  }
+  int submission = 0;
+  while (fs::exists(slurm / ("tasks-" + std::to_string(submission) + ".json"))) ++submission;
+  const std::string tag = std::to_string(submission);
+  const fs::path tasks_path = slurm / ("tasks-" + tag + ".json");
+  const nlohmann::json tasks_file = {
+      {"folder", folder.string()}, {"time_limit_s", time_limit_s}, {"tasks", tasks}};
+  WriteTextFileAtomically(tasks_path.string(), tasks_file.dump(1) + "\n");
+
+  std::ostringstream script;
+  script << "#!/bin/sh\n"
+         << "#SBATCH --job-name=trav\n"
+         << "#SBATCH --array=0-" << tasks.size() - 1 << "\n"
+         << "#SBATCH --output=" << (folder / "logs" / "slurm-%A_%a.out").string() << "\n"
+         << "#SBATCH --cpus-per-task=1\n";
+  if (!options.partition.empty()) script << "#SBATCH --partition=" << options.partition << "\n";
+  if (!options.time.empty()) script << "#SBATCH --time=" << options.time << "\n";
+  script << "exec " << ShellQuoted(options.trav_executable) << " job-task "
+         << ShellQuoted(tasks_path.string()) << " \"$SLURM_ARRAY_TASK_ID\"\n";
+  const fs::path script_path = slurm / ("job-" + tag + ".sh");
+  WriteTextFileAtomically(script_path.string(), script.str());
+
+  const fs::path sbatch_log = slurm / ("sbatch-" + tag + ".log");
+  const ProcessResult sbatch =
+      RunProcess({{"sbatch", "--parsable", script_path.string()}, sbatch_log.string()});
+  const std::string output = Trimmed(ReadText(sbatch_log));
+  if (!sbatch.succeeded()) {
+    throw std::runtime_error("sbatch failed (" + std::string(ProcessEndName(sbatch.end)) + " " +
+                             std::to_string(sbatch.exit_code) +
+                             "): " + (sbatch.message.empty() ? output : sbatch.message));
+  }
+  const std::string job_id = output.substr(0, output.find(';'));
+  std::fprintf(stderr, "submitted Slurm job %s: %zu array tasks for %zu jobs (%s)\n",
+               job_id.c_str(), tasks.size(), jobs.size(), script_path.c_str());
+  if (!options.wait) return job_id;
+
+  // wait until squeue no longer lists the job, reporting finished jobs as they appear
+  const fs::path squeue_log = slurm / ("squeue-" + tag + ".log");
+  std::size_t reported = 0;
+  while (true) {
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+    std::size_t finished = 0;
+    for (const Job& job : jobs) finished += ResultExists(job.result_path) ? 1 : 0;
+    if (finished != reported) {
+      std::fprintf(stderr, "Slurm job %s: %zu of %zu finished\n", job_id.c_str(), finished,
+                   jobs.size());
+      reported = finished;
+    }
+    const ProcessResult squeue =
+        RunProcess({{"squeue", "-h", "-j", job_id, "-o", "%i"}, squeue_log.string()});
+    if (!squeue.succeeded() || Trimmed(ReadText(squeue_log)).empty()) break;
+  }
+  return job_id;
+}
+
+void RunJobTask(const std::string& tasks_file, int index) {
+  std::ifstream file(tasks_file);
+  const nlohmann::json tasks = nlohmann::json::parse(file, nullptr, false);
+  if (!file || tasks.is_discarded() || !tasks.contains("tasks")) {
+    throw common::InputError(tasks_file, "", "is not a Slurm tasks file of trav");
+  }
+  const nlohmann::json& list = tasks.at("tasks");
+  if (index < 0 || static_cast<std::size_t>(index) >= list.size()) {
+    throw common::InputError(tasks_file, "", "has no task " + std::to_string(index));
+  }
+  std::vector<Job> jobs;
+  for (const nlohmann::json& job : list[static_cast<std::size_t>(index)]) {
+    Job parsed = JobFromJson(job);
+    if (!ResultExists(parsed.result_path)) jobs.push_back(std::move(parsed));
+  }
+  RunJobsLocally(tasks.at("folder").get<std::string>(), jobs, 1,
+                 tasks.at("time_limit_s").get<double>(), nullptr);
+}
+
+}  // namespace trav::scenarios
