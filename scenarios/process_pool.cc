@@ -12,7 +12,6 @@
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
-#include <thread>
 #include <utility>
 
 #include <sys/wait.h>
@@ -29,27 +28,40 @@ volatile std::sig_atomic_t g_interrupted = 0;
 
 void OnInterrupt(int) { g_interrupted = 1; }
 
-// Installs the interrupt handler for its lifetime and restores the previous one after.
-class InterruptGuard {
+// For its lifetime: the interrupt handler, and SIGCHLD blocked so that WaitForChild() wakes when
+// a child ends; restores both after.
+class PoolSignals {
  public:
-  InterruptGuard() {
+  PoolSignals() {
     g_interrupted = 0;
     struct sigaction action {};
     action.sa_handler = OnInterrupt;
     sigemptyset(&action.sa_mask);
     sigaction(SIGINT, &action, &previous_int_);
     sigaction(SIGTERM, &action, &previous_term_);
+    sigemptyset(&child_);
+    sigaddset(&child_, SIGCHLD);
+    pthread_sigmask(SIG_BLOCK, &child_, &previous_mask_);
   }
-  ~InterruptGuard() {
+  ~PoolSignals() {
+    pthread_sigmask(SIG_SETMASK, &previous_mask_, nullptr);
     sigaction(SIGINT, &previous_int_, nullptr);
     sigaction(SIGTERM, &previous_term_, nullptr);
   }
-  InterruptGuard(const InterruptGuard&) = delete;
-  InterruptGuard& operator=(const InterruptGuard&) = delete;
+
+  // Sleeps until a child ends, a signal interrupts, or 10 ms pass (the time-limit checks).
+  void WaitForChild() const {
+    const timespec timeout{0, 10'000'000};
+    sigtimedwait(&child_, nullptr, &timeout);
+  }
+  PoolSignals(const PoolSignals&) = delete;
+  PoolSignals& operator=(const PoolSignals&) = delete;
 
  private:
   struct sigaction previous_int_ {};
   struct sigaction previous_term_ {};
+  sigset_t child_{};
+  sigset_t previous_mask_{};
 };
 
 // A started child.
@@ -78,10 +90,15 @@ pid_t Start(const ProcessTask& task, ProcessResult* result) {
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, output, O_WRONLY | O_CREAT | O_TRUNC,
                                    0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  // its own process group; SIGCHLD unblocked even while the pool waits for it
+  sigset_t mask;
+  pthread_sigmask(SIG_SETMASK, nullptr, &mask);
+  sigdelset(&mask, SIGCHLD);
   posix_spawnattr_t attributes;
   posix_spawnattr_init(&attributes);
-  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK);
   posix_spawnattr_setpgroup(&attributes, 0);
+  posix_spawnattr_setsigmask(&attributes, &mask);
   pid_t pid = -1;
   const int status = posix_spawnp(&pid, argv[0], &actions, &attributes, argv.data(), environ);
   posix_spawnattr_destroy(&attributes);
@@ -191,7 +208,7 @@ std::vector<ProcessResult> RunProcessPool(const std::vector<ProcessTask>& tasks,
     if (on_done) on_done(index, results[index]);
   };
 
-  const InterruptGuard guard;
+  const PoolSignals guard;
   std::vector<Running> running;
   std::size_t next = 0;
   while (next < tasks.size() || !running.empty()) {
@@ -229,7 +246,7 @@ std::vector<ProcessResult> RunProcessPool(const std::vector<ProcessTask>& tasks,
       running.erase(running.begin() + static_cast<std::ptrdiff_t>(r));
       reaped = true;
     }
-    if (!reaped) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (!reaped) guard.WaitForChild();
   }
 
   // interrupted: stop what runs, and mark it and the rest cancelled
