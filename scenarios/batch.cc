@@ -42,21 +42,6 @@ std::string Sanitized(const std::string& text) {
   return out;
 }
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
-nlohmann::json ReadJsonFile(const fs::path& path) {
-  std::ifstream file(path);
-  if (!file) throw common::InputError(path.string(), "", "cannot read");
-  nlohmann::json json = nlohmann::json::parse(file, nullptr, false);
-  if (json.is_discarded()) throw common::InputError(path.string(), "", "is not valid JSON");
-  return json;
-}
-
 bool Finished(const fs::path& folder, const std::string& id) {
   return ResultExists((folder / "runs" / id / "summary.json").string());
 }
@@ -204,11 +189,11 @@ std::vector<BatchRun> PrepareBatchFolder(const BatchSpec& spec, const std::vecto
   const fs::path batch_path = folder / "batch.json";
   std::error_code error;
   if (fs::exists(batch_path, error)) {
-    const nlohmann::json previous = ReadJsonFile(batch_path);
+    const nlohmann::json previous = ReadJsonFile(batch_path.string());
     bool same = previous.value("runs", nlohmann::json()) == batch["runs"];
     for (const BatchRun& run : runs) {
       const fs::path scenario = folder / "scenarios" / (run.id + ".yaml");
-      same = same && ReadText(scenario) == run.scenario_yaml;
+      same = same && ReadTextFile(scenario.string()) == run.scenario_yaml;
     }
     if (!same) {
       throw common::InputError(batch_path.string(), "",
@@ -278,7 +263,7 @@ std::string SubmitBatchToSlurm(const BatchSpec& spec, const std::vector<BatchRun
 
 int CollectBatch(const std::string& out_dir) {
   const fs::path folder = fs::absolute(out_dir);
-  const nlohmann::json batch = ReadJsonFile(folder / "batch.json");
+  const nlohmann::json batch = ReadJsonFile((folder / "batch.json").string());
   int finished = 0;
   for (const nlohmann::json& run : batch.at("runs")) {
     finished += Finished(folder, run.at("id").get<std::string>()) ? 1 : 0;

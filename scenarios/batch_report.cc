@@ -65,15 +65,6 @@ void Flatten(const nlohmann::json& json, const std::string& prefix,
   }
 }
 
-std::optional<nlohmann::json> ReadJsonIfPresent(const fs::path& path) {
-  std::error_code error;
-  if (!fs::is_regular_file(path, error)) return std::nullopt;
-  std::ifstream file(path);
-  nlohmann::json json = nlohmann::json::parse(file, nullptr, false);
-  if (json.is_discarded()) return std::nullopt;
-  return json;
-}
-
 std::string Format(const char* format, double value) {
   char text[64];
   std::snprintf(text, sizeof(text), format, value);
@@ -178,7 +169,7 @@ WilsonInterval Wilson95(int successes, int trials) {
 
 void WriteBatchReport(const std::string& out_dir) {
   const fs::path folder(out_dir);
-  const std::optional<nlohmann::json> batch = ReadJsonIfPresent(folder / "batch.json");
+  const std::optional<nlohmann::json> batch = ReadJsonIfPresent((folder / "batch.json").string());
   if (!batch) throw common::InputError((folder / "batch.json").string(), "", "no batch here");
 
   std::vector<Row> rows;
@@ -194,11 +185,13 @@ void WriteBatchReport(const std::string& out_dir) {
         labels.push_back(it.key());
       }
     }
-    if (const auto summary = ReadJsonIfPresent(folder / "runs" / row.id / "summary.json")) {
+    if (const auto summary =
+            ReadJsonIfPresent((folder / "runs" / row.id / "summary.json").string())) {
       row.outcome = summary->value("outcome", "");
       row.success = row.outcome == summary->value("expected_outcome", "");
       Flatten(*summary, "", &row.metrics);
-    } else if (const auto failure = ReadJsonIfPresent(folder / "failed" / (row.id + ".json"))) {
+    } else if (const auto failure =
+                   ReadJsonIfPresent((folder / "failed" / (row.id + ".json")).string())) {
       row.outcome = failure->value("outcome", "error");
       row.log = failure->value("log", "");
     } else {

@@ -246,23 +246,12 @@ void DrawRoute(Scenario* scene, double length_m, std::uint64_t seed) {
                            "ground truth in " + std::to_string(kRouteDraws) + " draws");
 }
 
-nlohmann::json ReadJson(const fs::path& path) {
-  std::ifstream file(path);
-  if (!file) throw common::InputError(path.string(), "", "cannot read");
-  try {
-    return nlohmann::json::parse(file);
-  } catch (const nlohmann::json::exception& e) {
-    throw common::InputError(path.string(), "", std::string("not valid JSON: ") + e.what());
-  }
-}
+nlohmann::json ReadJson(const fs::path& path) { return ReadJsonFile(path.string()); }
 
 // A finished scene's record, or nothing if it is absent or unreadable (then it is redone).
 std::optional<nlohmann::json> FinishedScene(const fs::path& path) {
-  std::error_code error;
-  if (!fs::is_regular_file(path, error)) return std::nullopt;
-  std::ifstream file(path);
-  nlohmann::json record = nlohmann::json::parse(file, nullptr, false);
-  if (record.is_discarded() || !record.contains("methods")) return std::nullopt;
+  std::optional<nlohmann::json> record = ReadJsonIfPresent(path.string());
+  if (record && !record->contains("methods")) return std::nullopt;
   return record;
 }
 

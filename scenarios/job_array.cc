@@ -36,13 +36,6 @@ std::string FailureOutcome(const ProcessResult& end) {
   return "error";
 }
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
 // Text with surrounding whitespace removed.
 std::string Trimmed(const std::string& text) {
   const auto first = text.find_first_not_of(" \n\r\t");
@@ -153,7 +146,7 @@ std::string SubmitJobArray(const std::string& folder_path, const std::vector<Job
   const fs::path sbatch_log = slurm / ("sbatch-" + tag + ".log");
   const ProcessResult sbatch =
       RunProcess({{"sbatch", "--parsable", script_path.string()}, sbatch_log.string()});
-  const std::string output = Trimmed(ReadText(sbatch_log));
+  const std::string output = Trimmed(ReadTextFile(sbatch_log.string()));
   if (!sbatch.succeeded()) {
     throw std::runtime_error("sbatch failed (" + std::string(ProcessEndName(sbatch.end)) + " " +
                              std::to_string(sbatch.exit_code) +
@@ -178,7 +171,7 @@ std::string SubmitJobArray(const std::string& folder_path, const std::vector<Job
     }
     const ProcessResult squeue =
         RunProcess({{"squeue", "-h", "-j", job_id, "-o", "%i"}, squeue_log.string()});
-    if (!squeue.succeeded() || Trimmed(ReadText(squeue_log)).empty()) break;
+    if (!squeue.succeeded() || Trimmed(ReadTextFile(squeue_log.string())).empty()) break;
   }
   return job_id;
 }

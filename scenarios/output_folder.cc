@@ -4,8 +4,11 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
+
+#include "common/input_error.h"
 
 namespace trav::scenarios {
 
@@ -53,6 +56,30 @@ void WriteTextFile(const std::string& path, const std::string& text) {
   std::ofstream file(path, std::ios::binary);
   file << text;
   if (!file) throw std::runtime_error("cannot write " + path);
+}
+
+std::string ReadTextFile(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+nlohmann::json ReadJsonFile(const std::string& path) {
+  std::ifstream file(path);
+  if (!file) throw common::InputError(path, "", "cannot read");
+  nlohmann::json json = nlohmann::json::parse(file, nullptr, false);
+  if (json.is_discarded()) throw common::InputError(path, "", "is not valid JSON");
+  return json;
+}
+
+std::optional<nlohmann::json> ReadJsonIfPresent(const std::string& path) {
+  std::error_code error;
+  if (!fs::is_regular_file(path, error)) return std::nullopt;
+  std::ifstream file(path);
+  nlohmann::json json = nlohmann::json::parse(file, nullptr, false);
+  if (json.is_discarded()) return std::nullopt;
+  return json;
 }
 
 void WriteTextFileAtomically(const std::string& path, const std::string& text) {

@@ -1,6 +1,9 @@
 #pragma once
 
+#include <optional>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 namespace trav::scenarios {
 
@@ -32,6 +35,15 @@ class OutputFolder {
 
 /// Writes `text` to `path`. @throws std::runtime_error on failure.
 void WriteTextFile(const std::string& path, const std::string& text);
+
+/// The contents of a file, or "" if it cannot be read.
+std::string ReadTextFile(const std::string& path);
+
+/// A JSON file. @throws common::InputError naming the file if it cannot be read or parsed.
+nlohmann::json ReadJsonFile(const std::string& path);
+
+/// A JSON file, or nothing if it is absent or not valid JSON (a record still to be written).
+std::optional<nlohmann::json> ReadJsonIfPresent(const std::string& path);
 
 /// Writes `text` to `path` under a temporary name ("<path>.partial-<pid>") and renames it, so
 /// `path` is either complete or as it was. @throws std::runtime_error on failure.

@@ -15,38 +15,16 @@
 #include <nlohmann/json.hpp>
 #include <sys/wait.h>
 
+#include "tests/cli_test_util.h"
+
 namespace trav::scenarios {
 namespace {
 
 namespace fs = std::filesystem;
+using test_util::CommandResult;
+using test_util::ReadFile;
+using test_util::RunTrav;
 using ::testing::HasSubstr;
-
-struct CommandResult {
-  int exit_code{-1};
-  std::string output;  // stdout and stderr
-};
-
-CommandResult Shell(const std::string& command) {
-  CommandResult result;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return result;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) result.output += buffer;
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
-
-CommandResult RunTrav(const std::string& arguments) {
-  return Shell(std::string(TRAV_BINARY) + " " + arguments);
-}
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
 
 class SlurmClusterTest : public ::testing::Test {
  protected:
@@ -54,17 +32,18 @@ class SlurmClusterTest : public ::testing::Test {
     root_ = fs::temp_directory_path() / ("trav_slurm_test_" + std::to_string(getpid()));
     fs::remove_all(root_);
     fs::create_directories(root_);
-    const CommandResult start =
-        Shell(std::string(CLUSTER_SCRIPT) + " start " + (root_ / "cluster").string());
+    const CommandResult start = test_util::RunCommand(std::string(CLUSTER_SCRIPT) + " start " +
+                                                      (root_ / "cluster").string());
     if (start.exit_code != 0) {
-      Shell(std::string(CLUSTER_SCRIPT) + " stop " + (root_ / "cluster").string());
+      test_util::RunCommand(std::string(CLUSTER_SCRIPT) + " stop " + (root_ / "cluster").string());
       GTEST_SKIP() << "the one-node Slurm cluster could not start: " << start.output;
     }
     started_ = true;
     setenv("SLURM_CONF", (root_ / "cluster/slurm.conf").c_str(), 1);
   }
   void TearDown() override {
-    if (started_) Shell(std::string(CLUSTER_SCRIPT) + " stop " + (root_ / "cluster").string());
+    if (started_)
+      test_util::RunCommand(std::string(CLUSTER_SCRIPT) + " stop " + (root_ / "cluster").string());
     unsetenv("SLURM_CONF");
     fs::remove_all(root_);
   }
@@ -102,7 +81,8 @@ TEST_F(SlurmClusterTest, BatchAndEvaluationRunAsJobArrays) {
                                           later.string() + " --slurm --runs-per-task 2 --no-wait");
   ASSERT_EQ(submitted.exit_code, 0) << submitted.output;
   EXPECT_THAT(submitted.output, HasSubstr("2 array tasks for 4 jobs"));
-  for (int i = 0; i < 600 && !Shell("squeue -h -o %i").output.empty(); ++i) usleep(100000);
+  for (int i = 0; i < 600 && !test_util::RunCommand("squeue -h -o %i").output.empty(); ++i)
+    usleep(100000);
   const CommandResult collected = RunTrav("batch --collect " + later.string());
   ASSERT_EQ(collected.exit_code, 0) << collected.output;
   EXPECT_THAT(collected.output, HasSubstr("4 runs with results"));

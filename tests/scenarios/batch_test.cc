@@ -21,37 +21,18 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 
+#include "tests/cli_test_util.h"
+
 extern char** environ;
 
 namespace trav::scenarios {
 namespace {
 
 namespace fs = std::filesystem;
+using test_util::CommandResult;
+using test_util::ReadFile;
+using test_util::RunTrav;
 using ::testing::HasSubstr;
-
-struct CommandResult {
-  int exit_code{-1};
-  std::string output;  // stdout and stderr
-};
-
-CommandResult RunTrav(const std::string& arguments) {
-  const std::string command = std::string(TRAV_BINARY) + " " + arguments + " 2>&1";
-  CommandResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return result;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) result.output += buffer;
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
 
 // A short tracking run on flat ground (no LiDAR, no video): about a second of wall time with
 // `duration` simulated seconds.
@@ -64,13 +45,7 @@ std::string ShortScenario(const std::string& name, double duration, const std::s
 
 class BatchTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    root_ = fs::temp_directory_path() /
-            ("trav_batch_test_" + std::to_string(getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
+  void SetUp() override { root_ = test_util::FreshTestFolder("trav_batch_test"); }
   void TearDown() override { fs::remove_all(root_); }
 
   fs::path Write(const std::string& name, const std::string& text) const {

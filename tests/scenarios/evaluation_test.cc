@@ -14,28 +14,16 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 
+#include "tests/cli_test_util.h"
+
 namespace trav::scenarios {
 namespace {
 
 namespace fs = std::filesystem;
+using test_util::CommandResult;
+using test_util::ReadFile;
+using test_util::RunTrav;
 using ::testing::HasSubstr;
-
-struct CommandResult {
-  int exit_code{-1};
-  std::string output;  // stdout and stderr
-};
-
-CommandResult RunTrav(const std::string& arguments) {
-  const std::string command = std::string(TRAV_BINARY) + " " + arguments + " 2>&1";
-  CommandResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return result;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) result.output += buffer;
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
 
 nlohmann::json ReadJson(const fs::path& path) {
   std::ifstream file(path);
@@ -53,13 +41,7 @@ nlohmann::json Record(const nlohmann::json& results, const std::string& method) 
 
 class EvaluationTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    root_ = fs::temp_directory_path() /
-            ("trav_eval_test_" + std::to_string(getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
+  void SetUp() override { root_ = test_util::FreshTestFolder("trav_eval_test"); }
   void TearDown() override { fs::remove_all(root_); }
 
   // Two short scenes on flat ground (ground truth 0 everywhere), with the oracle, a constant, and
