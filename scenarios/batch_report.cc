@@ -240,10 +240,12 @@ void WriteBatchReport(const std::string& out_dir) {
   WriteTextFileAtomically((folder / "results.csv").string(), csv);
 
   // report.md
+  const std::size_t finished = static_cast<std::size_t>(
+      std::count_if(rows.begin(), rows.end(), [](const Row& row) { return row.log.empty(); }));
   std::ostringstream md;
   md << "# Batch " << batch->value("name", "") << "\n\n"
-     << batch->at("runs").size() << " runs: " << rows.size() << " with a result, " << pending
-     << " pending. Source: `" << batch->value("source", "")
+     << batch->at("runs").size() << " runs: " << finished << " finished, " << rows.size() - finished
+     << " failed to finish, " << pending << " pending. Source: `" << batch->value("source", "")
      << "`.\n\n| outcome | runs |\n|---|---|\n";
   std::map<std::string, int> outcomes;
   for (const Row& row : rows) ++outcomes[row.outcome];
