@@ -29,7 +29,9 @@ namespace fs = std::filesystem;
 
 // Sweep keys that stand for a scenario key.
 constexpr std::pair<const char*, const char*> kShorthands[] = {
-    {"seed", "terrain.seed"}, {"terrain", "terrain.type"}, {"mapper", "mapping.method"}};
+    {"seed", "terrain.seed"},         {"terrain", "terrain.type"},
+    {"mapper", "mapping.method"},     {"mover_count", "traffic.count"},
+    {"mover_speed", "traffic.speed"}, {"mover_behaviour", "traffic.behaviour"}};
 
 // Letters, digits, '.', '_' and '-' as they are; anything else as '-'.
 std::string Sanitized(const std::string& text) {

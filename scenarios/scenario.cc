@@ -46,6 +46,8 @@ const Names<MapperMethod> kMappers = {{"fsgp-bgk", MapperMethod::kFsgpBgk},
                                       {"sgp", MapperMethod::kSgp},
                                       {"em", MapperMethod::kElevationMap},
                                       {"ground-truth", MapperMethod::kGroundTruth}};
+const Names<TrafficBehaviour> kTrafficBehaviours = {
+    {"random_walk", TrafficBehaviour::kRandomWalk}, {"crossing", TrafficBehaviour::kCrossing}};
 const Names<TestFault> kTestFaults = {
     {"none", TestFault::kNone}, {"crash", TestFault::kCrash}, {"hang", TestFault::kHang}};
 const Names<Outcome> kOutcomes = {{"completed", Outcome::kCompleted},
@@ -446,6 +448,14 @@ void VisitScenario(Archive& a, Scenario& s) {
     });
   });
   a.template Sequence<sim::MovingObstacle>("moving_obstacles", &s.movers, VisitMover<Archive>);
+  a.Map("traffic", [&](Archive& t) {
+    t.Field("count", &s.traffic.count);
+    t.Field("speed", &s.traffic.speed_m_s);
+    t.Enum("behaviour", &s.traffic.behaviour, kTrafficBehaviours);
+    t.Field("seed", &s.traffic.seed);
+    t.Field("area_radius", &s.traffic.area_radius_m);
+    t.Field("keep_clear", &s.traffic.keep_clear_m);
+  });
   a.Map("navigation", [&](Archive& n) {
     NavigationSettings& k = s.navigation;
     n.Field("movers_from_ground_truth", &k.movers_from_ground_truth);
@@ -570,6 +580,10 @@ Scenario LoadScenario(const common::YamlDocument& document) {
     mapping::ValidateFsgpConfig(scenario.mapping);
     planner::ValidateNavigationPlannerConfig(scenario.planner);
     ValidateNavigationSettings(scenario.navigation);
+    ValidateTrafficSettings(scenario.traffic);
+    const std::vector<sim::MovingObstacle> traffic =
+        SpawnTraffic(scenario.traffic, scenario.start_W.position, scenario.goal_W);
+    scenario.movers.insert(scenario.movers.end(), traffic.begin(), traffic.end());
     sim::ValidateMovingObstacles(scenario.movers);
   } catch (const common::InputError& e) {
     throw common::InputError(document.source() + ": " + e.what());
@@ -593,6 +607,8 @@ Scenario LoadScenario(const common::YamlDocument& document) {
 
 std::string ResolvedScenarioYaml(const Scenario& scenario) {
   Scenario copy = scenario;
+  // the generated movers come back from the traffic settings when the file is loaded
+  copy.movers.resize(copy.movers.size() - static_cast<std::size_t>(copy.traffic.count));
   WriteArchive archive;
   VisitScenario(archive, copy);
   YAML::Emitter emitter;

@@ -17,6 +17,7 @@
 #include "renders/renderer.h"
 #include "scenarios/navigation.h"
 #include "scenarios/tracking.h"
+#include "scenarios/traffic.h"
 #include "sim/lidar/lidar_config.h"
 #include "sim/moving_obstacles.h"
 #include "sim/terrain.h"
@@ -92,6 +93,9 @@ struct Scenario {
   double rollover_limit_deg{60.0};             ///< tilt that ends the run as rolled over [deg]
   /// moving_obstacles: movers of the closed loop (MuJoCo mocap bodies the LiDAR sees)
   std::vector<sim::MovingObstacle> movers;
+  /// traffic: movers generated from a count, speed and seed (SpawnTraffic), appended to `movers`
+  /// when the scenario is loaded (the resolved scenario keeps the settings, not the movers).
+  TrafficSettings traffic{};
   lidar::LidarConfig lidar{};
   /// lidar.mount: pose of the sensor L in the base frame B as [x, y, z, roll, pitch, yaw]
   /// [m, rad]; absent: the robot model's "lidar" site.
