@@ -1,5 +1,6 @@
 #include "common/yaml_reader.h"
 
+#include <optional>
 #include <sstream>
 
 #include <yaml-cpp/yaml.h>
@@ -52,6 +53,10 @@ YamlDocument YamlDocument::Parse(const std::string& text, const std::string& sou
   return YamlDocument(std::make_unique<YAML::Node>(root), source_name);
 }
 
+YamlDocument YamlDocument::Empty(const std::string& source_name) {
+  return YamlDocument(std::make_unique<YAML::Node>(YAML::NodeType::Map), source_name);
+}
+
 void YamlDocument::Set(const std::string& key_path, const std::string& value_text) {
   YAML::Node value;
   try {
@@ -66,25 +71,87 @@ void YamlDocument::SetString(const std::string& key_path, const std::string& val
   Assign(key_path, YAML::Node(value));
 }
 
-void YamlDocument::Assign(const std::string& key_path, const YAML::Node& value) {
-  // Walk (and create) the maps along the path; yaml-cpp nodes are handles, so assignment below
-  // writes into the tree.
-  std::vector<std::string> keys;
+namespace {
+
+// One element of a key path: a map key, and an item of the sequence under it ("name[i]").
+struct PathStep {
+  std::string key;
+  std::optional<std::size_t> index;
+};
+
+std::vector<PathStep> ParseKeyPath(const std::string& key_path) {
+  std::vector<PathStep> steps;
   std::stringstream stream(key_path);
   for (std::string key; std::getline(stream, key, '.');) {
     if (key.empty()) throw InputError("--set", key_path, "empty element in key path");
-    keys.push_back(key);
+    PathStep step{key, std::nullopt};
+    const std::size_t open = key.find('[');
+    if (open != std::string::npos) {
+      const std::string digits = key.substr(open + 1, key.size() - open - 2);
+      if (key.back() != ']' || digits.empty() ||
+          digits.find_first_not_of("0123456789") != std::string::npos || open == 0) {
+        throw InputError("--set", key_path, "expected name[index] in '" + key + "'");
+      }
+      step.key = key.substr(0, open);
+      step.index = std::stoul(digits);
+    }
+    steps.push_back(step);
   }
-  if (keys.empty()) throw InputError("--set", key_path, "empty key path");
-  YAML::Node node = *root_;
-  for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
-    YAML::Node child = node[keys[i]];
-    if (!child.IsDefined() || child.IsNull()) child = YAML::Node(YAML::NodeType::Map);
-    if (!child.IsMap()) throw InputError("--set", key_path, "'" + keys[i] + "' is not a map");
-    node[keys[i]] = child;
+  if (steps.empty()) throw InputError("--set", key_path, "empty key path");
+  return steps;
+}
+
+}  // namespace
+
+std::optional<std::string> YamlDocument::Find(const std::string& key_path) const {
+  YAML::Node node = YAML::Clone(*root_);
+  for (const PathStep& step : ParseKeyPath(key_path)) {
+    if (!node.IsMap()) return std::nullopt;
+    YAML::Node child = node[step.key];
+    if (!child.IsDefined()) return std::nullopt;
+    if (step.index) {
+      if (!child.IsSequence() || *step.index >= child.size()) return std::nullopt;
+      child = child[*step.index];
+    }
     node.reset(child);
   }
-  node[keys.back()] = value;
+  return NodeText(node);
+}
+
+void YamlDocument::Assign(const std::string& key_path, const YAML::Node& value) {
+  // Walk (and create) the maps along the path; yaml-cpp nodes are handles, so assignment below
+  // writes into the tree. An element "name[i]" is item i of the existing sequence `name`.
+  const std::vector<PathStep> steps = ParseKeyPath(key_path);
+  YAML::Node node = *root_;
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    const PathStep& step = steps[i];
+    const bool last = i + 1 == steps.size();
+    if (step.index) {
+      YAML::Node sequence = node[step.key];
+      if (!sequence.IsSequence() || *step.index >= sequence.size()) {
+        throw InputError("--set", key_path,
+                         "'" + step.key + "' has no item " + std::to_string(*step.index));
+      }
+      if (last) {
+        sequence[*step.index] = value;
+        return;
+      }
+      YAML::Node item = sequence[*step.index];
+      if (!item.IsMap())
+        throw InputError("--set", key_path, "'" + step.key + "' items are not maps");
+      node.reset(item);
+      continue;
+    }
+    if (last) {
+      node[step.key] = value;
+      return;
+    }
+    YAML::Node child = node[step.key];
+    if (!child.IsDefined() || child.IsNull()) child = YAML::Node(YAML::NodeType::Map);
+    if (!child.IsMap()) throw InputError("--set", key_path, "'" + step.key + "' is not a map");
+    node[step.key] = child;
+    node.reset(child);
+  }
 }
 
 std::string YamlDocument::Dump() const {

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -27,19 +28,26 @@ class YamlDocument {
   static YamlDocument Load(const std::string& path);
   /// @throws InputError if `text` is not valid YAML.
   static YamlDocument Parse(const std::string& text, const std::string& source_name);
+  /// A document holding an empty map (written in block style), to be filled with Set().
+  static YamlDocument Empty(const std::string& source_name);
 
   YamlDocument(YamlDocument&&) noexcept;
   YamlDocument& operator=(YamlDocument&&) noexcept;
   ~YamlDocument();
 
   /// Sets the value at a dotted key path ("terrain.seed") from YAML text ("7", "[1, 2]"), creating
-  /// maps on the way (the strict reader later rejects keys that do not exist). Used by `--set
-  /// key=value`.
-  /// @throws InputError if the value is not valid YAML or a path element is not a map.
+  /// maps on the way (the strict reader later rejects keys that do not exist). "name[i]" in the
+  /// path is item i of an existing sequence ("controller.mpc.state_weights[2]", "drive[0].v").
+  /// Used by `--set key=value`.
+  /// @throws InputError if the value is not valid YAML, a path element is not a map, or an
+  /// indexed sequence is missing or too short.
   void Set(const std::string& key_path, const std::string& value_text);
 
   /// Like Set(), but stores `value` as a string as it is (file paths with any characters).
   void SetString(const std::string& key_path, const std::string& value);
+
+  /// The value at a key path (the syntax of Set()) as YAML text, or nothing if it is absent.
+  std::optional<std::string> Find(const std::string& key_path) const;
 
   /// The document as YAML text.
   std::string Dump() const;

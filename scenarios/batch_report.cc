@@ -51,20 +51,6 @@ constexpr MetricColumn kGroupMetrics[] = {
     {"real_time_factor", "real-time factor", false},
 };
 
-void Flatten(const nlohmann::json& json, const std::string& prefix,
-             std::map<std::string, double>* out) {
-  for (auto it = json.begin(); it != json.end(); ++it) {
-    const std::string key = prefix.empty() ? it.key() : prefix + "." + it.key();
-    if (it->is_object()) {
-      Flatten(*it, key, out);
-    } else if (it->is_number()) {
-      (*out)[key] = it->get<double>();
-    } else if (it->is_boolean()) {
-      (*out)[key] = it->get<bool>() ? 1.0 : 0.0;
-    }
-  }
-}
-
 std::string Format(const char* format, double value) {
   char text[64];
   std::snprintf(text, sizeof(text), format, value);
@@ -156,6 +142,30 @@ std::vector<std::string> ParameterPlots(const fs::path& folder, const std::strin
 
 }  // namespace
 
+namespace {
+
+void FlattenInto(const nlohmann::json& json, const std::string& prefix,
+                 std::map<std::string, double>* out) {
+  for (auto it = json.begin(); it != json.end(); ++it) {
+    const std::string key = prefix.empty() ? it.key() : prefix + "." + it.key();
+    if (it->is_object()) {
+      FlattenInto(*it, key, out);
+    } else if (it->is_number()) {
+      (*out)[key] = it->get<double>();
+    } else if (it->is_boolean()) {
+      (*out)[key] = it->get<bool>() ? 1.0 : 0.0;
+    }
+  }
+}
+
+}  // namespace
+
+std::map<std::string, double> FlattenSummary(const nlohmann::json& summary) {
+  std::map<std::string, double> values;
+  FlattenInto(summary, "", &values);
+  return values;
+}
+
 WilsonInterval Wilson95(int successes, int trials) {
   if (trials <= 0) return {0.0, 1.0};
   constexpr double z = 1.959963984540054;
@@ -189,7 +199,7 @@ void WriteBatchReport(const std::string& out_dir) {
             ReadJsonIfPresent((folder / "runs" / row.id / "summary.json").string())) {
       row.outcome = summary->value("outcome", "");
       row.success = row.outcome == summary->value("expected_outcome", "");
-      Flatten(*summary, "", &row.metrics);
+      row.metrics = FlattenSummary(*summary);
     } else if (const auto failure =
                    ReadJsonIfPresent((folder / "failed" / (row.id + ".json")).string())) {
       row.outcome = failure->value("outcome", "error");

@@ -1,8 +1,15 @@
 #pragma once
 
+#include <map>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 namespace trav::scenarios {
+
+/// Every number (and boolean, as 0 or 1) of a summary.json, keyed by its dotted path
+/// ("navigation.time_to_goal_s", "tracking.rms_lateral_error_m"); arrays and strings are left out.
+std::map<std::string, double> FlattenSummary(const nlohmann::json& summary);
 
 /// A binomial proportion's 95 % Wilson score interval.
 struct WilsonInterval {

@@ -1,5 +1,5 @@
 // The trav command line: `trav run`, `trav scan`, `trav terrain`, `trav calibrate`, `trav eval`,
-// `trav batch`.
+// `trav batch`, `trav tune`.
 #include <unistd.h>
 
 #include <algorithm>
@@ -24,6 +24,7 @@
 #include "scenarios/scenario.h"
 #include "scenarios/scenario_run.h"
 #include "scenarios/terrain_export.h"
+#include "scenarios/tuning.h"
 #include "sim/terrain.h"
 
 namespace trav::scenarios {
@@ -305,6 +306,52 @@ int Batch(const BatchCommand& command) {
   return progress.failed == 0 ? kExitExpected : kExitOtherOutcome;
 }
 
+// Options of `trav tune`.
+struct TuneCommand {
+  std::string file;
+  std::string out;
+  std::optional<int> budget;
+  std::optional<std::string> algorithm;
+  int jobs{1};
+  ClusterFlags cluster;
+};
+
+int Tune(const TuneCommand& command) {
+  if (command.out.empty()) throw common::InputError("--out", "", "trav tune needs --out DIR");
+  if (command.jobs < 1) {
+    throw common::InputError("--jobs", std::to_string(command.jobs), "must be >= 1");
+  }
+  TuneSpec spec = LoadTuneFile(command.file);
+  if (command.budget) {
+    if (*command.budget < 2) {
+      throw common::InputError("--budget", std::to_string(*command.budget), "must be >= 2");
+    }
+    spec.budget = *command.budget;
+  }
+  if (command.algorithm) spec.algorithm = ParseTuneAlgorithm(*command.algorithm);
+  TuneExecution execution;
+  execution.jobs = command.jobs;
+  execution.slurm = SlurmOf(command.cluster, "--runs-per-task");
+  execution.trav_executable = std::filesystem::read_symlink("/proc/self/exe").string();
+  const TuneResult result = RunTuning(spec, command.out, execution);
+  if (result.interrupted) {
+    std::printf("interrupted after %d evaluations; run the same command to resume\n",
+                result.evaluations);
+    return kExitOtherOutcome;
+  }
+  std::printf(
+      "%d evaluations (%d from the folder): objective %.6g with the scenarios' values, "
+      "%.6g tuned\n",
+      result.evaluations, result.cached, result.initial_objective, result.best_objective);
+  if (!spec.held_out_seeds.empty()) {
+    std::printf("held-out seeds: %.6g with the scenarios' values, %.6g tuned\n",
+                result.initial_held_out, result.best_held_out);
+  }
+  std::printf("report: %s/report.md, tuned values: %s/tuned.yaml\n", command.out.c_str(),
+              command.out.c_str());
+  return kExitExpected;
+}
+
 int Main(int argc, char** argv) {
   CLI::App app{"trav: physics-simulated navigation testbed for the Scout Mini on uneven terrain"};
   app.require_subcommand(1);
@@ -402,6 +449,21 @@ int Main(int argc, char** argv) {
   batch->add_option("--collect", batch_command.collect,
                     "Write the report of the batch in DIR from what has finished");
 
+  TuneCommand tune_command;
+  tune_command.jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  CLI::App* tune = app.add_subcommand(
+      "tune",
+      "Tune controller and planner parameters with a derivative-free optimiser (NLopt) over "
+      "scenarios and seeds, and compare the result with the defaults on held-out seeds");
+  tune->add_option("tuning", tune_command.file, "Tuning YAML file (docs/tuning.md)")->required();
+  tune->add_option("--out", tune_command.out, "Output folder");
+  tune->add_option("--budget", tune_command.budget,
+                   "Objective evaluations (overrides the file's budget)");
+  tune->add_option("--algorithm", tune_command.algorithm,
+                   "bobyqa, neldermead, crs or esch (overrides the file's algorithm)");
+  tune->add_option("--jobs", tune_command.jobs, "Runs at once (local)")->capture_default_str();
+  AddClusterFlags(tune, &tune_command.cluster, "--runs-per-task");
+
   std::string task_file;
   int task_index = 0;
   CLI::App* job_task = app.add_subcommand("job-task", "");  // a Slurm array task (hidden)
@@ -434,6 +496,7 @@ int Main(int argc, char** argv) {
       return Eval(eval_options, eval_out, CommandLine(argc, argv), eval_cluster, eval_collect);
     }
     if (batch->parsed()) return Batch(batch_command);
+    if (tune->parsed()) return Tune(tune_command);
     if (job_task->parsed()) {
       RunJobTask(task_file, task_index);
       return kExitExpected;

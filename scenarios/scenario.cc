@@ -46,8 +46,8 @@ const Names<MapperMethod> kMappers = {{"fsgp-bgk", MapperMethod::kFsgpBgk},
                                       {"sgp", MapperMethod::kSgp},
                                       {"em", MapperMethod::kElevationMap},
                                       {"ground-truth", MapperMethod::kGroundTruth}};
-const Names<TrafficBehaviour> kTrafficBehaviours = {
-    {"random_walk", TrafficBehaviour::kRandomWalk}, {"crossing", TrafficBehaviour::kCrossing}};
+const Names<TrafficBehaviour> kTrafficBehaviours = {{"random_walk", TrafficBehaviour::kRandomWalk},
+                                                    {"crossing", TrafficBehaviour::kCrossing}};
 const Names<TestFault> kTestFaults = {
     {"none", TestFault::kNone}, {"crash", TestFault::kCrash}, {"hang", TestFault::kHang}};
 const Names<Outcome> kOutcomes = {{"completed", Outcome::kCompleted},

@@ -123,6 +123,32 @@ TEST(YamlDocumentTest, SetOverridesAndCreatesNestedKeys) {
               ThrowsMessage<InputError>(HasSubstr("'speed' is not a map")));
 }
 
+TEST(YamlDocumentTest, SetReachesIntoSequencesByIndex) {
+  YamlDocument dut = YamlDocument::Parse(
+      "weights: [1, 2, 3]\nlegs: [{v: 1.0, duration: 2}, {v: 0.5, duration: 1}]\n", "test.yaml");
+  dut.Set("weights[2]", "30");
+  dut.Set("legs[1].v", "0.75");
+  Eigen::Vector3d weights;
+  dut.Root().Read("weights", &weights);
+  EXPECT_EQ(weights, Eigen::Vector3d(1, 2, 30));
+  double v = 0.0;
+  dut.Root().MapSequence("legs")[1].Read("v", &v);
+  EXPECT_EQ(v, 0.75);
+  EXPECT_EQ(dut.Find("weights[2]"), "30");
+  EXPECT_EQ(dut.Find("legs[1].v"), "0.75");
+  EXPECT_EQ(dut.Find("weights"), "[1, 2, 30]");
+  EXPECT_FALSE(dut.Find("legs[2].v").has_value());
+  EXPECT_FALSE(dut.Find("nothing.here").has_value());
+  EXPECT_THAT([&] { dut.Set("weights[3]", "1"); },
+              ThrowsMessage<InputError>(HasSubstr("'weights' has no item 3")));
+  EXPECT_THAT([&] { dut.Set("missing[0]", "1"); },
+              ThrowsMessage<InputError>(HasSubstr("'missing' has no item 0")));
+  EXPECT_THAT([&] { dut.Set("weights[x]", "1"); },
+              ThrowsMessage<InputError>(HasSubstr("expected name[index]")));
+  EXPECT_THAT([&] { dut.Set("weights[0].a", "1"); },
+              ThrowsMessage<InputError>(HasSubstr("items are not maps")));
+}
+
 TEST(YamlDocumentTest, MissingFileAndBadSyntaxAreInputErrors) {
   EXPECT_THAT([] { YamlDocument::Load("/nonexistent/scenario.yaml"); },
               ThrowsMessage<InputError>(HasSubstr("/nonexistent/scenario.yaml: cannot open file")));
