@@ -54,6 +54,7 @@ TEST(TrackingScenarioTest, FigureEightOnHillyTerrain) {
 TEST(TrackingScenarioTest, SlalomAndCircle) {
   for (const char* name : {"slalom", "circle"}) {
     const RunSummary summary = RunTrackingScenario(name);
+    EXPECT_EQ(summary.outcome, Outcome::kCompleted) << name;  // on its terrain to the end
     EXPECT_LE(summary.tracking->rms_lateral_error_m, 0.05) << name;
     EXPECT_LE(summary.tracking->max_lateral_error_m, 0.15) << name;
   }
