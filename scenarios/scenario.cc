@@ -581,9 +581,6 @@ Scenario LoadScenario(const common::YamlDocument& document) {
     planner::ValidateNavigationPlannerConfig(scenario.planner);
     ValidateNavigationSettings(scenario.navigation);
     ValidateTrafficSettings(scenario.traffic);
-    const std::vector<sim::MovingObstacle> traffic =
-        SpawnTraffic(scenario.traffic, scenario.start_W.position, scenario.goal_W);
-    scenario.movers.insert(scenario.movers.end(), traffic.begin(), traffic.end());
     sim::ValidateMovingObstacles(scenario.movers);
   } catch (const common::InputError& e) {
     throw common::InputError(document.source() + ": " + e.what());
@@ -607,8 +604,6 @@ Scenario LoadScenario(const common::YamlDocument& document) {
 
 std::string ResolvedScenarioYaml(const Scenario& scenario) {
   Scenario copy = scenario;
-  // the generated movers come back from the traffic settings when the file is loaded
-  copy.movers.resize(copy.movers.size() - static_cast<std::size_t>(copy.traffic.count));
   WriteArchive archive;
   VisitScenario(archive, copy);
   YAML::Emitter emitter;

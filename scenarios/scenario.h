@@ -93,8 +93,8 @@ struct Scenario {
   double rollover_limit_deg{60.0};             ///< tilt that ends the run as rolled over [deg]
   /// moving_obstacles: movers of the closed loop (MuJoCo mocap bodies the LiDAR sees)
   std::vector<sim::MovingObstacle> movers;
-  /// traffic: movers generated from a count, speed and seed (SpawnTraffic), appended to `movers`
-  /// when the scenario is loaded (the resolved scenario keeps the settings, not the movers).
+  /// traffic: movers generated from a count, speed and seed for the route and the world
+  /// (ScenarioMovers), after `movers`.
   TrafficSettings traffic{};
   lidar::LidarConfig lidar{};
   /// lidar.mount: pose of the sensor L in the base frame B as [x, y, z, roll, pitch, yaw]

@@ -143,14 +143,14 @@ renders::PanelOverlay NavigationPanel(const Navigator& navigator,
 }
 
 // Every mover as a disc at constant velocity from its true state at t.
-std::vector<planner::MovingObstacle> TrueMovers(const Scenario& scenario,
+std::vector<planner::MovingObstacle> TrueMovers(const std::vector<sim::MovingObstacle>& all,
                                                 const sim::Simulation& simulation, double t_s) {
   std::vector<planner::MovingObstacle> movers;
   for (int i = 0; i < simulation.num_movers(); ++i) {
     planner::MovingObstacle mover;
     mover.position_W = simulation.MoverPose(i).translation().head<2>();
     mover.velocity_W = simulation.MoverVelocity(i);
-    mover.radius_m = sim::MoverFootprintRadius(scenario.movers[static_cast<std::size_t>(i)]);
+    mover.radius_m = sim::MoverFootprintRadius(all[static_cast<std::size_t>(i)]);
     mover.t_s = t_s;
     movers.push_back(mover);
   }
@@ -170,8 +170,8 @@ std::vector<planner::MovingObstacle> PerceivedMovers(const mapping::MoverTracker
 // Drops the points on the movers (within their footprint and a margin, from their true poses)
 // before mapping: a mover mapped as terrain leaves a trail of ghost obstacles. Segmenting movers
 // from the scans alone is the perception side of the stress tests (issue 10).
-void RemoveMoverPoints(const Scenario& scenario, const sim::Simulation& simulation,
-                       common::PointCloud* cloud_W) {
+void RemoveMoverPoints(const std::vector<sim::MovingObstacle>& movers,
+                       const sim::Simulation& simulation, common::PointCloud* cloud_W) {
   constexpr double kMargin_m = 0.3;
   Eigen::Index kept = 0;
   for (Eigen::Index i = 0; i < cloud_W->size(); ++i) {
@@ -179,7 +179,7 @@ void RemoveMoverPoints(const Scenario& scenario, const sim::Simulation& simulati
     bool on_mover = false;
     for (int k = 0; k < simulation.num_movers() && !on_mover; ++k) {
       const double reach =
-          sim::MoverFootprintRadius(scenario.movers[static_cast<std::size_t>(k)]) + kMargin_m;
+          sim::MoverFootprintRadius(movers[static_cast<std::size_t>(k)]) + kMargin_m;
       on_mover =
           (p - simulation.MoverPose(k).translation().head<2>()).squaredNorm() < reach * reach;
     }
@@ -204,6 +204,31 @@ double MillisecondsSince(std::chrono::steady_clock::time_point start) {
 }
 
 }  // namespace
+
+std::vector<sim::MovingObstacle> ScenarioMovers(const Scenario& scenario,
+                                                const sim::TerrainWorld& world) {
+  std::vector<sim::MovingObstacle> movers = scenario.movers;
+  if (scenario.traffic.count == 0) return movers;
+  // free: no obstacle surface on the world's height grid within the disc
+  const Eigen::MatrixXf obstacles = sim::ObstacleHeightGrid(world);
+  const common::GridGeometry& g = world.geometry;
+  auto free = [&](const Eigen::Vector2d& centre_W, double radius_m) {
+    const int reach = static_cast<int>(std::ceil(radius_m / g.resolution_m));
+    const std::optional<Eigen::Vector2i> centre = g.CellIndex(centre_W);
+    if (!centre) return true;  // off the terrain: nothing to walk into
+    for (int ix = centre->x() - reach; ix <= centre->x() + reach; ++ix) {
+      for (int iy = centre->y() - reach; iy <= centre->y() + reach; ++iy) {
+        if (!g.Contains(ix, iy) || (g.CellCenter(ix, iy) - centre_W).norm() > radius_m) continue;
+        if (obstacles(ix, iy) > 0.0f) return false;
+      }
+    }
+    return true;
+  };
+  const std::vector<sim::MovingObstacle> traffic =
+      SpawnTraffic(scenario.traffic, scenario.start_W.position, scenario.goal_W, free);
+  movers.insert(movers.end(), traffic.begin(), traffic.end());
+  return movers;
+}
 
 common::GridLayers WorldGroundTruth(const Scenario& scenario, const sim::TerrainWorld& world) {
   const common::GridGeometry geometry = common::GridGeometry::Centered(
@@ -254,7 +279,8 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   options.robot_model_path = robot_model_path;
   options.timestep_s = scenario.physics_timestep_s;
   options.ground_friction = scenario.ground_friction;
-  sim::Simulation simulation(world, start_W, options, scenario.movers);
+  const std::vector<sim::MovingObstacle> movers = ScenarioMovers(scenario, world);
+  sim::Simulation simulation(world, start_W, options, movers);
 
   // LiDAR: an Embree scene of the same world, scanned every physics step
   std::unique_ptr<lidar::RayScene> ray_scene;
@@ -266,7 +292,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   const Eigen::Isometry3d X_BL =
       mounted ? MountPose(*scenario.lidar_mount_B) : Eigen::Isometry3d::Identity();
   if (scenario.lidar.enabled) {
-    ray_scene = std::make_unique<lidar::RayScene>(sim::RaySceneOf(world, scenario.movers));
+    ray_scene = std::make_unique<lidar::RayScene>(sim::RaySceneOf(world, movers));
     lidar = std::make_unique<lidar::LidarEmulator>(scenario.lidar);
     if (run_options.record_clouds) std::filesystem::create_directories(output_dir + "/clouds");
   }
@@ -399,9 +425,9 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
     // the planner's predictions: the true movers, or those perceived in the scans (false
     // positives included: they reach the planner whether or not true movers exist)
     if (navigator) {
-      const std::vector<planner::MovingObstacle> movers =
-          TrueMovers(scenario, simulation, simulation.time());
-      for (const planner::MovingObstacle& mover : movers) {
+      const std::vector<planner::MovingObstacle> true_movers =
+          TrueMovers(movers, simulation, simulation.time());
+      for (const planner::MovingObstacle& mover : true_movers) {
         const double gap = (mover.position_W - state.X_WB.translation().head<2>()).norm() -
                            mover.radius_m - scenario.planner.optimizer.robot_radius_m;
         navigation.min_mover_clearance_m = std::min(navigation.min_mover_clearance_m, gap);
@@ -411,7 +437,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
         // each perceived mover against the nearest true one, now
         for (const planner::MovingObstacle& seen : predicted_movers) {
           double nearest = std::numeric_limits<double>::infinity();
-          for (const planner::MovingObstacle& mover : movers) {
+          for (const planner::MovingObstacle& mover : true_movers) {
             nearest =
                 std::min(nearest, (seen.PositionAt(simulation.time()) - mover.position_W).norm());
           }
@@ -421,7 +447,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
           }
         }
       } else {
-        predicted_movers = movers;
+        predicted_movers = true_movers;
       }
     }
     common::Twist2 command;
@@ -480,7 +506,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
         }
         // movers are removed with their poses at scan time
         if ((mapper || run_options.on_lidar_frame) && simulation.num_movers() > 0) {
-          RemoveMoverPoints(scenario, simulation, &cloud_W);
+          RemoveMoverPoints(movers, simulation, &cloud_W);
         }
         if (run_options.on_lidar_frame) {
           run_options.on_lidar_frame(cloud_W, state.X_WB, simulation.time());

@@ -121,6 +121,11 @@ common::GridLayers WorldGroundTruth(const Scenario& scenario, const sim::Terrain
 /// its goal on the ground truth `truth_W` [m]; 0 if there is none.
 double OptimalPathLength(const Scenario& scenario, const common::GridLayers& truth_W);
 
+/// The moving obstacles of a run: the scenario's `moving_obstacles`, then its `traffic` spawned for
+/// its route clear of the world's static obstacles (SpawnTraffic).
+std::vector<sim::MovingObstacle> ScenarioMovers(const Scenario& scenario,
+                                                const sim::TerrainWorld& world);
+
 /// Absolute path of the robot model of `scenario` (robot.model in `models_dir` unless absolute).
 std::string RobotModelPath(const Scenario& scenario, const std::string& models_dir);
 

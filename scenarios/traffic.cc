@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <variant>
 
 #include "common/input_error.h"
 #include "common/random.h"
@@ -15,6 +16,34 @@ constexpr double kCrossingMin_m = 6.0;    // crossers start this far to the side
 constexpr double kCrossingMax_m = 10.0;   // and at most
 constexpr double kRobotSpeed_m_s = 1.0;   // the speed crossers are timed for
 constexpr int kDrawsPerMover = 100;
+constexpr double kStreamInterval_s = 2.0;    // flow and head-on: one pedestrian every this
+constexpr double kFlowOffset_m = 8.0;        // flow: where the crossers start, to the side
+constexpr double kAlongRouteSpread_m = 1.0;  // head-on, overtaking: within this of the route
+constexpr double kPathCheckLength_m = 20.0;  // paths are checked this far from where they start
+constexpr double kPathCheckStep_m = 0.25;
+
+// Whether a mover keeps clear of start and goal at time 0 and of static obstacles on its way.
+bool Fits(const sim::MovingObstacle& mover, const Eigen::Vector2d& start_W,
+          const Eigen::Vector2d& goal_W, double clear_m, const FreeDisc& free) {
+  auto clear_of_ends = [&](const Eigen::Vector2d& p, double margin_m) {
+    return (p - start_W).norm() >= clear_m + margin_m && (p - goal_W).norm() >= clear_m + margin_m;
+  };
+  if (const auto* walk = std::get_if<sim::RandomWalkMotion>(&mover.motion)) {
+    // anywhere in its disc, at any time
+    return clear_of_ends(walk->area_centre_W, walk->area_radius_m) &&
+           (!free || free(walk->area_centre_W, walk->area_radius_m + mover.radius_m));
+  }
+  sim::MoverTrack track(mover);
+  if (!clear_of_ends(track.PlanarStateAt(0.0).p_W, 0.0)) return false;
+  if (!free) return true;
+  const auto& motion = std::get<sim::ConstantVelocityMotion>(mover.motion);
+  const double speed = std::max(motion.velocity_W.norm(), 1e-6);
+  const double step_s = kPathCheckStep_m / speed;
+  for (double t = 0.0; t <= motion.start_time_s + kPathCheckLength_m / speed; t += step_s) {
+    if (!free(track.PlanarStateAt(t).p_W, mover.radius_m)) return false;
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -30,7 +59,8 @@ void ValidateTrafficSettings(const TrafficSettings& traffic) {
 
 std::vector<sim::MovingObstacle> SpawnTraffic(const TrafficSettings& traffic,
                                               const Eigen::Vector2d& start_W,
-                                              const Eigen::Vector2d& goal_W) {
+                                              const Eigen::Vector2d& goal_W, const FreeDisc& free) {
+  ValidateTrafficSettings(traffic);
   std::vector<sim::MovingObstacle> movers;
   const Eigen::Vector2d route = goal_W - start_W;
   const double length = route.norm();
@@ -41,33 +71,61 @@ std::vector<sim::MovingObstacle> SpawnTraffic(const TrafficSettings& traffic,
   for (int k = 0; k < traffic.count; ++k) {
     sim::MovingObstacle mover;  // a pedestrian capsule by default
     mover.name = "traffic_" + std::to_string(k);
-    const double clear = traffic.keep_clear_m + mover.radius_m;
-    if (traffic.behaviour == TrafficBehaviour::kRandomWalk) {
-      sim::RandomWalkMotion walk;
-      walk.seed = random.Next();
-      walk.speed_m_s = traffic.speed_m_s;
-      walk.area_radius_m = traffic.area_radius_m;
-      walk.pause_s = {0.0, 1.0};
-      for (int draw = 0; draw < kDrawsPerMover; ++draw) {
-        walk.area_centre_W = start_W + random.Uniform(0.2, 0.8) * route +
-                             random.Uniform(-kLateralSpread_m, kLateralSpread_m) * across;
-        const double gap =
-            std::min((walk.area_centre_W - start_W).norm(), (walk.area_centre_W - goal_W).norm());
-        if (gap >= walk.area_radius_m + clear) break;
+    const double body = mover.radius_m;
+    const double clear = traffic.keep_clear_m + body;
+    const double stagger_s = kStreamInterval_s * k;
+    bool placed = false;
+    for (int draw = 0; draw < kDrawsPerMover && !placed; ++draw) {
+      switch (traffic.behaviour) {
+        case TrafficBehaviour::kRandomWalk: {
+          sim::RandomWalkMotion walk;
+          walk.seed = random.Next();
+          walk.speed_m_s = traffic.speed_m_s;
+          walk.area_radius_m = traffic.area_radius_m;
+          walk.pause_s = {0.0, 1.0};
+          walk.area_centre_W = start_W + random.Uniform(0.2, 0.8) * route +
+                               random.Uniform(-kLateralSpread_m, kLateralSpread_m) * across;
+          mover.motion = walk;
+          break;
+        }
+        case TrafficBehaviour::kCrossing: {
+          const double fraction = random.Uniform(0.25, 0.75);
+          const double side = random.Bernoulli(0.5) ? 1.0 : -1.0;
+          const double offset = random.Uniform(kCrossingMin_m, kCrossingMax_m);
+          sim::ConstantVelocityMotion crossing;
+          crossing.start_W = start_W + fraction * route + side * offset * across;
+          crossing.velocity_W = -side * traffic.speed_m_s * across;
+          crossing.start_time_s =
+              std::max(0.0, fraction * length / kRobotSpeed_m_s - offset / traffic.speed_m_s);
+          mover.motion = crossing;
+          break;
+        }
+        case TrafficBehaviour::kFlow: {
+          const double side = k % 2 == 0 ? 1.0 : -1.0;
+          sim::ConstantVelocityMotion crossing;
+          crossing.start_W = start_W + 0.5 * route + side * kFlowOffset_m * across +
+                             random.Uniform(-0.5, 0.5) * along;
+          crossing.velocity_W = -side * traffic.speed_m_s * across;
+          crossing.start_time_s = stagger_s;
+          mover.motion = crossing;
+          break;
+        }
+        case TrafficBehaviour::kHeadOn:
+        case TrafficBehaviour::kOvertaking: {
+          const bool head_on = traffic.behaviour == TrafficBehaviour::kHeadOn;
+          const double fraction = head_on ? random.Uniform(0.6, 0.9) : random.Uniform(0.15, 0.5);
+          sim::ConstantVelocityMotion walk;
+          walk.start_W = start_W + fraction * route +
+                         random.Uniform(-kAlongRouteSpread_m, kAlongRouteSpread_m) * across;
+          walk.velocity_W = (head_on ? -1.0 : 1.0) * traffic.speed_m_s * along;
+          walk.start_time_s = head_on ? stagger_s : 0.0;
+          mover.motion = walk;
+          break;
+        }
       }
-      mover.motion = walk;
-    } else {
-      const double fraction = random.Uniform(0.25, 0.75);
-      const double side = random.Bernoulli(0.5) ? 1.0 : -1.0;
-      const double offset = random.Uniform(kCrossingMin_m, kCrossingMax_m);
-      sim::ConstantVelocityMotion crossing;
-      crossing.start_W = start_W + fraction * route + side * offset * across;
-      crossing.velocity_W = -side * traffic.speed_m_s * across;
-      crossing.start_time_s =
-          std::max(0.0, fraction * length / kRobotSpeed_m_s - offset / traffic.speed_m_s);
-      mover.motion = crossing;
+      placed = Fits(mover, start_W, goal_W, clear, free);
     }
-    movers.push_back(std::move(mover));
+    if (placed) movers.push_back(std::move(mover));
   }
   return movers;
 }

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -13,6 +14,9 @@ namespace trav::scenarios {
 enum class TrafficBehaviour {
   kRandomWalk,  ///< pedestrians walking at random inside discs along the route
   kCrossing,    ///< pedestrians crossing the route at constant velocity, timed to meet the robot
+  kFlow,        ///< a stream crossing the route at its middle from both sides, 2 s apart
+  kHeadOn,      ///< pedestrians walking along the route from the goal towards the start
+  kOvertaking,  ///< pedestrians walking along the route ahead of the robot, towards the goal
 };
 
 /// Scenario key `traffic`: movers generated from a count, a speed and a seed, so that a batch can
@@ -31,14 +35,23 @@ struct TrafficSettings {
 /// Checks the settings. @throws common::InputError naming the `traffic.<field>` key and value.
 void ValidateTrafficSettings(const TrafficSettings& traffic);
 
+/// Whether a disc (centre [m], radius [m]) in W is free of static obstacles.
+using FreeDisc = std::function<bool(const Eigen::Vector2d& centre_W, double radius_m)>;
+
 /// The movers of `traffic` for a route from `start_W` to `goal_W`: pedestrian capsules named
-/// traffic_0, traffic_1, ... Random walkers get discs centred at a uniform fraction in [0.2, 0.8]
-/// of the route and a uniform lateral offset within 4 m of it, redrawn until the disc stays
-/// `keep_clear_m` away from start and goal. Crossers start 6 to 10 m to either side of a uniform
-/// fraction in [0.25, 0.75] of the route, walk straight across it, and leave so as to reach it
-/// when a robot at 1 m/s would. The same settings and route give the same movers.
+/// traffic_0, traffic_1, ... Each is drawn again (up to 100 times) until its disc (random walkers)
+/// or its path (the others, sampled every 0.25 m over its first 20 m) is `free`, and until it keeps
+/// `keep_clear_m` plus its radius from start and goal at time 0; a mover that never fits is left
+/// out. Random walkers: discs centred at a uniform fraction in [0.2, 0.8] of the route and within
+/// 4 m of it. Crossers: from 6 to 10 m to either side of a fraction in [0.25, 0.75], straight
+/// across, leaving so as to reach the route when a robot at 1 m/s would. Flow: crossers at the
+/// middle of the route from alternate sides 8 m away, one every 2 s. Head-on: from a fraction in
+/// [0.6, 0.9] towards the start, within 1 m of the route, one every 2 s. Overtaking: from a
+/// fraction in [0.15, 0.5] towards the goal and on, within 1 m of the route. The same settings and
+/// route give the same movers. @throws common::InputError if the settings are invalid.
 std::vector<sim::MovingObstacle> SpawnTraffic(const TrafficSettings& traffic,
                                               const Eigen::Vector2d& start_W,
-                                              const Eigen::Vector2d& goal_W);
+                                              const Eigen::Vector2d& goal_W,
+                                              const FreeDisc& free = {});
 
 }  // namespace trav::scenarios

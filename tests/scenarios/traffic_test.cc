@@ -8,6 +8,9 @@
 #include "common/input_error.h"
 #include "common/yaml_reader.h"
 #include "scenarios/scenario.h"
+#include "scenarios/scenario_run.h"
+#include "sim/terrain.h"
+#include "sim/terrain_geometry.h"
 
 namespace trav::scenarios {
 namespace {
@@ -82,22 +85,79 @@ TEST(TrafficTest, SameSeedSameMoversAndNoneWithoutACount) {
   EXPECT_TRUE(SpawnTraffic(traffic, kStart, kGoal).empty());
 }
 
-TEST(TrafficTest, AScenarioAppendsItsTrafficAndItsResolvedFileRegeneratesIt) {
+TEST(TrafficTest, ARunAddsItsTrafficClearOfTheWorldsObstacles) {
+  // a forest: trees everywhere, and walkers placed only where their whole disc is free
   const Scenario scenario = LoadScenario(common::YamlDocument::Parse(
-      "robot: {start: [-10, 0, 0]}\ngoal: [10, 0]\n"
+      "terrain: {type: forest, seed: 4, size: [30, 30]}\nrobot: {start: [-10, 0, 0]}\n"
+      "goal: [10, 0]\n"
       "moving_obstacles: [{name: cart, motion: constant_velocity, velocity: [1, 0]}]\n"
-      "traffic: {count: 4, speed: 1.2, behaviour: crossing, seed: 3}\n",
+      "traffic: {count: 6, speed: 1.2, seed: 3}\n",
       "traffic.yaml"));
-  ASSERT_EQ(scenario.movers.size(), 5u);
-  EXPECT_EQ(scenario.movers[0].name, "cart");
-  EXPECT_EQ(scenario.movers[4].name, "traffic_3");
+  EXPECT_EQ(scenario.movers.size(), 1u);  // the file's own; traffic comes with the world
+  const sim::TerrainWorld world =
+      sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W});
+  const std::vector<sim::MovingObstacle> movers = ScenarioMovers(scenario, world);
+  ASSERT_GE(movers.size(), 2u);
+  EXPECT_EQ(movers[0].name, "cart");
+  const Eigen::MatrixXf obstacles = sim::ObstacleHeightGrid(world);
+  for (std::size_t k = 1; k < movers.size(); ++k) {
+    const auto& walk = std::get<sim::RandomWalkMotion>(movers[k].motion);
+    for (int ix = 0; ix < world.geometry.num_x; ++ix) {
+      for (int iy = 0; iy < world.geometry.num_y; ++iy) {
+        if ((world.geometry.CellCenter(ix, iy) - walk.area_centre_W).norm() <=
+            walk.area_radius_m + movers[k].radius_m) {
+          ASSERT_EQ(obstacles(ix, iy), 0.0f) << movers[k].name << " walks into an obstacle";
+        }
+      }
+    }
+  }
+  // the resolved scenario keeps the settings: a replay spawns the same movers
   const Scenario replayed =
       LoadScenario(common::YamlDocument::Parse(ResolvedScenarioYaml(scenario), "resolved.yaml"));
-  ASSERT_EQ(replayed.movers.size(), 5u);
-  EXPECT_EQ(std::get<sim::ConstantVelocityMotion>(replayed.movers[4].motion).start_W,
-            std::get<sim::ConstantVelocityMotion>(scenario.movers[4].motion).start_W);
+  const std::vector<sim::MovingObstacle> again = ScenarioMovers(replayed, world);
+  ASSERT_EQ(again.size(), movers.size());
+  EXPECT_EQ(std::get<sim::RandomWalkMotion>(again.back().motion).area_centre_W,
+            std::get<sim::RandomWalkMotion>(movers.back().motion).area_centre_W);
   EXPECT_THROW(LoadScenario(common::YamlDocument::Parse("traffic: {speed: 5}\n", "bad.yaml")),
                common::InputError);
+}
+
+TEST(TrafficTest, StreamsHeadOnAndOvertakingMoveAsSpecified) {
+  TrafficSettings traffic;
+  traffic.count = 4;
+  traffic.speed_m_s = 0.5;
+  traffic.behaviour = TrafficBehaviour::kFlow;
+  const auto flow = SpawnTraffic(traffic, kStart, kGoal);
+  ASSERT_EQ(flow.size(), 4u);
+  for (std::size_t k = 0; k < flow.size(); ++k) {
+    sim::MoverTrack track(flow[k]);
+    const auto& motion = std::get<sim::ConstantVelocityMotion>(flow[k].motion);
+    EXPECT_DOUBLE_EQ(motion.start_time_s, 2.0 * static_cast<double>(k));  // one every 2 s
+    EXPECT_NEAR(std::abs(motion.start_W.y()), 8.0, 1e-12);  // from alternate sides, 8 m away
+    EXPECT_NEAR(motion.start_W.x(), 0.0, 0.5);              // across the middle of the route
+    // on the route 8 m / 0.5 m/s = 16 s after it leaves
+    EXPECT_NEAR(track.PlanarStateAt(motion.start_time_s + 16.0).p_W.y(), 0.0, 1e-9);
+  }
+  EXPECT_LT(std::get<sim::ConstantVelocityMotion>(flow[0].motion).start_W.y() *
+                std::get<sim::ConstantVelocityMotion>(flow[1].motion).start_W.y(),
+            0.0);  // alternate sides
+  traffic.behaviour = TrafficBehaviour::kHeadOn;
+  for (const sim::MovingObstacle& mover : SpawnTraffic(traffic, kStart, kGoal)) {
+    sim::MoverTrack track(mover);
+    const auto& motion = std::get<sim::ConstantVelocityMotion>(mover.motion);
+    EXPECT_EQ(motion.velocity_W, Eigen::Vector2d(-0.5, 0.0));  // towards the start
+    EXPECT_GE(motion.start_W.x(), 2.0 - 1e-9);                 // from the last 40 % of the route
+    EXPECT_LE(std::abs(motion.start_W.y()), 1.0);
+    const double t = motion.start_time_s + 4.0;
+    EXPECT_NEAR(track.PlanarStateAt(t).p_W.x(), motion.start_W.x() - 2.0, 1e-9);
+  }
+  traffic.behaviour = TrafficBehaviour::kOvertaking;
+  for (const sim::MovingObstacle& mover : SpawnTraffic(traffic, kStart, kGoal)) {
+    const auto& motion = std::get<sim::ConstantVelocityMotion>(mover.motion);
+    EXPECT_EQ(motion.velocity_W, Eigen::Vector2d(0.5, 0.0));  // towards the goal
+    EXPECT_LE(motion.start_W.x(), 0.0 + 1e-9);                // from the first half
+    EXPECT_EQ(motion.start_time_s, 0.0);
+  }
 }
 
 }  // namespace
