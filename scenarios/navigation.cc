@@ -70,6 +70,8 @@ void ValidateNavigationSettings(const NavigationSettings& s) {
   RequireValue(s.stuck_time_s > 0.0, "navigation.stuck_time", s.stuck_time_s, "must be > 0");
   RequireValue(s.stuck_distance_m > 0.0, "navigation.stuck_distance", s.stuck_distance_m,
                "must be > 0");
+  RequireValue(s.near_miss_clearance_m >= 0.0, "navigation.near_miss_clearance",
+               s.near_miss_clearance_m, "must be >= 0");
   RequireValue(s.mover_sensing_range_m > 0.0, "navigation.mover_sensing_range",
                s.mover_sensing_range_m, "must be > 0");
   RequireValue(s.position_noise_m >= 0.0, "navigation.position_noise", s.position_noise_m,

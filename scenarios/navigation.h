@@ -26,6 +26,7 @@ struct NavigationSettings {
   double stuck_time_s{10.0};       ///< stuck: within `stuck_distance_m` of one place this long [s]
   double stuck_distance_m{0.3};    ///< [m]
   double planning_failure_time_s{5.0};  ///< no valid plan for this long is a planning failure [s]
+  double near_miss_clearance_m{0.3};    ///< a mover closer than this is a near miss [m], >= 0
   /// The planner knows every mover's true position and velocity; else it gets the movers it
   /// perceives in the scans within `mover_sensing_range_m` (mapping::MoverTracker).
   bool movers_from_ground_truth{true};

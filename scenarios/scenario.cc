@@ -472,6 +472,7 @@ void VisitScenario(Archive& a, Scenario& s) {
     n.Field("stuck_time", &k.stuck_time_s);
     n.Field("stuck_distance", &k.stuck_distance_m);
     n.Field("planning_failure_time", &k.planning_failure_time_s);
+    n.Field("near_miss_clearance", &k.near_miss_clearance_m);
   });
   a.template Sequence<DriveSegment>("drive", &s.drive, [](Archive& d, DriveSegment& segment) {
     d.Field("v", &segment.v_m_s);

@@ -157,6 +157,17 @@ std::vector<planner::MovingObstacle> TrueMovers(const std::vector<sim::MovingObs
   return movers;
 }
 
+// Who closed the gap at a contact: the robot if it approached the mover at least as fast as the
+// mover approached it (and was moving), else the mover.
+std::string CollisionCause(const Eigen::Vector2d& robot_W, const Eigen::Vector2d& v_robot_W,
+                           const Eigen::Vector2d& mover_W, const Eigen::Vector2d& v_mover_W) {
+  constexpr double kStopped_m_s = 0.05;
+  const Eigen::Vector2d towards_mover = (mover_W - robot_W).normalized();
+  const double robot_approach = v_robot_W.dot(towards_mover);
+  const double mover_approach = -v_mover_W.dot(towards_mover);
+  return v_robot_W.norm() > kStopped_m_s && robot_approach >= mover_approach ? "robot" : "mover";
+}
+
 // The movers the planner perceived: the tracker's moving tracks, at constant velocity from their
 // last update.
 std::vector<planner::MovingObstacle> PerceivedMovers(const mapping::MoverTracker& tracker) {
@@ -340,6 +351,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
            "physics_ms,render_ms\n";
   }
   std::vector<planner::MovingObstacle> predicted_movers;
+  std::vector<bool> near_miss;  // per mover: within the near-miss clearance now
   double tracking_error_sum = 0.0;
   int tracking_error_count = 0;
   std::vector<sim::RobotContact> contacts;
@@ -427,10 +439,18 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
     if (navigator) {
       const std::vector<planner::MovingObstacle> true_movers =
           TrueMovers(movers, simulation, simulation.time());
-      for (const planner::MovingObstacle& mover : true_movers) {
+      near_miss.resize(true_movers.size(), false);
+      for (std::size_t k = 0; k < true_movers.size(); ++k) {
+        const planner::MovingObstacle& mover = true_movers[k];
         const double gap = (mover.position_W - state.X_WB.translation().head<2>()).norm() -
                            mover.radius_m - scenario.planner.optimizer.robot_radius_m;
         navigation.min_mover_clearance_m = std::min(navigation.min_mover_clearance_m, gap);
+        if (!near_miss[k] && gap < scenario.navigation.near_miss_clearance_m) {
+          near_miss[k] = true;
+          ++navigation.near_misses;
+        } else if (near_miss[k] && gap > scenario.navigation.near_miss_clearance_m + 0.1) {
+          near_miss[k] = false;
+        }
       }
       if (mover_tracker) {
         predicted_movers = PerceivedMovers(*mover_tracker);
@@ -591,9 +611,17 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
                      [](const sim::RobotContact& c) { return sim::IsCollision(c); });
     if (collision != contacts.end()) {
       summary.outcome = Outcome::kCollision;
-      summary.collision = CollisionRecord{std::string(collision->target_name),
-                                          collision->target == sim::ContactTarget::kMover,
-                                          collision->relative_speed_m_s, state.time_s};
+      CollisionRecord record{std::string(collision->target_name),
+                             collision->target == sim::ContactTarget::kMover,
+                             collision->relative_speed_m_s, state.time_s};
+      const Eigen::Vector2d v_robot_W = (state.X_WB.linear() * state.v_WB_B).head<2>();
+      record.robot_speed_m_s = v_robot_W.norm();
+      if (record.mover) {
+        record.caused_by = CollisionCause(
+            xy, v_robot_W, simulation.MoverPose(collision->target_index).translation().head<2>(),
+            simulation.MoverVelocity(collision->target_index));
+      }
+      summary.collision = record;
       break;
     }
     if (navigator) {
@@ -797,6 +825,7 @@ std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
                           {"last_planner_status", n.last_planner_status},
                           {"mover_tracking_error_m", n.mover_tracking_error_m},
                           {"perceived_mover_samples", n.perceived_mover_samples},
+                          {"near_misses", n.near_misses},
                           {"min_mover_clearance_m", std::isfinite(n.min_mover_clearance_m)
                                                         ? nlohmann::json(n.min_mover_clearance_m)
                                                         : nlohmann::json(nullptr)}};
@@ -805,6 +834,8 @@ std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
     json["collision"] = {{"with", summary.collision->target},
                          {"mover", summary.collision->mover},
                          {"relative_speed_m_s", summary.collision->relative_speed_m_s},
+                         {"robot_speed_m_s", summary.collision->robot_speed_m_s},
+                         {"caused_by", summary.collision->caused_by},
                          {"time_s", summary.collision->time_s}};
   }
   json["compute"] = summary.compute;

@@ -38,6 +38,9 @@ struct NavigationMetrics {
   int perceived_mover_samples{0};
   /// Smallest gap between the robot's disc and a mover's footprint (infinite: no movers) [m].
   double min_mover_clearance_m{std::numeric_limits<double>::infinity()};
+  /// Times a mover came closer than navigation.near_miss_clearance without a collision (each
+  /// approach counts once; it counts again after the gap has reopened by 0.1 m).
+  int near_misses{0};
 };
 
 /// The contact that ended a run as a collision.
@@ -46,6 +49,11 @@ struct CollisionRecord {
   bool mover{false};               ///< a moving obstacle
   double relative_speed_m_s{0.0};  ///< planar speed of the base relative to the mover
   double time_s{0.0};
+  double robot_speed_m_s{0.0};  ///< planar speed of the base at contact
+  /// Who closed the gap: "robot" (a static obstacle, or the robot approached the mover at least
+  /// as fast as the mover approached it), or "mover" (a mover ran into a robot that was stopped
+  /// or slower to approach).
+  std::string caused_by{"robot"};
 };
 
 /// What `trav run` reports in summary.json.
