@@ -44,6 +44,8 @@ struct MetricColumn {
 constexpr MetricColumn kGroupMetrics[] = {
     {"navigation.time_to_goal_s", "time to goal [s]", true},
     {"navigation.path_length_ratio", "path ratio", true},
+    {"navigation.min_mover_clearance_m", "min mover clearance [m]", false},
+    {"navigation.near_misses", "near misses", false},
     {"max_roll_deg", "max roll [deg]", false},
     {"max_pitch_deg", "max pitch [deg]", false},
     {"tracking.rms_lateral_error_m", "RMS lateral error [m]", false},
@@ -96,35 +98,53 @@ std::vector<std::string> ParameterPlots(const fs::path& folder, const std::strin
       if (l == label) by_value[*Number(value)].push_back(&row);
     }
   }
-  std::string csv = "value,success_rate,ci_low,ci_high,time_to_goal_median,path_ratio_median\n";
+  std::string csv =
+      "value,success_rate,ci_low,ci_high,collision_rate,time_to_goal_median,path_ratio_median,"
+      "min_clearance_median,replans_per_s_median\n";
   for (const auto& [value, group] : by_value) {
-    int successes = 0;
-    std::vector<double> times, ratios;
+    int successes = 0, collisions = 0;
+    std::vector<double> times, ratios, clearances, replan_rates;
     for (const Row* row : group) {
       successes += row->success ? 1 : 0;
+      collisions += row->outcome == "collision" ? 1 : 0;
+      const auto metric = [&](const char* key) -> std::optional<double> {
+        const auto it = row->metrics.find(key);
+        if (it == row->metrics.end()) return std::nullopt;
+        return it->second;
+      };
+      if (const auto clearance = metric("navigation.min_mover_clearance_m")) {
+        clearances.push_back(*clearance);
+      }
+      const auto plans = metric("navigation.plans");
+      const auto sim_time = metric("sim_time_s");
+      if (plans && sim_time && *sim_time > 0.0) replan_rates.push_back(*plans / *sim_time);
       if (!row->success) continue;
-      const auto time = row->metrics.find("navigation.time_to_goal_s");
-      if (time != row->metrics.end()) times.push_back(time->second);
-      const auto ratio = row->metrics.find("navigation.path_length_ratio");
-      if (ratio != row->metrics.end()) ratios.push_back(ratio->second);
+      if (const auto time = metric("navigation.time_to_goal_s")) times.push_back(*time);
+      if (const auto ratio = metric("navigation.path_length_ratio")) ratios.push_back(*ratio);
     }
+    const double n = static_cast<double>(group.size());
     const WilsonInterval interval = Wilson95(successes, static_cast<int>(group.size()));
-    csv += Format("%.6g", value) + "," +
-           Format("%.6g", successes / static_cast<double>(group.size())) + "," +
+    auto median = [](const std::vector<double>& values) {
+      return values.empty() ? std::string() : Format("%.6g", Quantile(values, 0.5));
+    };
+    csv += Format("%.6g", value) + "," + Format("%.6g", successes / n) + "," +
            Format("%.6g", interval.low) + "," + Format("%.6g", interval.high) + "," +
-           (times.empty() ? "" : Format("%.6g", Quantile(times, 0.5))) + "," +
-           (ratios.empty() ? "" : Format("%.6g", Quantile(ratios, 0.5))) + "\n";
+           Format("%.6g", collisions / n) + "," + median(times) + "," + median(ratios) + "," +
+           median(clearances) + "," + median(replan_rates) + "\n";
   }
   const std::string name = "vs_" + label;
   const std::string csv_path = (folder / (name + ".csv")).string();
   WriteTextFileAtomically(csv_path, csv);
   const std::vector<LinePlot> plots = {
       {"success_vs_" + label + ".png",
-       "Success rate against " + label + " (95 % Wilson interval)",
+       "Success and collision rates against " + label + " (95 % Wilson interval of success)",
        "value",
        label,
-       "success rate",
-       {{"success_rate", "success rate"}, {"ci_low", "interval low"}, {"ci_high", "interval high"}},
+       "fraction of runs",
+       {{"success_rate", "success rate"},
+        {"ci_low", "interval low"},
+        {"ci_high", "interval high"},
+        {"collision_rate", "collision rate"}},
        true,
        true},
       {"time_vs_" + label + ".png",
@@ -133,6 +153,22 @@ std::vector<std::string> ParameterPlots(const fs::path& folder, const std::strin
        label,
        "time to goal [s] / path length ratio",
        {{"time_to_goal_median", "time to goal [s]"}, {"path_ratio_median", "path length ratio"}},
+       true,
+       true},
+      {"clearance_vs_" + label + ".png",
+       "Smallest gap to a mover against " + label + " (median over runs)",
+       "value",
+       label,
+       "min mover clearance [m]",
+       {{"min_clearance_median", "min mover clearance"}},
+       false,
+       true},
+      {"replans_vs_" + label + ".png",
+       "Plans per second against " + label + " (median over runs)",
+       "value",
+       label,
+       "plans per simulated second",
+       {{"replans_per_s_median", "plans per second"}},
        true,
        true}};
   const PlotResult result = WriteLinePlots(csv_path, plots, folder.string());
@@ -156,6 +192,12 @@ void FlattenInto(const nlohmann::json& json, const std::string& prefix,
       (*out)[key] = it->get<bool>() ? 1.0 : 0.0;
     }
   }
+}
+
+// Seeds (terrain.seed as "seed", traffic.seed, ...) vary runs within a group; they are not
+// compared.
+bool IsSeedLabel(const std::string& label) {
+  return label.size() >= 4 && label.compare(label.size() - 4, 4, "seed") == 0;
 }
 
 }  // namespace
@@ -265,7 +307,7 @@ void WriteBatchReport(const std::string& out_dir) {
   for (const Row& row : rows) {
     std::string group = row.scenario;
     for (const auto& [label, value] : row.parameters) {
-      if (label != "seed") group += ", " + label + "=" + value;
+      if (!IsSeedLabel(label)) group += ", " + label + "=" + value;
     }
     groups[group].push_back(&row);
   }
@@ -292,7 +334,7 @@ void WriteBatchReport(const std::string& out_dir) {
   // plots against each numeric swept parameter
   std::vector<std::string> notes;
   for (const std::string& label : labels) {
-    if (label == "seed") continue;
+    if (IsSeedLabel(label)) continue;
     std::set<double> values;
     bool numeric = true;
     for (const Row& row : rows) {

@@ -178,22 +178,45 @@ std::vector<planner::MovingObstacle> PerceivedMovers(const mapping::MoverTracker
   return movers;
 }
 
-// Drops the points on the movers (within their footprint and a margin, from their true poses)
-// before mapping: a mover mapped as terrain leaves a trail of ghost obstacles. Segmenting movers
-// from the scans alone is the perception side of the stress tests (issue 10).
-void RemoveMoverPoints(const std::vector<sim::MovingObstacle>& movers,
-                       const sim::Simulation& simulation, common::PointCloud* cloud_W) {
+// A disc in W: where a mover stands.
+struct Disc {
+  Eigen::Vector2d centre_W;
+  double radius_m;
+};
+
+// The movers' footprints from their true poses.
+std::vector<Disc> TrueMoverDiscs(const std::vector<sim::MovingObstacle>& movers,
+                                 const sim::Simulation& simulation) {
+  std::vector<Disc> discs;
+  for (int k = 0; k < simulation.num_movers(); ++k) {
+    discs.push_back({simulation.MoverPose(k).translation().head<2>(),
+                     sim::MoverFootprintRadius(movers[static_cast<std::size_t>(k)])});
+  }
+  return discs;
+}
+
+// The footprints of the movers the tracker perceives at t.
+std::vector<Disc> PerceivedMoverDiscs(const mapping::MoverTracker& tracker, double t_s) {
+  std::vector<Disc> discs;
+  for (const mapping::TrackedMover& track : tracker.Movers()) {
+    discs.push_back({track.position_W + (t_s - track.t_s) * track.velocity_W, track.radius_m});
+  }
+  return discs;
+}
+
+// Drops the points within a margin of the discs before mapping: a mover mapped as terrain leaves
+// a trail of ghost obstacles (what the mapper misses is cleared when the cells are seen free
+// again).
+void RemovePointsInDiscs(const std::vector<Disc>& discs, common::PointCloud* cloud_W) {
   constexpr double kMargin_m = 0.3;
+  if (discs.empty()) return;
   Eigen::Index kept = 0;
   for (Eigen::Index i = 0; i < cloud_W->size(); ++i) {
     const Eigen::Vector2d p = cloud_W->points.col(i).head<2>().cast<double>();
-    bool on_mover = false;
-    for (int k = 0; k < simulation.num_movers() && !on_mover; ++k) {
-      const double reach =
-          sim::MoverFootprintRadius(movers[static_cast<std::size_t>(k)]) + kMargin_m;
-      on_mover =
-          (p - simulation.MoverPose(k).translation().head<2>()).squaredNorm() < reach * reach;
-    }
+    const bool on_mover = std::any_of(discs.begin(), discs.end(), [&](const Disc& disc) {
+      const double reach = disc.radius_m + kMargin_m;
+      return (p - disc.centre_W).squaredNorm() < reach * reach;
+    });
     if (!on_mover) cloud_W->points.col(kept++) = cloud_W->points.col(i);
   }
   cloud_W->points.conservativeResize(3, kept);
@@ -524,9 +547,12 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
         if (mover_tracker) {
           mover_tracker->Update(cloud_W, state.X_WB.translation(), simulation.time());
         }
-        // movers are removed with their poses at scan time
-        if ((mapper || run_options.on_lidar_frame) && simulation.num_movers() > 0) {
-          RemoveMoverPoints(movers, simulation, &cloud_W);
+        // movers are removed at scan time: where the tracker perceives them, or with their true
+        // poses when the planner gets those
+        if (mapper || run_options.on_lidar_frame) {
+          RemovePointsInDiscs(mover_tracker ? PerceivedMoverDiscs(*mover_tracker, simulation.time())
+                                            : TrueMoverDiscs(movers, simulation),
+                              &cloud_W);
         }
         if (run_options.on_lidar_frame) {
           run_options.on_lidar_frame(cloud_W, state.X_WB, simulation.time());

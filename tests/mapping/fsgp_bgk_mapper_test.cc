@@ -143,6 +143,47 @@ TEST(FsgpBgkMapperTest, AWallIsUntraversableAndItsCellsClearWhenSeenFree) {
   EXPECT_LT(*dut.map().At(layers::kTraversability, wall_W), 0.5f);
 }
 
+TEST(FsgpBgkMapperTest, APedestrianWalkingAcrossTheViewLeavesNoLastingObstacle) {
+  // a 1.7 m tall pedestrian (radius 0.25 m) walks along y = 2 from x = -3 to 3 at 1 m/s in front
+  // of a robot standing at the origin, its points fed to the mapper as if perception missed it
+  FsgpBgkMapper dut(FsgpConfig{});
+  const common::PointCloud ground = Surface([](double, double) { return 0.0; }, {0, 0});
+  constexpr double kRadius_m = 0.25, kSpeed_m_s = 1.0, kFrame_s = 0.1, kY_m = 2.0;
+  double worst_after_half_a_second = 0.0;
+  for (int frame = 0; frame <= 80; ++frame) {
+    const double t = frame * kFrame_s;
+    const double x_p = -3.0 + kSpeed_m_s * t;  // past x = 3 the pedestrian is out of view
+    std::vector<Eigen::Vector3f> points;
+    for (Eigen::Index i = 0; i < ground.size(); ++i) {
+      const Eigen::Vector3f p = ground.points.col(i);
+      if (x_p <= 3.0 && std::hypot(p.x() - x_p, p.y() - kY_m) < kRadius_m) continue;
+      points.emplace_back(p);
+    }
+    if (x_p <= 3.0) {
+      for (double a = 0.0; a < 2.0 * M_PI; a += 0.2) {
+        for (double z = 0.0; z <= 1.7; z += 0.05) {
+          points.emplace_back(static_cast<float>(x_p + kRadius_m * std::cos(a)),
+                              static_cast<float>(kY_m + kRadius_m * std::sin(a)),
+                              static_cast<float>(z));
+        }
+      }
+    }
+    ASSERT_EQ(dut.Update(common::MakePointCloud(points), RobotAt(0, 0), t).status,
+              MapUpdateStatus::kUpdated);
+    if (x_p <= 3.0) {
+      // where it stands is an obstacle
+      EXPECT_GE(*dut.map().At(layers::kTraversability, {x_p, kY_m}), 0.8f) << "t = " << t;
+    }
+    // every cell of its path it left half a second ago or more is easy again
+    for (double x = -3.0; x <= std::min(3.0, x_p - kRadius_m - 0.5 * kSpeed_m_s); x += 0.2) {
+      worst_after_half_a_second =
+          std::max(worst_after_half_a_second,
+                   static_cast<double>(*dut.map().At(layers::kTraversability, {x, kY_m})));
+    }
+  }
+  EXPECT_LT(worst_after_half_a_second, 0.5);
+}
+
 // Flat ground with a 1.5 m high wall along y at x = 2 from y = -2 to 2, but for a gap of `gap` m
 // centred on y = 0 where the LiDAR saw nothing at all (no wall and no ground).
 common::PointCloud WallWithGap(double gap) {

@@ -1,0 +1,43 @@
+// The short stress suite (ctest label stress): scenarios/stress/ci.yaml through `trav batch`, low
+// traffic density on open ground with fixed seeds.
+#include <filesystem>
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/cli_test_util.h"
+
+namespace trav::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+using test_util::ReadFile;
+using test_util::RunTrav;
+
+TEST(StressTest, LowDensityTrafficOnOpenGround) {
+  const fs::path out = test_util::FreshTestFolder("trav_stress_test") / "out";
+  const test_util::CommandResult run = RunTrav(
+      "batch " + (fs::path(TRAV_SOURCE_DIR) / "scenarios/stress/ci.yaml").string() + " --out " +
+      out.string() + " --jobs 2");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json results = nlohmann::json::parse(ReadFile(out / "results.json"));
+  ASSERT_EQ(results.size(), 4u);
+  int successes = 0;
+  for (const nlohmann::json& row : results) {
+    successes += row.at("success").get<bool>() ? 1 : 0;
+    // whatever the movers do, the robot never hits a static obstacle
+    const nlohmann::json& metrics = row.at("metrics");
+    const bool static_collision = row.at("outcome") == "collision" &&
+                                  metrics.value("collision.mover", 1.0) == 0.0;
+    EXPECT_FALSE(static_collision) << row.at("id");
+    EXPECT_GT(metrics.at("navigation.perceived_mover_samples").get<double>(), 0.0)
+        << row.at("id") << ": the movers are perceived from the scans";
+  }
+  EXPECT_GE(successes, 3) << "success rate below 75 % at 2 to 4 walkers";
+  fs::remove_all(out.parent_path());
+}
+
+}  // namespace
+}  // namespace trav::scenarios
