@@ -303,13 +303,20 @@ void WriteBatchReport(const std::string& out_dir) {
   for (const Row& row : rows) ++outcomes[row.outcome];
   for (const auto& [outcome, count] : outcomes) md << "| " << outcome << " | " << count << " |\n";
 
-  std::map<std::string, std::vector<const Row*>> groups;
+  // groups in the order of their first run (the batch's order)
+  std::vector<std::pair<std::string, std::vector<const Row*>>> groups;
   for (const Row& row : rows) {
     std::string group = row.scenario;
     for (const auto& [label, value] : row.parameters) {
       if (!IsSeedLabel(label)) group += ", " + label + "=" + value;
     }
-    groups[group].push_back(&row);
+    const auto it = std::find_if(groups.begin(), groups.end(),
+                                 [&](const auto& entry) { return entry.first == group; });
+    if (it == groups.end()) {
+      groups.emplace_back(group, std::vector<const Row*>{&row});
+    } else {
+      it->second.push_back(&row);
+    }
   }
   md << "\n## Groups\n\nSuccess: the run ended as its scenario expects; rate with its 95 % Wilson "
         "interval. Other columns: median (10th-90th percentile); times and path ratios of "

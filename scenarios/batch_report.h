@@ -24,13 +24,16 @@ WilsonInterval Wilson95(int successes, int trials);
 /// - results.json and results.csv: one row per run with a result or a failure record: id,
 ///   scenario, each swept parameter, outcome, success (the run ended as its scenario expects), and
 ///   every numeric value of its summary.json (flattened: "navigation.time_to_goal_s");
-/// - report.md: runs per outcome; per group of runs (the same scenario and parameters but the
-///   seed) the success rate with its 95 % Wilson interval and the median and 10th-90th percentiles
-///   of time to goal, path length ratio, max roll and pitch, RMS lateral tracking error, mapping
-///   update and real-time factor; the failed runs with their logs;
-/// - for each swept parameter with two or more numeric values (but the seed): vs_<label>.csv,
-///   success_vs_<label>.png (success rate and interval) and time_vs_<label>.png (median time to
-///   goal and path length ratio) against it, over all other parameters.
+/// - report.md: runs per outcome; per group of runs (the same scenario and parameters but seeds:
+///   any label ending in "seed"), in batch order, the success rate with its 95 % Wilson interval
+///   and the median and 10th-90th percentiles of time to goal, path length ratio, smallest mover
+///   clearance, near misses, max roll and pitch, RMS lateral tracking error, mapping update and
+///   real-time factor; the failed runs with their logs;
+/// - for each swept parameter with two or more numeric values (but seeds): vs_<label>.csv,
+///   success_vs_<label>.png (success rate with its interval, collision rate), time_vs_<label>.png
+///   (median time to goal and path length ratio of successful runs), clearance_vs_<label>.png
+///   (median smallest mover clearance) and replans_vs_<label>.png (median plans per simulated
+///   second) against it, over all other parameters.
 /// Runs without a result yet are counted as pending.
 void WriteBatchReport(const std::string& out_dir);
 
