@@ -31,7 +31,8 @@ namespace fs = std::filesystem;
 constexpr std::pair<const char*, const char*> kShorthands[] = {
     {"seed", "terrain.seed"},         {"terrain", "terrain.type"},
     {"mapper", "mapping.method"},     {"mover_count", "traffic.count"},
-    {"mover_speed", "traffic.speed"}, {"mover_behaviour", "traffic.behaviour"}};
+    {"mover_speed", "traffic.speed"}, {"mover_behaviour", "traffic.behaviour"},
+    {"mover_shape", "traffic.shape"}};
 
 // Letters, digits, '.', '_' and '-' as they are; anything else as '-'.
 std::string Sanitized(const std::string& text) {

@@ -48,6 +48,9 @@ const Names<MapperMethod> kMappers = {{"fsgp-bgk", MapperMethod::kFsgpBgk},
                                       {"ground-truth", MapperMethod::kGroundTruth}};
 const Names<TrafficBehaviour> kTrafficBehaviours = {{"random_walk", TrafficBehaviour::kRandomWalk},
                                                     {"crossing", TrafficBehaviour::kCrossing}};
+const Names<TrafficShape> kTrafficShapes = {{"pedestrian", TrafficShape::kPedestrian},
+                                            {"cart", TrafficShape::kCart},
+                                            {"box", TrafficShape::kBox}};
 const Names<TestFault> kTestFaults = {
     {"none", TestFault::kNone}, {"crash", TestFault::kCrash}, {"hang", TestFault::kHang}};
 const Names<Outcome> kOutcomes = {{"completed", Outcome::kCompleted},
@@ -452,6 +455,7 @@ void VisitScenario(Archive& a, Scenario& s) {
     t.Field("count", &s.traffic.count);
     t.Field("speed", &s.traffic.speed_m_s);
     t.Enum("behaviour", &s.traffic.behaviour, kTrafficBehaviours);
+    t.Enum("shape", &s.traffic.shape, kTrafficShapes);
     t.Field("seed", &s.traffic.seed);
     t.Field("area_radius", &s.traffic.area_radius_m);
     t.Field("keep_clear", &s.traffic.keep_clear_m);

@@ -22,6 +22,21 @@ constexpr double kAlongRouteSpread_m = 1.0;  // head-on, overtaking: within this
 constexpr double kPathCheckLength_m = 20.0;  // paths are checked this far from where they start
 constexpr double kPathCheckStep_m = 0.25;
 
+// A mover of the shape, standing still.
+sim::MovingObstacle Shaped(TrafficShape shape) {
+  sim::MovingObstacle mover;  // a pedestrian capsule by default
+  if (shape == TrafficShape::kCart) {
+    mover.shape = sim::MoverShape::kBox;
+    mover.box_half_extents_m = {0.5, 0.35};
+    mover.half_height_m = 0.5;
+  } else if (shape == TrafficShape::kBox) {
+    mover.shape = sim::MoverShape::kBox;
+    mover.box_half_extents_m = {0.3, 0.3};
+    mover.half_height_m = 0.4;
+  }
+  return mover;
+}
+
 // Whether a mover keeps clear of start and goal at time 0 and of static obstacles on its way.
 bool Fits(const sim::MovingObstacle& mover, const Eigen::Vector2d& start_W,
           const Eigen::Vector2d& goal_W, double clear_m, const FreeDisc& free) {
@@ -31,7 +46,8 @@ bool Fits(const sim::MovingObstacle& mover, const Eigen::Vector2d& start_W,
   if (const auto* walk = std::get_if<sim::RandomWalkMotion>(&mover.motion)) {
     // anywhere in its disc, at any time
     return clear_of_ends(walk->area_centre_W, walk->area_radius_m) &&
-           (!free || free(walk->area_centre_W, walk->area_radius_m + mover.radius_m));
+           (!free ||
+            free(walk->area_centre_W, walk->area_radius_m + sim::MoverFootprintRadius(mover)));
   }
   sim::MoverTrack track(mover);
   if (!clear_of_ends(track.PlanarStateAt(0.0).p_W, 0.0)) return false;
@@ -40,7 +56,7 @@ bool Fits(const sim::MovingObstacle& mover, const Eigen::Vector2d& start_W,
   const double speed = std::max(motion.velocity_W.norm(), 1e-6);
   const double step_s = kPathCheckStep_m / speed;
   for (double t = 0.0; t <= motion.start_time_s + kPathCheckLength_m / speed; t += step_s) {
-    if (!free(track.PlanarStateAt(t).p_W, mover.radius_m)) return false;
+    if (!free(track.PlanarStateAt(t).p_W, sim::MoverFootprintRadius(mover))) return false;
   }
   return true;
 }
@@ -69,9 +85,9 @@ std::vector<sim::MovingObstacle> SpawnTraffic(const TrafficSettings& traffic,
   const Eigen::Vector2d across(-along.y(), along.x());
   common::Random random(traffic.seed);
   for (int k = 0; k < traffic.count; ++k) {
-    sim::MovingObstacle mover;  // a pedestrian capsule by default
+    sim::MovingObstacle mover = Shaped(traffic.shape);
     mover.name = "traffic_" + std::to_string(k);
-    const double body = mover.radius_m;
+    const double body = sim::MoverFootprintRadius(mover);
     const double clear = traffic.keep_clear_m + body;
     const double stagger_s = kStreamInterval_s * k;
     bool placed = false;

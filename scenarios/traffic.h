@@ -19,12 +19,20 @@ enum class TrafficBehaviour {
   kOvertaking,  ///< pedestrians walking along the route ahead of the robot, towards the goal
 };
 
+/// What generated movers look like.
+enum class TrafficShape {
+  kPedestrian,  ///< a capsule, radius 0.25 m, 1.7 m tall
+  kCart,        ///< a box 1.0 x 0.7 x 1.0 m (long side along its motion)
+  kBox,         ///< a box 0.6 x 0.6 x 0.8 m
+};
+
 /// Scenario key `traffic`: movers generated from a count, a speed and a seed, so that a batch can
 /// sweep the density and speed of moving obstacles.
 struct TrafficSettings {
   int count{0};           ///< movers, >= 0
   double speed_m_s{1.0};  ///< walking speed [m/s], in (0, 3]
   TrafficBehaviour behaviour{TrafficBehaviour::kRandomWalk};
+  TrafficShape shape{TrafficShape::kPedestrian};
   std::uint64_t seed{1};
   /// Random walkers: radius of each walker's disc [m], > 0.
   double area_radius_m{2.5};
@@ -38,8 +46,8 @@ void ValidateTrafficSettings(const TrafficSettings& traffic);
 /// Whether a disc (centre [m], radius [m]) in W is free of static obstacles.
 using FreeDisc = std::function<bool(const Eigen::Vector2d& centre_W, double radius_m)>;
 
-/// The movers of `traffic` for a route from `start_W` to `goal_W`: pedestrian capsules named
-/// traffic_0, traffic_1, ... Each is drawn again (up to 100 times) until its disc (random walkers)
+/// The movers of `traffic` for a route from `start_W` to `goal_W`, of its shape, named traffic_0,
+/// traffic_1, ... Each is drawn again (up to 100 times) until its disc (random walkers)
 /// or its path (the others, sampled every 0.25 m over its first 20 m) is `free`, and until it keeps
 /// `keep_clear_m` plus its radius from start and goal at time 0; a mover that never fits is left
 /// out. Random walkers: discs centred at a uniform fraction in [0.2, 0.8] of the route and within

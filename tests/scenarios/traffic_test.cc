@@ -65,6 +65,21 @@ TEST(TrafficTest, CrossersCrossTheRouteWhereARobotAtOneMetrePerSecondWouldBe) {
   }
 }
 
+TEST(TrafficTest, CartsAndBoxesKeepTheirWholeFootprintClear) {
+  TrafficSettings traffic;
+  traffic.count = 5;
+  traffic.shape = TrafficShape::kCart;
+  traffic.behaviour = TrafficBehaviour::kCrossing;
+  for (const sim::MovingObstacle& mover : SpawnTraffic(traffic, kStart, kGoal)) {
+    EXPECT_EQ(mover.shape, sim::MoverShape::kBox);
+    EXPECT_EQ(mover.box_half_extents_m, Eigen::Vector2d(0.5, 0.35));
+    const Eigen::Vector2d p0 = sim::MoverTrack(mover).PlanarStateAt(0.0).p_W;
+    EXPECT_GE((p0 - kStart).norm(), 2.0 + sim::MoverFootprintRadius(mover));
+  }
+  traffic.shape = TrafficShape::kBox;
+  EXPECT_EQ(SpawnTraffic(traffic, kStart, kGoal)[0].half_height_m, 0.4);
+}
+
 TEST(TrafficTest, SameSeedSameMoversAndNoneWithoutACount) {
   TrafficSettings traffic;
   traffic.count = 3;
