@@ -47,7 +47,11 @@ const Names<MapperMethod> kMappers = {{"fsgp-bgk", MapperMethod::kFsgpBgk},
                                       {"em", MapperMethod::kElevationMap},
                                       {"ground-truth", MapperMethod::kGroundTruth}};
 const Names<TrafficBehaviour> kTrafficBehaviours = {{"random_walk", TrafficBehaviour::kRandomWalk},
-                                                    {"crossing", TrafficBehaviour::kCrossing}};
+                                                    {"crossing", TrafficBehaviour::kCrossing},
+                                                    {"flow", TrafficBehaviour::kFlow},
+                                                    {"head_on", TrafficBehaviour::kHeadOn},
+                                                    {"overtaking", TrafficBehaviour::kOvertaking},
+                                                    {"reactive", TrafficBehaviour::kReactive}};
 const Names<TrafficShape> kTrafficShapes = {{"pedestrian", TrafficShape::kPedestrian},
                                             {"cart", TrafficShape::kCart},
                                             {"box", TrafficShape::kBox}};
@@ -305,6 +309,7 @@ void VisitMover(Archive& a, sim::MovingObstacle& m) {
       a.Field("speed", &w.speed_m_s);
       a.Enum("loop", &w.loop, kLoops);
       a.Field("start_delay", &w.start_delay_s);
+      a.Field("personal_distance", &m.personal_distance_m);
       break;
     }
     case MotionKind::kConstantVelocity: {

@@ -26,6 +26,7 @@
 #include "scenarios/pcd_io.h"
 #include "scenarios/plots.h"
 #include "scenarios/run_metrics.h"
+#include "scenarios/social_force.h"
 #include "scenarios/tracking.h"
 #include "sim/lidar/lidar_emulator.h"
 #include "sim/simulation.h"
@@ -315,6 +316,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   options.ground_friction = scenario.ground_friction;
   const std::vector<sim::MovingObstacle> movers = ScenarioMovers(scenario, world);
   sim::Simulation simulation(world, start_W, options, movers);
+  SocialForceCrowd crowd(movers);
 
   // LiDAR: an Embree scene of the same world, scanned every physics step
   std::unique_ptr<lidar::RayScene> ray_scene;
@@ -453,6 +455,20 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
     // movers to their place at this time, for physics and LiDAR
     if (simulation.num_movers() > 0) {
       simulation.SetMoverPoses(simulation.time());
+      if (!crowd.empty()) {
+        // reactive walkers: the social force from the movers and the robot where they are now
+        std::vector<Eigen::Vector2d> positions_W;
+        for (int i = 0; i < simulation.num_movers(); ++i) {
+          positions_W.push_back(simulation.MoverPose(i).translation().head<2>());
+        }
+        crowd.Step(simulation.time(), dt, positions_W, state.X_WB.translation().head<2>(),
+                   scenario.planner.optimizer.robot_radius_m);
+        for (const SocialForceCrowd::Walker& walker : crowd.walkers()) {
+          const sim::MoverPlanarState planar{walker.p_W, walker.v_W, walker.yaw};
+          simulation.SetMoverPose(static_cast<int>(walker.index),
+                                  sim::MoverPose(movers[walker.index], planar, world), walker.v_W);
+        }
+      }
       for (int i = 0; i < simulation.num_movers(); ++i) {
         if (ray_scene) ray_scene->SetMovingPose(i, simulation.MoverPose(i));
       }

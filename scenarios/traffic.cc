@@ -19,6 +19,8 @@ constexpr int kDrawsPerMover = 100;
 constexpr double kStreamInterval_s = 2.0;    // flow and head-on: one pedestrian every this
 constexpr double kFlowOffset_m = 8.0;        // flow: where the crossers start, to the side
 constexpr double kAlongRouteSpread_m = 1.0;  // head-on, overtaking: within this of the route
+constexpr double kReactiveOffset_m = 6.0;    // reactive: the turning points, to either side
+constexpr double kPersonalDistance_m = 0.8;  // reactive: the gap they keep
 constexpr double kPathCheckLength_m = 20.0;  // paths are checked this far from where they start
 constexpr double kPathCheckStep_m = 0.25;
 
@@ -52,10 +54,19 @@ bool Fits(const sim::MovingObstacle& mover, const Eigen::Vector2d& start_W,
   sim::MoverTrack track(mover);
   if (!clear_of_ends(track.PlanarStateAt(0.0).p_W, 0.0)) return false;
   if (!free) return true;
-  const auto& motion = std::get<sim::ConstantVelocityMotion>(mover.motion);
-  const double speed = std::max(motion.velocity_W.norm(), 1e-6);
+  // walking speed and departure of a constant-velocity or waypoint motion
+  double speed = 0.0, departure_s = 0.0;
+  if (const auto* crossing = std::get_if<sim::ConstantVelocityMotion>(&mover.motion)) {
+    speed = crossing->velocity_W.norm();
+    departure_s = crossing->start_time_s;
+  } else {
+    const auto& path = std::get<sim::WaypointMotion>(mover.motion);
+    speed = path.speed_m_s;
+    departure_s = path.start_delay_s;
+  }
+  speed = std::max(speed, 1e-6);
   const double step_s = kPathCheckStep_m / speed;
-  for (double t = 0.0; t <= motion.start_time_s + kPathCheckLength_m / speed; t += step_s) {
+  for (double t = 0.0; t <= departure_s + kPathCheckLength_m / speed; t += step_s) {
     if (!free(track.PlanarStateAt(t).p_W, sim::MoverFootprintRadius(mover))) return false;
   }
   return true;
@@ -124,6 +135,19 @@ std::vector<sim::MovingObstacle> SpawnTraffic(const TrafficSettings& traffic,
           crossing.velocity_W = -side * traffic.speed_m_s * across;
           crossing.start_time_s = stagger_s;
           mover.motion = crossing;
+          break;
+        }
+        case TrafficBehaviour::kReactive: {
+          const Eigen::Vector2d middle = start_W + random.Uniform(0.25, 0.75) * route;
+          const double side = random.Bernoulli(0.5) ? 1.0 : -1.0;
+          sim::WaypointMotion walk;
+          walk.waypoints_W = {middle + side * kReactiveOffset_m * across,
+                              middle - side * kReactiveOffset_m * across};
+          walk.speed_m_s = traffic.speed_m_s;
+          walk.loop = sim::WaypointLoop::kPingPong;
+          walk.start_delay_s = random.Uniform(0.0, kStreamInterval_s);
+          mover.motion = walk;
+          mover.personal_distance_m = kPersonalDistance_m;
           break;
         }
         case TrafficBehaviour::kHeadOn:

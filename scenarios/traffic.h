@@ -17,6 +17,8 @@ enum class TrafficBehaviour {
   kFlow,        ///< a stream crossing the route at its middle from both sides, 2 s apart
   kHeadOn,      ///< pedestrians walking along the route from the goal towards the start
   kOvertaking,  ///< pedestrians walking along the route ahead of the robot, towards the goal
+  kReactive,    ///< pedestrians walking back and forth across the route, keeping their distance
+                ///< from each other and the robot (social force, personal distance 0.8 m)
 };
 
 /// What generated movers look like.

@@ -80,6 +80,12 @@ double Heading(const Eigen::Vector2d& direction) {
 }  // namespace
 
 void ValidateMovingObstacle(const MovingObstacle& mover, const std::string& key_path) {
+  if (mover.personal_distance_m < 0.0 ||
+      (mover.personal_distance_m > 0.0 && !std::holds_alternative<WaypointMotion>(mover.motion))) {
+    throw common::InputError("", key_path + ".personal_distance",
+                             "value " + std::to_string(mover.personal_distance_m) +
+                                 " must be >= 0, and > 0 only with motion waypoints");
+  }
   if (!IsValidName(mover.name)) {
     throw common::InputError(
         "", key_path + ".name",

@@ -75,6 +75,10 @@ struct MovingObstacle {
   Eigen::Vector2d box_half_extents_m{0.3, 0.3};
   Eigen::Vector4f rgba{0.95f, 0.55f, 0.1f, 1.0f};  ///< colour in videos, components in [0, 1]
   MoverMotion motion{ConstantVelocityMotion{}};
+  /// > 0: a reactive walker (waypoint motion only) that walks towards its waypoints but keeps
+  /// this gap from the other movers and the robot (a social-force model run by the scenario,
+  /// scenarios/social_force.h); its MoverTrack is then the path it would walk alone [m].
+  double personal_distance_m{0.0};
 };
 
 /// Checks one mover. Key paths are `<key_path>.<field>` with the field names of the structs above

@@ -18,9 +18,9 @@ using test_util::RunTrav;
 
 TEST(StressTest, LowDensityTrafficOnOpenGround) {
   const fs::path out = test_util::FreshTestFolder("trav_stress_test") / "out";
-  const test_util::CommandResult run = RunTrav(
-      "batch " + (fs::path(TRAV_SOURCE_DIR) / "scenarios/stress/ci.yaml").string() + " --out " +
-      out.string() + " --jobs 2");
+  const test_util::CommandResult run =
+      RunTrav("batch " + (fs::path(TRAV_SOURCE_DIR) / "scenarios/stress/ci.yaml").string() +
+              " --out " + out.string() + " --jobs 2");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const nlohmann::json results = nlohmann::json::parse(ReadFile(out / "results.json"));
   ASSERT_EQ(results.size(), 4u);
@@ -29,8 +29,8 @@ TEST(StressTest, LowDensityTrafficOnOpenGround) {
     successes += row.at("success").get<bool>() ? 1 : 0;
     // whatever the movers do, the robot never hits a static obstacle
     const nlohmann::json& metrics = row.at("metrics");
-    const bool static_collision = row.at("outcome") == "collision" &&
-                                  metrics.value("collision.mover", 1.0) == 0.0;
+    const bool static_collision =
+        row.at("outcome") == "collision" && metrics.value("collision.mover", 1.0) == 0.0;
     EXPECT_FALSE(static_collision) << row.at("id");
     EXPECT_GT(metrics.at("navigation.perceived_mover_samples").get<double>(), 0.0)
         << row.at("id") << ": the movers are perceived from the scans";

@@ -80,6 +80,36 @@ TEST(TrafficTest, CartsAndBoxesKeepTheirWholeFootprintClear) {
   EXPECT_EQ(SpawnTraffic(traffic, kStart, kGoal)[0].half_height_m, 0.4);
 }
 
+TEST(TrafficTest, EveryBehaviourAndShapeHasItsScenarioName) {
+  const std::pair<const char*, TrafficBehaviour> behaviours[] = {
+      {"random_walk", TrafficBehaviour::kRandomWalk},
+      {"crossing", TrafficBehaviour::kCrossing},
+      {"flow", TrafficBehaviour::kFlow},
+      {"head_on", TrafficBehaviour::kHeadOn},
+      {"overtaking", TrafficBehaviour::kOvertaking},
+      {"reactive", TrafficBehaviour::kReactive}};
+  for (const auto& [name, behaviour] : behaviours) {
+    const Scenario scenario = LoadScenario(common::YamlDocument::Parse(
+        std::string("traffic: {count: 2, behaviour: ") + name + ", shape: cart}\n", "t.yaml"));
+    EXPECT_EQ(scenario.traffic.behaviour, behaviour) << name;
+    EXPECT_EQ(scenario.traffic.shape, TrafficShape::kCart) << name;
+  }
+}
+
+TEST(TrafficTest, ReactiveWalkersGoBackAndForthAcrossTheRouteKeepingTheirDistance) {
+  TrafficSettings traffic;
+  traffic.count = 3;
+  traffic.behaviour = TrafficBehaviour::kReactive;
+  for (const sim::MovingObstacle& mover : SpawnTraffic(traffic, kStart, kGoal)) {
+    const auto& path = std::get<sim::WaypointMotion>(mover.motion);
+    EXPECT_EQ(path.loop, sim::WaypointLoop::kPingPong);
+    ASSERT_EQ(path.waypoints_W.size(), 2u);
+    EXPECT_NEAR(std::abs(path.waypoints_W[0].y()), 6.0, 1e-9);
+    EXPECT_NEAR(path.waypoints_W[0].y(), -path.waypoints_W[1].y(), 1e-9);
+    EXPECT_EQ(mover.personal_distance_m, 0.8);
+  }
+}
+
 TEST(TrafficTest, SameSeedSameMoversAndNoneWithoutACount) {
   TrafficSettings traffic;
   traffic.count = 3;
