@@ -13,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -65,22 +66,40 @@ std::vector<Job> RunJobs(const fs::path& folder, const std::vector<BatchRun>& ru
 
 }  // namespace
 
+RunFileHeader ReadRunFileHeader(common::YamlReader* root, const std::string& path) {
+  RunFileHeader header;
+  header.name = fs::path(path).stem().string();
+  int schema_version = 1;
+  root->Read("schema_version", &schema_version);
+  root->Check("schema_version", schema_version == 1, "is not supported (expected 1)");
+  root->Read("name", &header.name);
+  root->Read("scenarios", &header.scenarios);
+  root->Check("scenarios", !header.scenarios.empty(), "must list at least one scenario file");
+  const fs::path base = fs::path(path).parent_path();
+  for (std::string& scenario : header.scenarios) {
+    if (fs::path(scenario).is_relative()) scenario = (base / scenario).lexically_normal().string();
+  }
+  if (root->Has("set")) {
+    common::YamlReader sets = root->Map("set");
+    for (const std::string& key : sets.Keys()) {
+      std::string value;
+      sets.ReadText(key, &value);
+      header.sets.push_back(key + "=" + value);
+    }
+    sets.Finish();
+  }
+  return header;
+}
+
 BatchSpec LoadBatchFile(const std::string& path) {
   const common::YamlDocument document = common::YamlDocument::Load(path);
   common::YamlReader root = document.Root();
   BatchSpec spec;
   spec.source = path;
-  spec.name = fs::path(path).stem().string();
-  int schema_version = 1;
-  root.Read("schema_version", &schema_version);
-  root.Check("schema_version", schema_version == 1, "is not supported (expected 1)");
-  root.Read("name", &spec.name);
-  root.Read("scenarios", &spec.scenarios);
-  root.Check("scenarios", !spec.scenarios.empty(), "must list at least one scenario file");
-  const fs::path base = fs::path(path).parent_path();
-  for (std::string& scenario : spec.scenarios) {
-    if (fs::path(scenario).is_relative()) scenario = (base / scenario).lexically_normal().string();
-  }
+  RunFileHeader header = ReadRunFileHeader(&root, path);
+  spec.name = std::move(header.name);
+  spec.scenarios = std::move(header.scenarios);
+  spec.sets = std::move(header.sets);
   if (root.Has("sweep")) {
     common::YamlReader sweep = root.Map("sweep");
     for (const auto& [label, key_path] : kShorthands) {
@@ -118,15 +137,6 @@ BatchSpec LoadBatchFile(const std::string& path) {
         sweep.Fail(axis.label, "sweeps " + axis.key_path + " a second time");
       }
     }
-  }
-  if (root.Has("set")) {
-    common::YamlReader sets = root.Map("set");
-    for (const std::string& key : sets.Keys()) {
-      std::string value;
-      sets.ReadText(key, &value);
-      spec.sets.push_back(key + "=" + value);
-    }
-    sets.Finish();
   }
   root.Read("time_limit", &spec.time_limit_s);
   root.Check("time_limit", spec.time_limit_s > 0.0, "must be > 0 s");

@@ -4,6 +4,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/yaml_reader.h"
 #include "scenarios/job_array.h"
 #include "scenarios/process_pool.h"
 
@@ -35,6 +36,19 @@ struct BatchRun {
   std::vector<std::pair<std::string, std::string>> parameters;  ///< (label, value) per axis
   std::string scenario_yaml;                                    ///< the fully resolved scenario
 };
+
+/// What batch and tuning files share: `schema_version` (1), `name` (default the file's stem),
+/// `scenarios` (files resolved against the file's folder, at least one) and `set` (overrides of
+/// every run, as key.path=value).
+struct RunFileHeader {
+  std::string name;
+  std::vector<std::string> scenarios;
+  std::vector<std::string> sets;
+};
+
+/// Reads those keys from the root of the file at `path`. @throws common::InputError naming the
+/// file and key.
+RunFileHeader ReadRunFileHeader(common::YamlReader* root, const std::string& path);
 
 /// Reads a batch file strictly. @throws common::InputError naming the file, key and value
 /// (unknown key, empty sweep, no scenario).

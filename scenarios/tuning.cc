@@ -8,12 +8,14 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 #include <nlopt.hpp>
 
 #include "common/input_error.h"
 #include "common/yaml_reader.h"
+#include "scenarios/batch.h"
 #include "scenarios/batch_report.h"
 #include "scenarios/output_folder.h"
 #include "scenarios/plots.h"
@@ -228,30 +230,14 @@ TuneSpec LoadTuneFile(const std::string& path) {
   common::YamlReader root = document.Root();
   TuneSpec spec;
   spec.source = path;
-  spec.name = fs::path(path).stem().string();
-  int schema_version = 1;
-  root.Read("schema_version", &schema_version);
-  root.Check("schema_version", schema_version == 1, "is not supported (expected 1)");
-  root.Read("name", &spec.name);
-  root.Read("scenarios", &spec.scenarios);
-  root.Check("scenarios", !spec.scenarios.empty(), "must list at least one scenario file");
-  const fs::path base = fs::path(path).parent_path();
-  for (std::string& scenario : spec.scenarios) {
-    if (fs::path(scenario).is_relative()) scenario = (base / scenario).lexically_normal().string();
-  }
+  RunFileHeader header = ReadRunFileHeader(&root, path);
+  spec.name = std::move(header.name);
+  spec.scenarios = std::move(header.scenarios);
+  spec.sets = std::move(header.sets);
   spec.seeds = {"1"};
   root.Read("seeds", &spec.seeds);
   root.Check("seeds", !spec.seeds.empty(), "must list at least one seed");
   root.Read("held_out_seeds", &spec.held_out_seeds);
-  if (root.Has("set")) {
-    common::YamlReader sets = root.Map("set");
-    for (const std::string& key : sets.Keys()) {
-      std::string value;
-      sets.ReadText(key, &value);
-      spec.sets.push_back(key + "=" + value);
-    }
-    sets.Finish();
-  }
   common::YamlReader parameters = root.Map("parameters");
   for (const std::string& key : parameters.Keys()) {
     common::YamlReader range = parameters.Map(key);
