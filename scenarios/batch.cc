@@ -1,18 +1,10 @@
 #include "scenarios/batch.h"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <chrono>
-#include <csignal>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <functional>
 #include <set>
-#include <sstream>
-#include <stdexcept>
-#include <thread>
 #include <utility>
 
 #include <nlohmann/json.hpp>
