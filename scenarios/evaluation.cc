@@ -226,8 +226,9 @@ nlohmann::json EvaluateMethod(const std::string& method, const Scenario& scene,
 
 // Draws the route of a scene: start and goal `length` apart through the world's centre at a
 // random heading, until A* finds a path between them on the ground truth (the world is
-// generated with obstacles kept clear of both). Sets the scenario's start and goal.
-void DrawRoute(Scenario* scene, double length_m, std::uint64_t seed) {
+// generated with obstacles kept clear of both). Sets the scenario's start and goal and returns
+// the ground truth of the world drawn.
+common::GridLayers DrawRoute(Scenario* scene, double length_m, std::uint64_t seed) {
   common::Random random(seed);
   for (int draw = 0; draw < kRouteDraws; ++draw) {
     const double heading = random.Uniform(-M_PI, M_PI);
@@ -238,7 +239,8 @@ void DrawRoute(Scenario* scene, double length_m, std::uint64_t seed) {
     scene->goal_W = half;
     const sim::TerrainWorld world =
         sim::GenerateTerrain(scene->terrain, {scene->start_W.position, scene->goal_W});
-    if (OptimalPathLength(*scene, WorldGroundTruth(*scene, world)) > 0.0) return;
+    common::GridLayers truth_W = WorldGroundTruth(*scene, world);
+    if (OptimalPathLength(*scene, truth_W) > 0.0) return truth_W;
   }
   throw std::runtime_error("no route of " + std::to_string(length_m) + " m with a path on the " +
                            "ground truth in " + std::to_string(kRouteDraws) + " draws");
@@ -354,10 +356,7 @@ std::vector<std::string> EvalMethods(const EvalOptions& options) {
 nlohmann::json RunEvalScene(const EvalOptions& options, const EvalScene& scene,
                             const std::string& robot_model_path) {
   Scenario scenario = SceneScenario(options, scene);
-  DrawRoute(&scenario, options.route_length_m, scene.seed);
-  const sim::TerrainWorld world =
-      sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W});
-  const common::GridLayers truth_W = WorldGroundTruth(scenario, world);
+  const common::GridLayers truth_W = DrawRoute(&scenario, options.route_length_m, scene.seed);
 
   // the drive: the closed loop on the oracle, every frame recorded
   std::vector<RecordedFrame> frames;
