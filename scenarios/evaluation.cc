@@ -246,8 +246,6 @@ common::GridLayers DrawRoute(Scenario* scene, double length_m, std::uint64_t see
                            "ground truth in " + std::to_string(kRouteDraws) + " draws");
 }
 
-nlohmann::json ReadJson(const fs::path& path) { return ReadJsonFile(path.string()); }
-
 // A finished scene's record, or nothing if it is absent or unreadable (then it is redone).
 std::optional<nlohmann::json> FinishedScene(const fs::path& path) {
   std::optional<nlohmann::json> record = ReadJsonIfPresent(path.string());
@@ -405,7 +403,8 @@ void RunEvalSceneInFolder(const std::string& out_dir, const EvalScene& scene,
                           const std::string& models_dir) {
   const fs::path folder(out_dir);
   const fs::path options_path = folder / "options.json";
-  const EvalOptions options = EvalOptionsFromJson(ReadJson(options_path), options_path.string());
+  const EvalOptions options =
+      EvalOptionsFromJson(ReadJsonFile(options_path.string()), options_path.string());
   const Scenario scenario = SceneScenario(options, scene);
   const nlohmann::json record = RunEvalScene(options, scene, RobotModelPath(scenario, models_dir));
   WriteTextFileAtomically(folder / "scenes" / (scene.Id() + ".json"), record.dump(1) + "\n");
@@ -419,7 +418,8 @@ EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_d
   const fs::path options_path = folder / "options.json";
   std::error_code error;
   if (fs::exists(options_path, error)) {
-    const EvalOptions previous = EvalOptionsFromJson(ReadJson(options_path), options_path.string());
+    const EvalOptions previous =
+        EvalOptionsFromJson(ReadJsonFile(options_path.string()), options_path.string());
     if (!SameEvaluation(previous, options)) {
       throw common::InputError(options_path.string(), "",
                                "the folder holds an evaluation with other options; use another "
@@ -489,17 +489,18 @@ void WriteEvalReportFromFolder(const std::string& out_dir, const EvalOptions& op
             FinishedScene(folder / "scenes" / (scene.Id() + ".json"))) {
       records.push_back(std::move(*record));
     } else if (fs::exists(folder / "failed" / (scene.Id() + ".json"), error)) {
-      failures.push_back(ReadJson(folder / "failed" / (scene.Id() + ".json")));
+      failures.push_back(ReadJsonFile((folder / "failed" / (scene.Id() + ".json")).string()));
     }
   }
-  const nlohmann::json stored = ReadJson(folder / "options.json");
+  const nlohmann::json stored = ReadJsonFile((folder / "options.json").string());
   WriteEvalReport(out_dir, options, BaseInducingPoints(options), records, failures,
                   stored.value("command", command_line));
 }
 
 int CollectEvaluation(const std::string& out_dir) {
   const fs::path options_path = fs::path(out_dir) / "options.json";
-  const EvalOptions options = EvalOptionsFromJson(ReadJson(options_path), options_path.string());
+  const EvalOptions options =
+      EvalOptionsFromJson(ReadJsonFile(options_path.string()), options_path.string());
   WriteEvalReportFromFolder(out_dir, options, "");
   int finished = 0;
   for (const EvalScene& scene : EvalScenes(options)) {
