@@ -51,76 +51,154 @@ double SparseGp::Kernel(const GpHyperparameters& hyper, double signal_variance,
   return signal_variance * std::pow(1.0 + d2 / (2.0 * hyper.rq_alpha), -hyper.rq_alpha);
 }
 
+double SparseGp::CutoffSquaredDistance() const {
+  // exp(-25) = 1.4e-11: far below the noise jitter and the float factor's rounding
+  return hyper_.kernel == KernelType::kSquaredExponential ? 50.0
+                                                          : std::numeric_limits<double>::infinity();
+}
+
+double SparseGp::KernelOf(double squared_distance) const {
+  if (hyper_.kernel == KernelType::kSquaredExponential)
+    return signal_variance_ * std::exp(-0.5 * squared_distance);
+  return signal_variance_ *
+         std::pow(1.0 + squared_distance / (2.0 * hyper_.rq_alpha), -hyper_.rq_alpha);
+}
+
+double SparseGp::RadialFactorOf(double squared_distance) const {
+  if (hyper_.kernel == KernelType::kSquaredExponential) return KernelOf(squared_distance);
+  return signal_variance_ *
+         std::pow(1.0 + squared_distance / (2.0 * hyper_.rq_alpha), -hyper_.rq_alpha - 1.0);
+}
+
+template <typename Visit>
+void SparseGp::ForNeighbours(const double* query, Visit visit) const {
+  const double cutoff = CutoffSquaredDistance();
+  const Eigen::Vector2i centre =
+      ((Eigen::Vector2d(query[0], query[1]) - bucket_origin_) / bucket_size_)
+          .array()
+          .floor()
+          .cast<int>()
+          .max(0)
+          .min(bucket_count_.array() - 1);
+  // a bucket is as wide as the cutoff: every neighbour lies in the 3 x 3 buckets around the query
+  const Eigen::Vector2i low = (centre.array() - 1).max(0);
+  const Eigen::Vector2i high = (centre.array() + 1).min(bucket_count_.array() - 1);
+  for (int by = low.y(); by <= high.y(); ++by) {
+    for (int bx = low.x(); bx <= high.x(); ++bx) {
+      const int bucket = by * bucket_count_.x() + bx;
+      for (int k = bucket_start_[static_cast<std::size_t>(bucket)];
+           k < bucket_start_[static_cast<std::size_t>(bucket) + 1]; ++k) {
+        const int j = bucket_points_[static_cast<std::size_t>(k)];
+        const double* z = scaled_inputs_.col(j).data();
+        double squared_distance = 0.0;
+        for (Eigen::Index d = 0; d < dims_; ++d)
+          squared_distance += (query[d] - z[d]) * (query[d] - z[d]);
+        if (squared_distance < cutoff) visit(j, squared_distance);
+      }
+    }
+  }
+}
+
 bool SparseGp::Fit(const Eigen::MatrixXd& inputs, const Eigen::VectorXd& heights,
                    const GpHyperparameters& hyper) {
   hyper_ = hyper;
-  inputs_ = inputs;
+  dims_ = inputs.cols();
+  const Eigen::Index m = inputs.rows();
   mean_ = heights.mean();
   signal_variance_ = hyper.signal_variance_ratio * HeightVariance(heights);
-  Eigen::MatrixXd k;
-  KernelFromDistances(
-      hyper_, signal_variance_,
-      ScaledSquaredDistances(inputs, inputs, hyper_.length_scales.head(inputs.cols())), &k,
-      nullptr);
-  k.diagonal().array() += hyper_.noise_std_m * hyper_.noise_std_m;
-  const Eigen::LLT<Eigen::MatrixXd> llt(k);
-  if (llt.info() != Eigen::Success) return false;
-  cholesky_ = llt.matrixL();
-  alpha_ = llt.solve((heights.array() - mean_).matrix());
+  inverse_length_scales_ = hyper_.length_scales.head(dims_).cwiseInverse();
+  scaled_inputs_ = (inputs * inverse_length_scales_.asDiagonal()).transpose();
+
+  // the bucket grid over the scaled (x, y): one bucket when every pair counts
+  const double cutoff = CutoffSquaredDistance();
+  bucket_origin_ = scaled_inputs_.topRows<2>().rowwise().minCoeff();
+  const Eigen::Vector2d extent = scaled_inputs_.topRows<2>().rowwise().maxCoeff() - bucket_origin_;
+  bucket_size_ = std::isfinite(cutoff) ? std::sqrt(cutoff) : std::max(1.0, extent.maxCoeff());
+  bucket_count_ = (extent / bucket_size_).array().floor().cast<int>() + 1;
+  std::vector<int> bucket_of(static_cast<std::size_t>(m));
+  bucket_start_.assign(static_cast<std::size_t>(bucket_count_.prod()) + 1, 0);
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const Eigen::Vector2i b = ((scaled_inputs_.col(j).head<2>() - bucket_origin_) / bucket_size_)
+                                  .array()
+                                  .floor()
+                                  .cast<int>()
+                                  .min(bucket_count_.array() - 1);
+    bucket_of[static_cast<std::size_t>(j)] = b.y() * bucket_count_.x() + b.x();
+    ++bucket_start_[static_cast<std::size_t>(bucket_of[static_cast<std::size_t>(j)]) + 1];
+  }
+  for (std::size_t b = 1; b < bucket_start_.size(); ++b) bucket_start_[b] += bucket_start_[b - 1];
+  bucket_points_.resize(static_cast<std::size_t>(m));
+  std::vector<int> fill(bucket_start_.begin(), bucket_start_.end() - 1);
+  for (Eigen::Index j = 0; j < m; ++j)
+    bucket_points_[static_cast<std::size_t>(
+        fill[static_cast<std::size_t>(bucket_of[static_cast<std::size_t>(j)])]++)] =
+        static_cast<int>(j);
+
+  // K_MM + s_n^2 I, lower triangle (the upper is never read)
+  kernel_.setZero(m, m);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    ForNeighbours(scaled_inputs_.col(i).data(), [&](int j, double squared_distance) {
+      if (j >= i) kernel_(j, i) = KernelOf(squared_distance);
+    });
+  }
+  kernel_.diagonal().array() += hyper_.noise_std_m * hyper_.noise_std_m;
+  factor_.compute(kernel_.cast<float>());
+  if (factor_.info() != Eigen::Success) return false;
+
+  // iterative refinement: alpha += K^-1 (y - K alpha), the solve in single precision and the
+  // residual in double; each step gains about -log10(cond(K) * 6e-8) digits
+  constexpr int kRefinementSteps = 3;
+  const Eigen::VectorXd centred = heights.array() - mean_;
+  alpha_.setZero(m);
+  Eigen::VectorXd residual = centred;
+  for (int step = 0; step <= kRefinementSteps; ++step) {
+    alpha_ += factor_.solve(residual.cast<float>()).cast<double>();
+    residual.noalias() = centred - kernel_.selfadjointView<Eigen::Lower>() * alpha_;
+  }
   return alpha_.allFinite();
 }
 
 void SparseGp::PredictVariance(const Eigen::MatrixXd& test_inputs,
                                Eigen::VectorXd* variance) const {
-  Eigen::MatrixXd k_star;
-  KernelFromDistances(
-      hyper_, signal_variance_,
-      ScaledSquaredDistances(test_inputs, inputs_, hyper_.length_scales.head(inputs_.cols())),
-      &k_star, nullptr);
+  const Eigen::Index t_count = test_inputs.rows();
+  cross_kernel_.setZero(scaled_inputs_.cols(), t_count);
+  Eigen::VectorXd query(dims_);
+  for (Eigen::Index t = 0; t < t_count; ++t) {
+    query = test_inputs.row(t).transpose().cwiseProduct(inverse_length_scales_);
+    ForNeighbours(query.data(), [&](int j, double squared_distance) {
+      cross_kernel_(j, t) = static_cast<float>(KernelOf(squared_distance));
+    });
+  }
   // k** - |L^-1 k_M*|^2
-  const Eigen::MatrixXd v = cholesky_.triangularView<Eigen::Lower>().solve(k_star.transpose());
+  factor_.matrixL().solveInPlace(cross_kernel_);
   *variance =
-      (signal_variance_ - v.colwise().squaredNorm().transpose().array()).cwiseMax(0.0).matrix();
+      (signal_variance_ - cross_kernel_.colwise().squaredNorm().transpose().cast<double>().array())
+          .cwiseMax(0.0)
+          .matrix();
 }
 
 void SparseGp::Predict(const Eigen::MatrixXd& test_inputs, Eigen::VectorXd* mean,
                        Eigen::MatrixXd* mean_gradient) const {
-  const Eigen::Index dims = inputs_.cols();
-  const Eigen::VectorXd length_scales = hyper_.length_scales.head(dims);
-  // K_*M in a reused buffer (transformed in place: no temporaries of T x M)
-  const Eigen::MatrixXd as = test_inputs * length_scales.cwiseInverse().asDiagonal();
-  const Eigen::MatrixXd bs = inputs_ * length_scales.cwiseInverse().asDiagonal();
-  kernel_.noalias() = -2.0 * as * bs.transpose();
-  kernel_.colwise() += as.rowwise().squaredNorm();
-  kernel_.rowwise() += bs.rowwise().squaredNorm().transpose();
-  kernel_ = kernel_.cwiseMax(0.0);
-  // right-hand sides [alpha, alpha o z_1, ..., alpha o z_D]: d mean / d u_d =
-  // -(1 / l_d^2) (u_d (G alpha) - G (alpha o z_d)), with G = K for the squared exponential
-  Eigen::MatrixXd rhs(inputs_.rows(), dims + 1);
-  rhs.col(0) = alpha_;
-  for (Eigen::Index d = 0; d < dims; ++d) rhs.col(d + 1) = alpha_.cwiseProduct(inputs_.col(d));
-  Eigen::MatrixXd products;
-  if (hyper_.kernel == KernelType::kSquaredExponential) {
-    // beyond r^2 = 50 (7 length scales) the kernel is below 1.4e-11 s^2: set to 0 without the
-    // exponential, which with short length scales skips most pairs of a 10 m window
-    for (Eigen::Index i = 0; i < kernel_.size(); ++i) {
-      double& entry = kernel_.data()[i];
-      entry = entry < 50.0 ? signal_variance_ * std::exp(-0.5 * entry) : 0.0;
-    }
-    products.noalias() = kernel_ * rhs;
-    *mean = products.col(0).array() + mean_;
-  } else {
-    const Eigen::ArrayXXd base = 1.0 + kernel_.array() / (2.0 * hyper_.rq_alpha);
-    *mean = (signal_variance_ * base.pow(-hyper_.rq_alpha)).matrix() * alpha_;
-    mean->array() += mean_;
-    kernel_ = signal_variance_ * base.pow(-hyper_.rq_alpha - 1.0);  // G
-    products.noalias() = kernel_ * rhs;
-  }
-  mean_gradient->resize(test_inputs.rows(), dims);
-  for (Eigen::Index d = 0; d < dims; ++d) {
-    mean_gradient->col(d) =
-        -(test_inputs.col(d).cwiseProduct(products.col(0)) - products.col(d + 1)) /
-        (length_scales[d] * length_scales[d]);
+  // f* = m + sum_j k_j alpha_j; d f* / d u_d = -(1 / l_d^2) sum_j G_j alpha_j (u_d - z_jd)
+  const Eigen::Index t_count = test_inputs.rows();
+  mean->resize(t_count);
+  mean_gradient->resize(t_count, dims_);
+  const bool squared_exponential = hyper_.kernel == KernelType::kSquaredExponential;  // G = k
+  Eigen::VectorXd query(dims_), gradient(dims_);
+  for (Eigen::Index t = 0; t < t_count; ++t) {
+    query = test_inputs.row(t).transpose().cwiseProduct(inverse_length_scales_);
+    double sum = 0.0;
+    gradient.setZero();
+    ForNeighbours(query.data(), [&](int j, double squared_distance) {
+      const double a = alpha_[j];
+      const double k = KernelOf(squared_distance);
+      sum += k * a;
+      const double g = (squared_exponential ? k : RadialFactorOf(squared_distance)) * a;
+      // scaled difference (u_d - z_jd) / l_d: one more 1 / l_d below
+      for (Eigen::Index d = 0; d < dims_; ++d) gradient[d] -= g * (query[d] - scaled_inputs_(d, j));
+    });
+    (*mean)[t] = mean_ + sum;
+    mean_gradient->row(t) = gradient.cwiseProduct(inverse_length_scales_).transpose();
   }
 }
 

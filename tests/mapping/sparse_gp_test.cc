@@ -92,6 +92,48 @@ TEST(SparseGpTest, MeanGradientMatchesFiniteDifferences) {
   }
 }
 
+// The compact-support and mixed-precision shortcuts against the textbook equations in double
+// precision on dense matrices: length scales short enough that most pairs fall beyond the cutoff.
+TEST(SparseGpTest, MatchesTheDenseDoublePrecisionEquations) {
+  Eigen::MatrixXd inputs;
+  Eigen::VectorXd heights;
+  MakeData(300, 4, &inputs, &heights);
+  Eigen::MatrixXd test(50, 4);
+  common::Random random(11);
+  for (Eigen::Index i = 0; i < test.size(); ++i) test.data()[i] = random.Uniform(-1.1, 1.1);
+  for (KernelType kernel : {KernelType::kSquaredExponential, KernelType::kRationalQuadratic}) {
+    GpHyperparameters hyper = Hyper(kernel);
+    hyper.length_scales = Eigen::Vector4d(0.08, 0.1, 2.0, 2.0);
+    hyper.noise_std_m = 0.03;
+    SparseGp dut;
+    ASSERT_TRUE(dut.Fit(inputs, heights, hyper));
+    Eigen::VectorXd mean, variance;
+    Eigen::MatrixXd gradient;
+    dut.Predict(test, &mean, &gradient);
+    dut.PredictVariance(test, &variance);
+
+    const double s2 = dut.prior_variance();
+    auto k = [&](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+      Eigen::MatrixXd out(a.rows(), b.rows());
+      for (Eigen::Index i = 0; i < a.rows(); ++i)
+        for (Eigen::Index j = 0; j < b.rows(); ++j)
+          out(i, j) = SparseGp::Kernel(hyper, s2, a.row(i), b.row(j));
+      return out;
+    };
+    Eigen::MatrixXd k_mm = k(inputs, inputs);
+    k_mm.diagonal().array() += hyper.noise_std_m * hyper.noise_std_m;
+    const Eigen::LLT<Eigen::MatrixXd> llt(k_mm);
+    const Eigen::MatrixXd k_tm = k(test, inputs);
+    const Eigen::VectorXd expected_mean =
+        (k_tm * llt.solve((heights.array() - heights.mean()).matrix())).array() + heights.mean();
+    const Eigen::VectorXd expected_variance =
+        s2 - (k_tm * llt.solve(k_tm.transpose())).diagonal().array();
+    EXPECT_LT((mean - expected_mean).cwiseAbs().maxCoeff(), 1e-9) << static_cast<int>(kernel);
+    EXPECT_LT((variance - expected_variance).cwiseAbs().maxCoeff(), 1e-5 * s2)
+        << static_cast<int>(kernel);
+  }
+}
+
 TEST(SparseGpTest, InterpolatesASmoothSurfaceWithinABound) {
   // z = 0.3 sin(x) cos(0.5 y) sampled on 300 points over 6 x 6 m, predicted on a grid
   common::Random random(5);
