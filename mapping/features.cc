@@ -73,9 +73,10 @@ TrainingSet ExtractTrainingSet(const Eigen::Matrix3Xf& points_W, const FsgpConfi
       covariance += d * d.transpose();
     }
     covariance /= std::max(1, k - 1);
-    const Eigen::Vector3d eigenvalues =
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance, Eigen::EigenvaluesOnly)
-            .eigenvalues();
+    // closed form (Eigen's computeDirect): a 3 x 3 needs no QR iterations
+    const Eigen::Vector3d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>()
+                                            .computeDirect(covariance, Eigen::EigenvaluesOnly)
+                                            .eigenvalues();
     all.curvature[i] = std::max(0.0, eigenvalues[0]) / (eigenvalues.sum() + 1e-6);
     all.gradient[i] = height_differences / k;
   }

@@ -5,6 +5,10 @@
 #include <cmath>
 #include <limits>
 
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
+
 #include <Eigen/Cholesky>
 
 namespace trav::mapping {
@@ -34,6 +38,25 @@ void KernelFromDistances(const GpHyperparameters& hyper, double signal_variance,
   *k = (signal_variance * base.pow(-hyper.rq_alpha)).matrix();
   if (g != nullptr) *g = (signal_variance * base.pow(-hyper.rq_alpha - 1.0)).matrix();
 }
+
+// Flushes single-precision denormals to zero while alive (x86 MXCSR FTZ and DAZ), restoring the
+// caller's mode after. The Cholesky factor of a compact-support kernel matrix fills in with
+// entries that underflow float's normal range; computing on them as denormals made the
+// factorisation 2.5 times slower. Values that small (< 1.2e-38) are zeros at this precision.
+class FlushDenormalsToZero {
+ public:
+#if defined(__SSE2__)
+  FlushDenormalsToZero() : saved_(_mm_getcsr()) {
+    _mm_setcsr(saved_ | kFlushToZero | kDenormalsAreZero);
+  }
+  ~FlushDenormalsToZero() { _mm_setcsr(saved_); }
+
+ private:
+  static constexpr unsigned kFlushToZero = 0x8000;
+  static constexpr unsigned kDenormalsAreZero = 0x0040;
+  unsigned saved_;
+#endif
+};
 
 double HeightVariance(const Eigen::VectorXd& heights) {
   const double mean = heights.mean();
@@ -142,6 +165,7 @@ bool SparseGp::Fit(const Eigen::MatrixXd& inputs, const Eigen::VectorXd& heights
     });
   }
   kernel_.diagonal().array() += hyper_.noise_std_m * hyper_.noise_std_m;
+  const FlushDenormalsToZero flush;
   factor_.compute(kernel_.cast<float>());
   if (factor_.info() != Eigen::Success) return false;
 
@@ -170,6 +194,7 @@ void SparseGp::PredictVariance(const Eigen::MatrixXd& test_inputs,
     });
   }
   // k** - |L^-1 k_M*|^2
+  const FlushDenormalsToZero flush;
   factor_.matrixL().solveInPlace(cross_kernel_);
   *variance =
       (signal_variance_ - cross_kernel_.colwise().squaredNorm().transpose().cast<double>().array())

@@ -27,6 +27,7 @@
 #include "scenarios/scenario.h"
 #include "scenarios/scenario_run.h"
 #include "sim/terrain.h"
+#include "sim/terrain_geometry.h"
 
 namespace trav::scenarios {
 namespace {
@@ -239,7 +240,7 @@ common::GridLayers DrawRoute(Scenario* scene, double length_m, std::uint64_t see
     scene->goal_W = half;
     const sim::TerrainWorld world =
         sim::GenerateTerrain(scene->terrain, {scene->start_W.position, scene->goal_W});
-    common::GridLayers truth_W = WorldGroundTruth(*scene, world);
+    common::GridLayers truth_W = WorldGroundTruth(*scene, world, sim::ObstacleHeightGrid(world));
     if (OptimalPathLength(*scene, truth_W) > 0.0) return truth_W;
   }
   throw std::runtime_error("no route of " + std::to_string(length_m) + " m with a path on the " +

@@ -241,11 +241,11 @@ double MillisecondsSince(std::chrono::steady_clock::time_point start) {
 }  // namespace
 
 std::vector<sim::MovingObstacle> ScenarioMovers(const Scenario& scenario,
-                                                const sim::TerrainWorld& world) {
+                                                const sim::TerrainWorld& world,
+                                                const Eigen::MatrixXf& obstacle_heights) {
   std::vector<sim::MovingObstacle> movers = scenario.movers;
   if (scenario.traffic.count == 0) return movers;
   // free: no obstacle surface on the world's height grid within the disc
-  const Eigen::MatrixXf obstacles = sim::ObstacleHeightGrid(world);
   const common::GridGeometry& g = world.geometry;
   auto free = [&](const Eigen::Vector2d& centre_W, double radius_m) {
     const int reach = static_cast<int>(std::ceil(radius_m / g.resolution_m));
@@ -254,7 +254,7 @@ std::vector<sim::MovingObstacle> ScenarioMovers(const Scenario& scenario,
     for (int ix = centre->x() - reach; ix <= centre->x() + reach; ++ix) {
       for (int iy = centre->y() - reach; iy <= centre->y() + reach; ++iy) {
         if (!g.Contains(ix, iy) || (g.CellCenter(ix, iy) - centre_W).norm() > radius_m) continue;
-        if (obstacles(ix, iy) > 0.0f) return false;
+        if (obstacle_heights(ix, iy) > 0.0f) return false;
       }
     }
     return true;
@@ -265,12 +265,12 @@ std::vector<sim::MovingObstacle> ScenarioMovers(const Scenario& scenario,
   return movers;
 }
 
-common::GridLayers WorldGroundTruth(const Scenario& scenario, const sim::TerrainWorld& world) {
+common::GridLayers WorldGroundTruth(const Scenario& scenario, const sim::TerrainWorld& world,
+                                    const Eigen::MatrixXf& obstacle_heights) {
   const common::GridGeometry geometry = common::GridGeometry::Centered(
       world.geometry.Center(), world.geometry.Extent(), scenario.mapping.area.resolution_m);
-  return mapping::ComputeGroundTruth(geometry, world.geometry, world.height_m,
-                                     sim::ObstacleHeightGrid(world), scenario.mapping,
-                                     scenario.ground_truth);
+  return mapping::ComputeGroundTruth(geometry, world.geometry, world.height_m, obstacle_heights,
+                                     scenario.mapping, scenario.ground_truth);
 }
 
 double OptimalPathLength(const Scenario& scenario, const common::GridLayers& truth) {
@@ -314,7 +314,15 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   options.robot_model_path = robot_model_path;
   options.timestep_s = scenario.physics_timestep_s;
   options.ground_friction = scenario.ground_friction;
-  const std::vector<sim::MovingObstacle> movers = ScenarioMovers(scenario, world);
+  // the world's obstacle heights, computed once when first needed (traffic, ground truth)
+  std::optional<Eigen::MatrixXf> obstacle_heights_cache;
+  auto obstacle_heights = [&]() -> const Eigen::MatrixXf& {
+    if (!obstacle_heights_cache) obstacle_heights_cache = sim::ObstacleHeightGrid(world);
+    return *obstacle_heights_cache;
+  };
+  const std::vector<sim::MovingObstacle> movers =
+      scenario.traffic.count > 0 ? ScenarioMovers(scenario, world, obstacle_heights())
+                                 : scenario.movers;
   sim::Simulation simulation(world, start_W, options, movers);
   SocialForceCrowd crowd(movers);
 
@@ -352,6 +360,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   std::unique_ptr<mapping::TraversabilityMapper> mapper;
   if (lidar && scenario.mapping_enabled && !oracle) mapper = MakeMapper(scenario);
   std::vector<double> mapping_ms;
+  std::vector<mapping::MapUpdateResult> map_updates;
   ModuleTimes times;
 
   // the closed loop: the ground truth for the oracle and the metrics, the navigator on the map
@@ -363,7 +372,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   std::optional<ProgressMonitor> progress_monitor;
   std::ofstream timeseries;
   if (navigate) {
-    truth_W = WorldGroundTruth(scenario, world);
+    truth_W = WorldGroundTruth(scenario, world, obstacle_heights());
     navigation.optimal_path_length_m = OptimalPathLength(scenario, *truth_W);
     navigator.emplace(scenario.navigation, scenario.planner, scenario.mpc, scenario.goal_W);
     progress_monitor.emplace(scenario.navigation.stuck_time_s,
@@ -588,7 +597,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
            pending_frames.front().ready_s <= simulation.time() + 1e-9) {
       const PendingFrame& pending = pending_frames.front();
       const auto map_start = std::chrono::steady_clock::now();
-      mapper->Update(pending.cloud_W, pending.X_WB, pending.scan_time_s);
+      map_updates.push_back(mapper->Update(pending.cloud_W, pending.X_WB, pending.scan_time_s));
       mapping_ms.push_back(MillisecondsSince(map_start));
       times.Add("mapping", mapping_ms.back());
       pending_frames.pop_front();
@@ -795,11 +804,25 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
     std::sort(mapping_ms.begin(), mapping_ms.end());
     summary.mapping_ms_median = mapping_ms[mapping_ms.size() / 2];
     summary.mapping_ms_max = mapping_ms.back();
+    auto median_of = [&](auto field) {
+      std::vector<double> values;
+      for (const mapping::MapUpdateResult& update : map_updates) values.push_back(field(update));
+      return Quantile(std::move(values), 0.5);
+    };
+    summary.mapping_stage_ms_median = {
+        {"crop", median_of([](const auto& u) { return u.times.crop; })},
+        {"features", median_of([](const auto& u) { return u.times.features; })},
+        {"fit", median_of([](const auto& u) { return u.times.fit; })},
+        {"predict", median_of([](const auto& u) { return u.times.predict; })},
+        {"fusion", median_of([](const auto& u) { return u.times.fusion; })},
+        {"smoothing", median_of([](const auto& u) { return u.times.smoothing; })}};
+    summary.mapping_training_points_median = static_cast<int>(
+        median_of([](const auto& u) { return static_cast<double>(u.training_points); }));
     // the final map against the ground truth on the same cells
     const common::GridLayers& map = mapper->map();
-    const common::GridLayers truth = mapping::ComputeGroundTruth(
-        map.geometry(), world.geometry, world.height_m, sim::ObstacleHeightGrid(world),
-        scenario.mapping, scenario.ground_truth);
+    const common::GridLayers truth =
+        mapping::ComputeGroundTruth(map.geometry(), world.geometry, world.height_m,
+                                    obstacle_heights(), scenario.mapping, scenario.ground_truth);
     const Eigen::MatrixXf& predicted = map.Layer(mapping::layers::kTraversability);
     const Eigen::MatrixXf& expected = truth.Layer(mapping::layers::kTraversability);
     const LayerError error = CompareLayers(predicted, expected);
@@ -845,6 +868,8 @@ std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
                        {"updates", summary.mapping_updates},
                        {"update_ms_median", summary.mapping_ms_median},
                        {"update_ms_max", summary.mapping_ms_max},
+                       {"stage_ms_median", summary.mapping_stage_ms_median},
+                       {"training_points_median", summary.mapping_training_points_median},
                        {"known_cells", summary.mapping_known_cells},
                        {"mean_error", summary.mapping_mean_error},
                        {"error_variance", summary.mapping_error_variance}};

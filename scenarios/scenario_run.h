@@ -81,6 +81,10 @@ struct RunSummary {
   int mapping_updates{0};
   double mapping_ms_median{0.0};
   double mapping_ms_max{0.0};
+  /// Median time per mapper stage [ms] ({crop, features, fit, predict, fusion, smoothing}) and the
+  /// median number of training points per update.
+  nlohmann::json mapping_stage_ms_median = nlohmann::json::object();
+  int mapping_training_points_median{0};
   int mapping_known_cells{0};
   double mapping_mean_error{0.0};               ///< mean |traversability - ground truth|
   double mapping_error_variance{0.0};           ///< variance of |traversability - ground truth|
@@ -122,17 +126,21 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
                        const std::string& output_dir, const RunOptions& options = {},
                        const ProgressCallback& progress = {});
 
-/// The ground-truth traversability of the whole world at the scenario's mapping resolution.
-common::GridLayers WorldGroundTruth(const Scenario& scenario, const sim::TerrainWorld& world);
+/// The ground-truth traversability of the whole world at the scenario's mapping resolution, from
+/// the world's obstacle heights (sim::ObstacleHeightGrid).
+common::GridLayers WorldGroundTruth(const Scenario& scenario, const sim::TerrainWorld& world,
+                                    const Eigen::MatrixXf& obstacle_heights);
 
 /// Length of the simplified A* path (the scenario's search settings) from the scenario's start to
 /// its goal on the ground truth `truth_W` [m]; 0 if there is none.
 double OptimalPathLength(const Scenario& scenario, const common::GridLayers& truth_W);
 
 /// The moving obstacles of a run: the scenario's `moving_obstacles`, then its `traffic` spawned for
-/// its route clear of the world's static obstacles (SpawnTraffic).
+/// its route clear of the world's static obstacles (`obstacle_heights`, sim::ObstacleHeightGrid;
+/// SpawnTraffic).
 std::vector<sim::MovingObstacle> ScenarioMovers(const Scenario& scenario,
-                                                const sim::TerrainWorld& world);
+                                                const sim::TerrainWorld& world,
+                                                const Eigen::MatrixXf& obstacle_heights);
 
 /// Absolute path of the robot model of `scenario` (robot.model in `models_dir` unless absolute).
 std::string RobotModelPath(const Scenario& scenario, const std::string& models_dir);

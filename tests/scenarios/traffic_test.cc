@@ -141,10 +141,10 @@ TEST(TrafficTest, ARunAddsItsTrafficClearOfTheWorldsObstacles) {
   EXPECT_EQ(scenario.movers.size(), 1u);  // the file's own; traffic comes with the world
   const sim::TerrainWorld world =
       sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W});
-  const std::vector<sim::MovingObstacle> movers = ScenarioMovers(scenario, world);
+  const Eigen::MatrixXf obstacles = sim::ObstacleHeightGrid(world);
+  const std::vector<sim::MovingObstacle> movers = ScenarioMovers(scenario, world, obstacles);
   ASSERT_GE(movers.size(), 2u);
   EXPECT_EQ(movers[0].name, "cart");
-  const Eigen::MatrixXf obstacles = sim::ObstacleHeightGrid(world);
   for (std::size_t k = 1; k < movers.size(); ++k) {
     const auto& walk = std::get<sim::RandomWalkMotion>(movers[k].motion);
     for (int ix = 0; ix < world.geometry.num_x; ++ix) {
@@ -159,7 +159,7 @@ TEST(TrafficTest, ARunAddsItsTrafficClearOfTheWorldsObstacles) {
   // the resolved scenario keeps the settings: a replay spawns the same movers
   const Scenario replayed =
       LoadScenario(common::YamlDocument::Parse(ResolvedScenarioYaml(scenario), "resolved.yaml"));
-  const std::vector<sim::MovingObstacle> again = ScenarioMovers(replayed, world);
+  const std::vector<sim::MovingObstacle> again = ScenarioMovers(replayed, world, obstacles);
   ASSERT_EQ(again.size(), movers.size());
   EXPECT_EQ(std::get<sim::RandomWalkMotion>(again.back().motion).area_centre_W,
             std::get<sim::RandomWalkMotion>(movers.back().motion).area_centre_W);
