@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <unordered_map>
 #include <vector>
 
@@ -129,23 +130,27 @@ TrainingSet ExtractTrainingSet(const Eigen::Matrix3Xf& points_W, const FsgpConfi
 }
 
 void InverseDistanceWeights(const Eigen::Matrix3Xd& training_W, const Eigen::Matrix2Xd& queries_W,
-                            int k, Eigen::MatrixXi* indices, Eigen::MatrixXd* weights,
-                            Eigen::VectorXd* nearest_m) {
+                            int k, double support_radius_m, Eigen::MatrixXi* indices,
+                            Eigen::MatrixXd* weights, Eigen::VectorXd* nearest_m) {
   // the training points in square buckets of about two points each; a query searches rings of
   // buckets outwards until the ring cannot hold anything closer than its K-th neighbour (a kd-tree
   // costs more to build and query at a few hundred points)
   const Eigen::Index m = training_W.cols();
   const int kk = static_cast<int>(std::min<Eigen::Index>(k, m));
-  indices->resize(kk, queries_W.cols());
-  weights->resize(kk, queries_W.cols());
-  nearest_m->resize(queries_W.cols());
+  indices->setConstant(kk, queries_W.cols(), -1);
+  weights->setZero(kk, queries_W.cols());
+  nearest_m->setConstant(queries_W.cols(), std::numeric_limits<double>::infinity());
+  if (kk == 0) return;
   const Eigen::Vector2d low = training_W.topRows<2>().rowwise().minCoeff();
   const Eigen::Vector2d high = training_W.topRows<2>().rowwise().maxCoeff();
   const Eigen::Vector2d extent = (high - low).cwiseMax(1e-3);
   const double bucket = std::max(1e-3, std::sqrt(2.0 * extent.prod() / static_cast<double>(m)));
   const int nx = static_cast<int>(extent.x() / bucket) + 1;
   const int ny = static_cast<int>(extent.y() / bucket) + 1;
-  std::vector<std::vector<int>> buckets(static_cast<std::size_t>(nx) * ny);
+  // compressed buckets: the points of bucket b are order[start[b] .. start[b + 1])
+  std::vector<int> start(static_cast<std::size_t>(nx) * ny + 1, 0),
+      order(static_cast<std::size_t>(m));
+  std::vector<int> bucket_of_point(static_cast<std::size_t>(m));
   auto bucket_of = [&](double x, double y) {
     const int bx = std::clamp(static_cast<int>((x - low.x()) / bucket), 0, nx - 1);
     const int by = std::clamp(static_cast<int>((y - low.y()) / bucket), 0, ny - 1);
@@ -153,9 +158,31 @@ void InverseDistanceWeights(const Eigen::Matrix3Xd& training_W, const Eigen::Mat
   };
   for (Eigen::Index j = 0; j < m; ++j) {
     const auto [bx, by] = bucket_of(training_W(0, j), training_W(1, j));
-    buckets[static_cast<std::size_t>(by) * nx + bx].push_back(static_cast<int>(j));
+    bucket_of_point[static_cast<std::size_t>(j)] = by * nx + bx;
+    ++start[static_cast<std::size_t>(by * nx + bx) + 1];
   }
-  std::vector<std::pair<double, int>> found;  // (distance, index), sorted, at most kk
+  for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (Eigen::Index j = 0; j < m; ++j)
+    order[static_cast<std::size_t>(
+        fill[static_cast<std::size_t>(bucket_of_point[static_cast<std::size_t>(j)])]++)] =
+        static_cast<int>(j);
+
+  // the kk nearest so far, sorted by (distance, index)
+  std::vector<std::pair<double, int>> found;
+  found.reserve(static_cast<std::size_t>(kk) + 1);
+  auto visit_bucket = [&](int bx, int by, const Eigen::Vector2d& p) {
+    if (bx < 0 || by < 0 || bx >= nx || by >= ny) return;
+    const int b = by * nx + bx;
+    for (int s = start[static_cast<std::size_t>(b)]; s < start[static_cast<std::size_t>(b) + 1];
+         ++s) {
+      const int j = order[static_cast<std::size_t>(s)];
+      const std::pair<double, int> candidate((training_W.col(j).head<2>() - p).norm(), j);
+      if (static_cast<int>(found.size()) == kk && !(candidate < found.back())) continue;
+      found.insert(std::upper_bound(found.begin(), found.end(), candidate), candidate);
+      if (static_cast<int>(found.size()) > kk) found.pop_back();
+    }
+  };
   for (Eigen::Index q = 0; q < queries_W.cols(); ++q) {
     const Eigen::Vector2d p = queries_W.col(q);
     const auto [qx, qy] = bucket_of(p.x(), p.y());
@@ -167,25 +194,27 @@ void InverseDistanceWeights(const Eigen::Matrix3Xd& training_W, const Eigen::Mat
     const double inside = std::max(0.0, std::min(inside_x, inside_y));
     found.clear();
     for (int ring = 0;; ++ring) {
-      for (int by = qy - ring; by <= qy + ring; ++by) {
+      if (ring == 0) {
+        visit_bucket(qx, qy, p);
+      } else {  // the ring's perimeter: top and bottom rows, then the sides between them
         for (int bx = qx - ring; bx <= qx + ring; ++bx) {
-          if (std::max(std::abs(bx - qx), std::abs(by - qy)) != ring) continue;  // the ring only
-          if (bx < 0 || by < 0 || bx >= nx || by >= ny) continue;
-          for (int j : buckets[static_cast<std::size_t>(by) * nx + bx]) {
-            const double d = (training_W.col(j).head<2>() - p).norm();
-            if (static_cast<int>(found.size()) == kk && d >= found.back().first) continue;
-            found.insert(std::upper_bound(found.begin(), found.end(), std::make_pair(d, j)),
-                         {d, j});
-            if (static_cast<int>(found.size()) > kk) found.pop_back();
-          }
+          visit_bucket(bx, qy - ring, p);
+          visit_bucket(bx, qy + ring, p);
+        }
+        for (int by = qy - ring + 1; by <= qy + ring - 1; ++by) {
+          visit_bucket(qx - ring, by, p);
+          visit_bucket(qx + ring, by, p);
         }
       }
-      // every point beyond this ring is at least `inside + ring * bucket` away
+      // every point beyond this ring is at least `reach` away
+      const double reach = inside + ring * bucket;
       const bool covered = ring >= nx + ny;
-      if (covered ||
-          (static_cast<int>(found.size()) == kk && found.back().first <= inside + ring * bucket))
-        break;
+      const bool complete = static_cast<int>(found.size()) == kk && found.back().first <= reach;
+      const bool unsupported =
+          reach > support_radius_m && (found.empty() || found.front().first > support_radius_m);
+      if (covered || complete || unsupported) break;
     }
+    if (found.empty() || found.front().first > support_radius_m) continue;
     double total = 0.0;
     for (int j = 0; j < kk; ++j) {
       (*indices)(j, q) = found[static_cast<std::size_t>(j)].second;

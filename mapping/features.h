@@ -28,9 +28,11 @@ TrainingSet ExtractTrainingSet(const Eigen::Matrix3Xf& points_W, const FsgpConfi
 
 /// Inverse-distance weights (1 / (d + 1e-6), normalised) of the K nearest training points in
 /// (x, y) for every query, with the distance to the nearest (buckets searched ring by ring; ties go
-/// to the lower index).
+/// to the lower index). A query with no training point within `support_radius_m` gets nearest
+/// +infinity, indices -1 and weights 0: its search stops at that radius, which spares the empty
+/// parts of a window a search across it.
 void InverseDistanceWeights(const Eigen::Matrix3Xd& training_W, const Eigen::Matrix2Xd& queries_W,
-                            int k, Eigen::MatrixXi* indices, Eigen::MatrixXd* weights,
-                            Eigen::VectorXd* nearest_m);
+                            int k, double support_radius_m, Eigen::MatrixXi* indices,
+                            Eigen::MatrixXd* weights, Eigen::VectorXd* nearest_m);
 
 }  // namespace trav::mapping

@@ -162,8 +162,8 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   Eigen::MatrixXi idw_indices;
   Eigen::MatrixXd idw_weights;
   Eigen::VectorXd nearest;
-  InverseDistanceWeights(training.points_W, cells, config_.idw_neighbours, &idw_indices,
-                         &idw_weights, &nearest);
+  InverseDistanceWeights(training.points_W, cells, config_.idw_neighbours, config_.support_radius_m,
+                         &idw_indices, &idw_weights, &nearest);
   std::vector<Eigen::Index> supported;
   for (Eigen::Index c = 0; c < cells.cols(); ++c) {
     if (nearest[c] <= config_.support_radius_m) supported.push_back(c);

@@ -57,7 +57,15 @@ TEST(FeaturesTest, InverseDistanceWeightsMatchABruteForceSearch) {
   Eigen::MatrixXi indices;
   Eigen::MatrixXd weights;
   Eigen::VectorXd nearest;
-  InverseDistanceWeights(training, queries, 5, &indices, &weights, &nearest);
+  InverseDistanceWeights(training, queries, 5, std::numeric_limits<double>::infinity(), &indices,
+                         &weights, &nearest);
+  Eigen::MatrixXi supported_indices;
+  Eigen::MatrixXd supported_weights;
+  Eigen::VectorXd supported_nearest;
+  const double support_radius_m = 0.8;
+  InverseDistanceWeights(training, queries, 5, support_radius_m, &supported_indices,
+                         &supported_weights, &supported_nearest);
+  int unsupported = 0;
   for (int q = 0; q < 200; ++q) {
     std::vector<std::pair<double, int>> all;
     for (int j = 0; j < 300; ++j)
@@ -68,7 +76,19 @@ TEST(FeaturesTest, InverseDistanceWeightsMatchABruteForceSearch) {
     EXPECT_DOUBLE_EQ(nearest[q], all[0].first);
     EXPECT_NEAR(weights.col(q).sum(), 1.0, 1e-12);
     EXPECT_GT(weights(0, q), weights(4, q));
+    // with a support radius: the same answer within it, none beyond
+    if (all[0].first <= support_radius_m) {
+      EXPECT_EQ(supported_indices.col(q), indices.col(q)) << "query " << q;
+      EXPECT_EQ(supported_weights.col(q), weights.col(q)) << "query " << q;
+      EXPECT_EQ(supported_nearest[q], nearest[q]);
+    } else {
+      ++unsupported;
+      EXPECT_EQ(supported_nearest[q], std::numeric_limits<double>::infinity()) << "query " << q;
+      EXPECT_TRUE((supported_indices.col(q).array() == -1).all()) << "query " << q;
+      EXPECT_TRUE((supported_weights.col(q).array() == 0.0).all()) << "query " << q;
+    }
   }
+  EXPECT_GT(unsupported, 40);  // the queries reach 2 m beyond the training points
 }
 
 TEST(CropWindowTest, KeepsTheWindowAndOnlyTheFootOfTallStructures) {
