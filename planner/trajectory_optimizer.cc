@@ -374,6 +374,8 @@ void ValidateTrajectoryOptimizerConfig(const TrajectoryOptimizerConfig& c) {
     RequireValue(value >= 0.0, key + name, value, "must be >= 0");
   }
   RequireValue(c.clearance_m >= 0.0, key + "clearance", c.clearance_m, "must be >= 0");
+  RequireValue(c.min_clearance_m >= 0.0 && c.min_clearance_m <= c.clearance_m,
+               key + "min_clearance", c.min_clearance_m, "must be in [0, clearance]");
   RequireValue(c.robot_radius_m > 0.0, key + "robot_radius", c.robot_radius_m, "must be > 0");
   RequireValue(c.obstacle_clearance_m >= 0.0, key + "obstacle_clearance", c.obstacle_clearance_m,
                "must be >= 0");
@@ -456,11 +458,19 @@ OptimizedTrajectory TrajectoryOptimizer::Optimize(const CostField& field,
     iterations = out.diagnostics.iterations;
     evaluations = out.diagnostics.evaluations;
   }
-  if (!warm || out.status == OptimizationStatus::kInfeasible) {
+  auto solve_cold = [&] {
     out = Solve(config_, field, request, setup, ColdGuess(config_, request), &solution.polynomial,
                 &solution.lambda);
     out.diagnostics.iterations += iterations;
     out.diagnostics.evaluations += evaluations;
+    iterations = out.diagnostics.iterations;
+    evaluations = out.diagnostics.evaluations;
+  };
+  if (!warm || out.status == OptimizationStatus::kInfeasible) solve_cold();
+  if (out.status == OptimizationStatus::kInfeasible &&
+      setup.clearance_m > config_.min_clearance_m) {
+    setup.clearance_m = config_.min_clearance_m;
+    solve_cold();
   }
   previous_ = std::move(solution);
   out.diagnostics.solve_time_s =

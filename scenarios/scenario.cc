@@ -445,6 +445,7 @@ void VisitScenario(Archive& a, Scenario& s) {
       k.Field("clearance_weight", &o.weights.clearance);
       k.Field("moving_obstacles_weight", &o.weights.moving_obstacles);
       k.Field("clearance", &o.clearance_m);
+      k.Field("min_clearance", &o.min_clearance_m);
       k.Field("robot_radius", &o.robot_radius_m);
       k.Field("obstacle_clearance", &o.obstacle_clearance_m);
       k.Field("clearance_growth", &o.clearance_growth_m_s);

@@ -90,6 +90,31 @@ TEST(TrajectoryOptimizerTest, KeepsClearOfLethalCellsAlongTheGuide) {
   EXPECT_LE(e.a, 1.05 * config.limits.max_acceleration_m_s2);
 }
 
+TEST(TrajectoryOptimizerTest, AGapNarrowerThanTheClearanceIsPassedAtTheMinimumClearance) {
+  // walls across x in [4, 5] leave a 0.7 m gap around y = 0: 0.5 m of clearance cannot be kept
+  // in it, 0.2 m can
+  common::GridLayers map = FlatMap();
+  Paint(&map, 1.0f, [](const Eigen::Vector2d& p) {
+    return p.x() >= 4 && p.x() <= 5 && std::abs(p.y()) > 0.35;
+  });
+  const CostField field(map, CostMapConfig{});
+  TrajectoryOptimizerConfig config;
+  config.clearance_m = 0.5;
+  config.min_clearance_m = 0.5;
+  TrajectoryRequest request = StraightRequest();
+  request.guide_W = {{0, 0}, {10, 0}};
+  EXPECT_EQ(TrajectoryOptimizer(config).Optimize(field, request).status,
+            OptimizationStatus::kInfeasible);
+
+  config.min_clearance_m = 0.2;
+  const OptimizedTrajectory out = TrajectoryOptimizer(config).Optimize(field, request);
+  ASSERT_NE(out.status, OptimizationStatus::kInfeasible) << out.diagnostics.worst_constraint;
+  EXPECT_EQ(out.diagnostics.clearance_m, 0.2);
+  EXPECT_GE(out.diagnostics.min_clearance_m, 0.95 * 0.2);
+  EXPECT_LE((out.trajectory.points().back().position_W - request.goal_W).norm(),
+            10.0 * config.terminal_tolerance_m);
+}
+
 TEST(TrajectoryOptimizerTest, AMoverCrossingThePathIsGivenItsClearanceAtEveryTime) {
   const common::GridLayers map = FlatMap();
   const CostField field(map, CostMapConfig{});
