@@ -13,6 +13,8 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include "mapping/bucket_grid.h"
+
 namespace trav::mapping {
 namespace {
 
@@ -141,51 +143,30 @@ void InverseDistanceWeights(const Eigen::Matrix3Xd& training_W, const Eigen::Mat
   weights->setZero(kk, queries_W.cols());
   nearest_m->setConstant(queries_W.cols(), std::numeric_limits<double>::infinity());
   if (kk == 0) return;
-  const Eigen::Vector2d low = training_W.topRows<2>().rowwise().minCoeff();
-  const Eigen::Vector2d high = training_W.topRows<2>().rowwise().maxCoeff();
-  const Eigen::Vector2d extent = (high - low).cwiseMax(1e-3);
-  const double bucket = std::max(1e-3, std::sqrt(2.0 * extent.prod() / static_cast<double>(m)));
-  const int nx = static_cast<int>(extent.x() / bucket) + 1;
-  const int ny = static_cast<int>(extent.y() / bucket) + 1;
-  // compressed buckets: the points of bucket b are order[start[b] .. start[b + 1])
-  std::vector<int> start(static_cast<std::size_t>(nx) * ny + 1, 0),
-      order(static_cast<std::size_t>(m));
-  std::vector<int> bucket_of_point(static_cast<std::size_t>(m));
-  auto bucket_of = [&](double x, double y) {
-    const int bx = std::clamp(static_cast<int>((x - low.x()) / bucket), 0, nx - 1);
-    const int by = std::clamp(static_cast<int>((y - low.y()) / bucket), 0, ny - 1);
-    return std::pair<int, int>(bx, by);
-  };
-  for (Eigen::Index j = 0; j < m; ++j) {
-    const auto [bx, by] = bucket_of(training_W(0, j), training_W(1, j));
-    bucket_of_point[static_cast<std::size_t>(j)] = by * nx + bx;
-    ++start[static_cast<std::size_t>(by * nx + bx) + 1];
-  }
-  for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
-  std::vector<int> fill(start.begin(), start.end() - 1);
-  for (Eigen::Index j = 0; j < m; ++j)
-    order[static_cast<std::size_t>(
-        fill[static_cast<std::size_t>(bucket_of_point[static_cast<std::size_t>(j)])]++)] =
-        static_cast<int>(j);
+  const Eigen::Matrix2Xd training_xy = training_W.topRows<2>();
+  const Eigen::Vector2d extent =
+      (training_xy.rowwise().maxCoeff() - training_xy.rowwise().minCoeff()).cwiseMax(1e-3);
+  const BucketGrid buckets(training_xy,
+                           std::max(1e-3, std::sqrt(2.0 * extent.prod() / static_cast<double>(m))));
+  const double bucket = buckets.bucket_size();
+  const Eigen::Vector2d& low = buckets.origin();
+  const int max_ring = buckets.count().sum();  // rings beyond this hold nothing
 
   // the kk nearest so far, sorted by (distance, index)
   std::vector<std::pair<double, int>> found;
   found.reserve(static_cast<std::size_t>(kk) + 1);
   auto visit_bucket = [&](int bx, int by, const Eigen::Vector2d& p) {
-    if (bx < 0 || by < 0 || bx >= nx || by >= ny) return;
-    const int b = by * nx + bx;
-    for (int s = start[static_cast<std::size_t>(b)]; s < start[static_cast<std::size_t>(b) + 1];
-         ++s) {
-      const int j = order[static_cast<std::size_t>(s)];
-      const std::pair<double, int> candidate((training_W.col(j).head<2>() - p).norm(), j);
-      if (static_cast<int>(found.size()) == kk && !(candidate < found.back())) continue;
+    buckets.ForPointsIn(Eigen::Vector2i(bx, by), [&](int j) {
+      const std::pair<double, int> candidate((training_xy.col(j) - p).norm(), j);
+      if (static_cast<int>(found.size()) == kk && !(candidate < found.back())) return;
       found.insert(std::upper_bound(found.begin(), found.end(), candidate), candidate);
       if (static_cast<int>(found.size()) > kk) found.pop_back();
-    }
+    });
   };
   for (Eigen::Index q = 0; q < queries_W.cols(); ++q) {
     const Eigen::Vector2d p = queries_W.col(q);
-    const auto [qx, qy] = bucket_of(p.x(), p.y());
+    const Eigen::Vector2i centre = buckets.BucketOf(p);
+    const int qx = centre.x(), qy = centre.y();
     // distance from the query to the outside of its bucket neighbourhood of `ring` rings
     const double inside_x =
         std::min(p.x() - (low.x() + qx * bucket), low.x() + (qx + 1) * bucket - p.x());
@@ -208,7 +189,7 @@ void InverseDistanceWeights(const Eigen::Matrix3Xd& training_W, const Eigen::Mat
       }
       // every point beyond this ring is at least `reach` away
       const double reach = inside + ring * bucket;
-      const bool covered = ring >= nx + ny;
+      const bool covered = ring >= max_ring;
       const bool complete = static_cast<int>(found.size()) == kk && found.back().first <= reach;
       const bool unsupported =
           reach > support_radius_m && (found.empty() || found.front().first > support_radius_m);

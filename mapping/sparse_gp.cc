@@ -96,28 +96,17 @@ double SparseGp::RadialFactorOf(double squared_distance) const {
 template <typename Visit>
 void SparseGp::ForNeighbours(const double* query, Visit visit) const {
   const double cutoff = CutoffSquaredDistance();
-  const Eigen::Vector2i centre =
-      ((Eigen::Vector2d(query[0], query[1]) - bucket_origin_) / bucket_size_)
-          .array()
-          .floor()
-          .cast<int>()
-          .max(0)
-          .min(bucket_count_.array() - 1);
+  const Eigen::Vector2i centre = buckets_.BucketOf(Eigen::Vector2d(query[0], query[1]));
   // a bucket is as wide as the cutoff: every neighbour lies in the 3 x 3 buckets around the query
-  const Eigen::Vector2i low = (centre.array() - 1).max(0);
-  const Eigen::Vector2i high = (centre.array() + 1).min(bucket_count_.array() - 1);
-  for (int by = low.y(); by <= high.y(); ++by) {
-    for (int bx = low.x(); bx <= high.x(); ++bx) {
-      const int bucket = by * bucket_count_.x() + bx;
-      for (int k = bucket_start_[static_cast<std::size_t>(bucket)];
-           k < bucket_start_[static_cast<std::size_t>(bucket) + 1]; ++k) {
-        const int j = bucket_points_[static_cast<std::size_t>(k)];
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      buckets_.ForPointsIn(centre + Eigen::Vector2i(dx, dy), [&](int j) {
         const double* z = scaled_inputs_.col(j).data();
         double squared_distance = 0.0;
         for (Eigen::Index d = 0; d < dims_; ++d)
           squared_distance += (query[d] - z[d]) * (query[d] - z[d]);
         if (squared_distance < cutoff) visit(j, squared_distance);
-      }
+      });
     }
   }
 }
@@ -134,28 +123,11 @@ bool SparseGp::Fit(const Eigen::MatrixXd& inputs, const Eigen::VectorXd& heights
 
   // the bucket grid over the scaled (x, y): one bucket when every pair counts
   const double cutoff = CutoffSquaredDistance();
-  bucket_origin_ = scaled_inputs_.topRows<2>().rowwise().minCoeff();
-  const Eigen::Vector2d extent = scaled_inputs_.topRows<2>().rowwise().maxCoeff() - bucket_origin_;
-  bucket_size_ = std::isfinite(cutoff) ? std::sqrt(cutoff) : std::max(1.0, extent.maxCoeff());
-  bucket_count_ = (extent / bucket_size_).array().floor().cast<int>() + 1;
-  std::vector<int> bucket_of(static_cast<std::size_t>(m));
-  bucket_start_.assign(static_cast<std::size_t>(bucket_count_.prod()) + 1, 0);
-  for (Eigen::Index j = 0; j < m; ++j) {
-    const Eigen::Vector2i b = ((scaled_inputs_.col(j).head<2>() - bucket_origin_) / bucket_size_)
-                                  .array()
-                                  .floor()
-                                  .cast<int>()
-                                  .min(bucket_count_.array() - 1);
-    bucket_of[static_cast<std::size_t>(j)] = b.y() * bucket_count_.x() + b.x();
-    ++bucket_start_[static_cast<std::size_t>(bucket_of[static_cast<std::size_t>(j)]) + 1];
-  }
-  for (std::size_t b = 1; b < bucket_start_.size(); ++b) bucket_start_[b] += bucket_start_[b - 1];
-  bucket_points_.resize(static_cast<std::size_t>(m));
-  std::vector<int> fill(bucket_start_.begin(), bucket_start_.end() - 1);
-  for (Eigen::Index j = 0; j < m; ++j)
-    bucket_points_[static_cast<std::size_t>(
-        fill[static_cast<std::size_t>(bucket_of[static_cast<std::size_t>(j)])]++)] =
-        static_cast<int>(j);
+  const Eigen::Matrix2Xd scaled_xy = scaled_inputs_.topRows<2>();
+  const double extent =
+      (scaled_xy.rowwise().maxCoeff() - scaled_xy.rowwise().minCoeff()).maxCoeff();
+  buckets_ =
+      BucketGrid(scaled_xy, std::isfinite(cutoff) ? std::sqrt(cutoff) : std::max(1.0, extent));
 
   // K_MM + s_n^2 I, lower triangle (the upper is never read)
   kernel_.setZero(m, m);

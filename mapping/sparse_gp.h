@@ -1,10 +1,9 @@
 #pragma once
 
-#include <vector>
-
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include "mapping/bucket_grid.h"
 #include "mapping/fsgp_config.h"
 
 namespace trav::mapping {
@@ -79,15 +78,9 @@ class SparseGp {
   Eigen::Index dims_{0};
   Eigen::VectorXd inverse_length_scales_;
   Eigen::MatrixXd
-      scaled_inputs_;  // D x M: training inputs over their length scales, one per column
-  // the (x, y) bucket grid of the scaled training inputs, compressed: the points of bucket b are
-  // bucket_points_[bucket_start_[b] .. bucket_start_[b + 1])
-  Eigen::Vector2d bucket_origin_{Eigen::Vector2d::Zero()};
-  double bucket_size_{1.0};
-  Eigen::Vector2i bucket_count_{Eigen::Vector2i::Ones()};
-  std::vector<int> bucket_start_;
-  std::vector<int> bucket_points_;
-  Eigen::MatrixXd kernel_;                // K_MM + s_n^2 I (lower triangle), reused between frames
+      scaled_inputs_;       // D x M: training inputs over their length scales, one per column
+  BucketGrid buckets_;      // the scaled training inputs' (x, y), buckets as wide as the cutoff
+  Eigen::MatrixXd kernel_;  // K_MM + s_n^2 I (lower triangle), reused between frames
   Eigen::LLT<Eigen::MatrixXf> factor_;    // its single-precision Cholesky factor
   Eigen::VectorXd alpha_;                 // (K_MM + s_n^2 I)^-1 (z - m)
   mutable Eigen::MatrixXf cross_kernel_;  // K_M* of the last variance query, reused
