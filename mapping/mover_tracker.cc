@@ -21,10 +21,15 @@ struct Cluster {
   double radius_m{0.0};
 };
 
+// An object point: its position and its height above its column's lowest point [m].
+struct ObjectPoint {
+  Eigen::Vector2d xy_W;
+  double above_m;
+};
+
 // Object points: above their column's lowest point by the minimum height, within the range.
-std::vector<Eigen::Vector2d> ObjectPoints(const common::PointCloud& cloud,
-                                          const Eigen::Vector3d& p_WB,
-                                          const MoverTrackerConfig& c) {
+std::vector<ObjectPoint> ObjectPoints(const common::PointCloud& cloud, const Eigen::Vector3d& p_WB,
+                                      const MoverTrackerConfig& c) {
   std::map<Cell, float> ground;
   for (Eigen::Index i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3f p = cloud.points.col(i);
@@ -33,34 +38,33 @@ std::vector<Eigen::Vector2d> ObjectPoints(const common::PointCloud& cloud,
     const auto it = ground.find(cell);
     if (it == ground.end() || p.z() < it->second) ground[cell] = p.z();
   }
-  std::vector<Eigen::Vector2d> objects;
+  std::vector<ObjectPoint> objects;
   for (Eigen::Index i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3f p = cloud.points.col(i);
     if (!p.allFinite()) continue;
     const Eigen::Vector2d xy = p.head<2>().cast<double>();
     if ((xy - p_WB.head<2>()).norm() > c.range_m) continue;
     const double above = p.z() - ground.at(CellOf(xy, c.column_m));
-    if (above >= c.min_height_m && above <= c.max_height_m) objects.push_back(xy);
+    if (above >= c.min_height_m && above <= c.max_height_m) objects.push_back({xy, above});
   }
   return objects;
 }
 
 // 8-connected components of the occupied grid cells; clusters no larger than the maximum radius.
-std::vector<Cluster> Clusters(const std::vector<Eigen::Vector2d>& points,
-                              const MoverTrackerConfig& c) {
-  std::map<Cell, std::vector<Eigen::Vector2d>> cells;
-  for (const Eigen::Vector2d& p : points) cells[CellOf(p, c.cell_m)].push_back(p);
+std::vector<Cluster> Clusters(const std::vector<ObjectPoint>& points, const MoverTrackerConfig& c) {
+  std::map<Cell, std::vector<ObjectPoint>> cells;
+  for (const ObjectPoint& p : points) cells[CellOf(p.xy_W, c.cell_m)].push_back(p);
   std::map<Cell, bool> visited;
   std::vector<Cluster> clusters;
   for (const auto& [seed, unused] : cells) {
     if (visited[seed]) continue;
     std::vector<Cell> stack = {seed};
     visited[seed] = true;
-    std::vector<Eigen::Vector2d> members;
+    std::vector<ObjectPoint> members;
     while (!stack.empty()) {
       const Cell cell = stack.back();
       stack.pop_back();
-      const std::vector<Eigen::Vector2d>& in_cell = cells.at(cell);
+      const std::vector<ObjectPoint>& in_cell = cells.at(cell);
       members.insert(members.end(), in_cell.begin(), in_cell.end());
       for (int dx = -1; dx <= 1; ++dx) {
         for (int dy = -1; dy <= 1; ++dy) {
@@ -72,12 +76,19 @@ std::vector<Cluster> Clusters(const std::vector<Eigen::Vector2d>& points,
       }
     }
     Cluster cluster;
-    for (const Eigen::Vector2d& p : members) cluster.centroid_W += p;
-    cluster.centroid_W /= static_cast<double>(members.size());
-    for (const Eigen::Vector2d& p : members) {
-      cluster.radius_m = std::max(cluster.radius_m, (p - cluster.centroid_W).norm());
+    double top_m = 0.0;
+    for (const ObjectPoint& p : members) {
+      cluster.centroid_W += p.xy_W;
+      top_m = std::max(top_m, p.above_m);
     }
-    if (cluster.radius_m <= c.max_radius_m) clusters.push_back(cluster);
+    cluster.centroid_W /= static_cast<double>(members.size());
+    for (const ObjectPoint& p : members) {
+      cluster.radius_m = std::max(cluster.radius_m, (p.xy_W - cluster.centroid_W).norm());
+    }
+    if (static_cast<int>(members.size()) >= c.min_points && cluster.radius_m <= c.max_radius_m &&
+        top_m >= c.min_top_m) {
+      clusters.push_back(cluster);
+    }
   }
   return clusters;
 }
@@ -118,12 +129,25 @@ void MoverTracker::Update(const common::PointCloud& points_W, const Eigen::Vecto
     track.radius_m = clusters[j].radius_m;
     track.t_s = t_s;
     ++track.updates;
+    // keep one position at or before the window's start: the displacement is measured from it
+    track.recent_W.emplace_back(t_s, track.position_W);
+    while (track.recent_W.size() > 2 &&
+           track.recent_W[1].first <= t_s - config_.displacement_window_s) {
+      track.recent_W.pop_front();
+    }
+    const auto& [then_s, then_W] = track.recent_W.front();
+    if (track.updates >= config_.min_updates && then_s <= t_s - config_.displacement_window_s &&
+        track.velocity_W.norm() >= config_.min_speed_m_s &&
+        (track.position_W - then_W).norm() >= config_.min_displacement_m) {
+      track.last_moving_t_s = t_s;
+    }
   }
   for (std::size_t j = 0; j < clusters.size(); ++j) {
     if (cluster_used[j]) continue;
     TrackedMover track;
     track.id = next_id_++;
     track.position_W = clusters[j].centroid_W;
+    track.recent_W.emplace_back(t_s, track.position_W);
     track.radius_m = clusters[j].radius_m;
     track.t_s = t_s;
     track.updates = 1;
@@ -139,9 +163,7 @@ void MoverTracker::Update(const common::PointCloud& points_W, const Eigen::Vecto
 std::vector<TrackedMover> MoverTracker::Movers() const {
   std::vector<TrackedMover> movers;
   for (const TrackedMover& track : tracks_) {
-    if (track.updates >= config_.min_updates && track.velocity_W.norm() >= config_.min_speed_m_s) {
-      movers.push_back(track);
-    }
+    if (track.t_s - track.last_moving_t_s <= config_.hold_s) movers.push_back(track);
   }
   return movers;
 }

@@ -509,9 +509,11 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
             nearest =
                 std::min(nearest, (seen.PositionAt(simulation.time()) - mover.position_W).norm());
           }
-          if (std::isfinite(nearest)) {
+          if (nearest <= kFalseMoverDistance_m) {
             tracking_error_sum += nearest;
             ++tracking_error_count;
+          } else {
+            ++navigation.false_mover_samples;
           }
         }
       } else {
@@ -892,6 +894,7 @@ std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
                           {"last_planner_status", n.last_planner_status},
                           {"mover_tracking_error_m", n.mover_tracking_error_m},
                           {"perceived_mover_samples", n.perceived_mover_samples},
+                          {"false_mover_samples", n.false_mover_samples},
                           {"near_misses", n.near_misses},
                           {"min_mover_clearance_m", std::isfinite(n.min_mover_clearance_m)
                                                         ? nlohmann::json(n.min_mover_clearance_m)

@@ -17,6 +17,9 @@
 
 namespace trav::scenarios {
 
+/// A perceived mover farther than this from every true mover is a false mover [m].
+constexpr double kFalseMoverDistance_m = 1.0;
+
 /// What the closed loop (mode navigate) reports.
 struct NavigationMetrics {
   bool goal_reached{false};
@@ -31,11 +34,13 @@ struct NavigationMetrics {
   int replans_on_events{0};
   int safety_stops{0};
   std::string last_planner_status;
-  /// Movers perceived from the scans (navigation.movers_from_ground_truth false): the mean distance
-  /// from each perceived mover to the nearest true one, over every physics step [m], and how many
-  /// such samples there were.
+  /// Movers perceived from the scans (navigation.movers_from_ground_truth false), sampled every
+  /// physics step: the mean distance from each perceived mover to the nearest true one over those
+  /// within kFalseMoverDistance_m of one [m], how many such samples there were, and how many
+  /// perceived movers had no true one that close (false movers).
   double mover_tracking_error_m{0.0};
   int perceived_mover_samples{0};
+  int false_mover_samples{0};
   /// Smallest gap between the robot's disc and a mover's footprint (infinite: no movers) [m].
   double min_mover_clearance_m{std::numeric_limits<double>::infinity()};
   /// Times a mover came closer than navigation.near_miss_clearance without a collision (each

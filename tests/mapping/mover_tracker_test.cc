@@ -67,5 +67,53 @@ TEST(MoverTrackerTest, AWalkerLeavingTheRangeIsDropped) {
   EXPECT_TRUE(dut.Movers().empty());
 }
 
+// A trunk seen from alternating sides (its visible arc's centroid jumps 0.3 m every frame, 3 m/s
+// apparently) never becomes a mover; a walker who stops after 1 s stays one.
+TEST(MoverTrackerTest, AWanderingCentroidIsNotAMoverAndAPausedWalkerStaysOne) {
+  auto frame = [](double t, int k) {
+    std::vector<Eigen::Vector3f> points;
+    for (double x = -8.0; x <= 8.0; x += 0.2) {
+      for (double y = -8.0; y <= 8.0; y += 0.2)
+        points.emplace_back(static_cast<float>(x), static_cast<float>(y), 0.0f);
+    }
+    auto arc = [&](const Eigen::Vector2d& c, double radius, double from, double to) {
+      for (double a = from; a <= to; a += 0.2) {
+        for (double z = 0.05; z <= 1.7; z += 0.1) {
+          points.emplace_back(static_cast<float>(c.x() + radius * std::cos(a)),
+                              static_cast<float>(c.y() + radius * std::sin(a)),
+                              static_cast<float>(z));
+        }
+      }
+    };
+    // the trunk at (4, 4), radius 0.3: its near or its far half, in turn
+    if (k % 2 == 0) {
+      arc({4.0, 4.0}, 0.3, 0.5 * M_PI, 1.5 * M_PI);
+    } else {
+      arc({4.0, 4.0}, 0.3, -0.5 * M_PI, 0.5 * M_PI);
+    }
+    // the walker: 1 m/s along +y from (-2, -3) until t = 1 s, then standing
+    arc(Eigen::Vector2d(-2.0, -3.0 + std::min(t, 1.0)), 0.25, 0.0, 2.0 * M_PI);
+    return common::MakePointCloud(points);
+  };
+  MoverTracker dut;
+  for (int k = 0; k <= 30; ++k) {
+    dut.Update(frame(0.1 * k, k), Eigen::Vector3d(0, 0, 0.3), 0.1 * k);
+    for (const TrackedMover& mover : dut.Movers()) {
+      ASSERT_LT(mover.position_W.x(), 0.0) << "the trunk reported as a mover at t = " << 0.1 * k;
+    }
+  }
+  // 2 s after the walker stopped: still the one mover, at rest where it stopped
+  const std::vector<TrackedMover> movers = dut.Movers();
+  ASSERT_EQ(movers.size(), 1u);
+  EXPECT_NEAR((movers[0].position_W - Eigen::Vector2d(-2.0, -2.0)).norm(), 0.0, 0.05);
+  EXPECT_LT(movers[0].velocity_W.norm(), 0.05);
+  // the trunk is tracked, apparently fast, but not reported
+  bool trunk_tracked = false;
+  for (const TrackedMover& track : dut.tracks()) {
+    if ((track.position_W - Eigen::Vector2d(4.0, 4.0)).norm() < 0.3) trunk_tracked = true;
+  }
+  EXPECT_TRUE(trunk_tracked);
+}
+
 }  // namespace
 }  // namespace trav::mapping
