@@ -129,6 +129,7 @@ TEST(NavigationRunTest, ACrossingPedestrianPerceivedFromTheScansAlone) {
   // the tracker saw the pedestrian for most of the run, within a few decimetres of where it was
   EXPECT_GT(n.perceived_mover_samples, 4000);
   EXPECT_LT(n.mover_tracking_error_m, 0.35);
+  EXPECT_EQ(n.false_mover_samples, 0);  // nothing else on this ground moves
   EXPECT_GE(n.min_mover_clearance_m, 0.0);
 }
 
@@ -140,6 +141,13 @@ TEST(NavigationRunTest, MapsArriveAfterTheModelledLatency) {
   // frames every 0.1 s; those of the last 0.25 s have not reached the mapper yet
   EXPECT_EQ(summary.lidar_frames, 10);
   EXPECT_EQ(summary.mapping_updates, 7);
+  // the mapper's stage medians and training set size are reported
+  for (const char* stage : {"crop", "features", "fit", "predict", "fusion", "smoothing"}) {
+    ASSERT_TRUE(summary.mapping_stage_ms_median.contains(stage)) << stage;
+    EXPECT_GT(summary.mapping_stage_ms_median.at(stage).get<double>(), 0.0) << stage;
+  }
+  EXPECT_GT(summary.mapping_training_points_median, 50);
+  EXPECT_LE(summary.mapping_training_points_median, 500);
 }
 
 TEST(NavigationRunTest, NavigatingWithoutAMapSourceIsAnInputError) {
