@@ -58,6 +58,15 @@ class FlushDenormalsToZero {
 #endif
 };
 
+// The kernel at a squared scaled distance: squared exponential or rational quadratic.
+double KernelOfSquaredDistance(const GpHyperparameters& hyper, double signal_variance,
+                               double squared_distance) {
+  if (hyper.kernel == KernelType::kSquaredExponential)
+    return signal_variance * std::exp(-0.5 * squared_distance);
+  return signal_variance *
+         std::pow(1.0 + squared_distance / (2.0 * hyper.rq_alpha), -hyper.rq_alpha);
+}
+
 double HeightVariance(const Eigen::VectorXd& heights) {
   const double mean = heights.mean();
   return std::max(1e-4, (heights.array() - mean).square().mean());
@@ -70,8 +79,7 @@ double SparseGp::Kernel(const GpHyperparameters& hyper, double signal_variance,
                         const Eigen::Ref<const Eigen::RowVectorXd>& b) {
   const double d2 =
       (a - b).cwiseQuotient(hyper.length_scales.head(a.size()).transpose()).squaredNorm();
-  if (hyper.kernel == KernelType::kSquaredExponential) return signal_variance * std::exp(-0.5 * d2);
-  return signal_variance * std::pow(1.0 + d2 / (2.0 * hyper.rq_alpha), -hyper.rq_alpha);
+  return KernelOfSquaredDistance(hyper, signal_variance, d2);
 }
 
 double SparseGp::CutoffSquaredDistance() const {
@@ -81,10 +89,7 @@ double SparseGp::CutoffSquaredDistance() const {
 }
 
 double SparseGp::KernelOf(double squared_distance) const {
-  if (hyper_.kernel == KernelType::kSquaredExponential)
-    return signal_variance_ * std::exp(-0.5 * squared_distance);
-  return signal_variance_ *
-         std::pow(1.0 + squared_distance / (2.0 * hyper_.rq_alpha), -hyper_.rq_alpha);
+  return KernelOfSquaredDistance(hyper_, signal_variance_, squared_distance);
 }
 
 double SparseGp::RadialFactorOf(double squared_distance) const {
