@@ -12,6 +12,30 @@ std::string Compose(const std::string& file, const std::string& key_path, const 
 
 }  // namespace
 
+std::string Excerpt(const std::string& text, std::size_t max_length) {
+  std::string quoted;
+  std::size_t shown = 0;
+  for (const char c : text) {
+    if (shown == max_length) {
+      quoted += "...";
+      break;
+    }
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte < 0x7f) {
+      quoted += c;
+    } else {
+      static const char kHex[] = "0123456789abcdef";
+      quoted += std::string("\\x") + kHex[byte >> 4] + kHex[byte & 0xf];
+    }
+    ++shown;
+  }
+  return quoted;
+}
+
+std::string QuotedExcerpt(const std::string& text, std::size_t max_length) {
+  return "'" + Excerpt(text, max_length) + "'";
+}
+
 InputError::InputError(const std::string& message) : std::runtime_error(message) {}
 
 InputError::InputError(const std::string& file, const std::string& key_path,

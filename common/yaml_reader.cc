@@ -1,9 +1,12 @@
 #include "common/yaml_reader.h"
 
+#include <cmath>
 #include <optional>
 #include <sstream>
 
 #include <yaml-cpp/yaml.h>
+
+#include "common/input_file.h"
 
 namespace trav::common {
 namespace {
@@ -16,9 +19,55 @@ std::string NodeText(const YAML::Node& node) {
   return emitter.c_str();
 }
 
-// A node for error messages: a scalar quoted, anything else in flow style.
+// A node for error messages: a short excerpt of a scalar quoted, of anything else in flow style.
 std::string ScalarText(const YAML::Node& node) {
-  return node.IsScalar() ? "'" + node.Scalar() + "'" : NodeText(node);
+  return node.IsScalar() ? QuotedExcerpt(node.Scalar()) : Excerpt(NodeText(node));
+}
+
+// True if `text` is valid UTF-8 without control characters (text a scenario may carry into file
+// names, reports, plots and JSON).
+bool IsPrintableUtf8(const std::string& text) {
+  const auto at = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
+  for (std::size_t i = 0; i < text.size();) {
+    const unsigned char byte = at(i);
+    if (byte < 0x80) {
+      if (byte < 0x20 || byte == 0x7f) return false;
+      ++i;
+      continue;
+    }
+    // RFC 3629: the length from the lead byte, and the range of the second byte that excludes
+    // overlong forms, surrogates and code points above U+10FFFF
+    int length = 0;
+    unsigned char low = 0x80, high = 0xbf;
+    if (byte >= 0xc2 && byte <= 0xdf) {
+      length = 2;
+    } else if (byte >= 0xe0 && byte <= 0xef) {
+      length = 3;
+      if (byte == 0xe0) low = 0xa0;
+      if (byte == 0xed) high = 0x9f;
+    } else if (byte >= 0xf0 && byte <= 0xf4) {
+      length = 4;
+      if (byte == 0xf0) low = 0x90;
+      if (byte == 0xf4) high = 0x8f;
+    } else {
+      return false;
+    }
+    if (i + length > text.size()) return false;
+    if (at(i + 1) < low || at(i + 1) > high) return false;
+    for (int k = 2; k < length; ++k) {
+      if (at(i + k) < 0x80 || at(i + k) > 0xbf) return false;
+    }
+    i += length;
+  }
+  return true;
+}
+
+// The text of a map key. @throws InputError if the key is not a scalar (a list or map as key).
+std::string KeyText(const YAML::Node& key, const std::string& source, const std::string& path) {
+  if (!key.IsScalar()) {
+    throw InputError(source, path, "a key must be a name, got " + Excerpt(NodeText(key)));
+  }
+  return key.Scalar();
 }
 
 }  // namespace
@@ -30,11 +79,10 @@ YamlDocument& YamlDocument::operator=(YamlDocument&&) noexcept = default;
 YamlDocument::~YamlDocument() = default;
 
 YamlDocument YamlDocument::Load(const std::string& path) {
+  const std::string text = ReadInputFile(path);
   YAML::Node root;
   try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw InputError(path, "", "cannot open file");
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw InputError(path, "", std::string("invalid YAML: ") + e.what());
   }
@@ -62,7 +110,8 @@ void YamlDocument::Set(const std::string& key_path, const std::string& value_tex
   try {
     value = YAML::Load(value_text);
   } catch (const YAML::Exception& e) {
-    throw InputError("--set", key_path, "invalid value '" + value_text + "': " + e.what());
+    throw InputError("--set", Excerpt(key_path),
+                     "invalid value " + QuotedExcerpt(value_text) + ": " + e.what());
   }
   Assign(key_path, value);
 }
@@ -83,21 +132,23 @@ std::vector<PathStep> ParseKeyPath(const std::string& key_path) {
   std::vector<PathStep> steps;
   std::stringstream stream(key_path);
   for (std::string key; std::getline(stream, key, '.');) {
-    if (key.empty()) throw InputError("--set", key_path, "empty element in key path");
+    if (key.empty()) throw InputError("--set", Excerpt(key_path), "empty element in key path");
     PathStep step{key, std::nullopt};
     const std::size_t open = key.find('[');
     if (open != std::string::npos) {
       const std::string digits = key.substr(open + 1, key.size() - open - 2);
-      if (key.back() != ']' || digits.empty() ||
+      if (key.back() != ']' || digits.empty() || digits.size() > 6 ||
           digits.find_first_not_of("0123456789") != std::string::npos || open == 0) {
-        throw InputError("--set", key_path, "expected name[index] in '" + key + "'");
+        throw InputError("--set", Excerpt(key_path),
+                         "expected name[index] with an index below 1000000 in " +
+                             QuotedExcerpt(key));
       }
       step.key = key.substr(0, open);
       step.index = std::stoul(digits);
     }
     steps.push_back(step);
   }
-  if (steps.empty()) throw InputError("--set", key_path, "empty key path");
+  if (steps.empty()) throw InputError("--set", Excerpt(key_path), "empty key path");
   return steps;
 }
 
@@ -129,8 +180,8 @@ void YamlDocument::Assign(const std::string& key_path, const YAML::Node& value) 
     if (step.index) {
       YAML::Node sequence = node[step.key];
       if (!sequence.IsSequence() || *step.index >= sequence.size()) {
-        throw InputError("--set", key_path,
-                         "'" + step.key + "' has no item " + std::to_string(*step.index));
+        throw InputError("--set", Excerpt(key_path),
+                         QuotedExcerpt(step.key) + " has no item " + std::to_string(*step.index));
       }
       if (last) {
         sequence[*step.index] = value;
@@ -138,7 +189,7 @@ void YamlDocument::Assign(const std::string& key_path, const YAML::Node& value) 
       }
       YAML::Node item = sequence[*step.index];
       if (!item.IsMap())
-        throw InputError("--set", key_path, "'" + step.key + "' items are not maps");
+        throw InputError("--set", Excerpt(key_path), QuotedExcerpt(step.key) + " items are not maps");
       node.reset(item);
       continue;
     }
@@ -148,7 +199,9 @@ void YamlDocument::Assign(const std::string& key_path, const YAML::Node& value) 
     }
     YAML::Node child = node[step.key];
     if (!child.IsDefined() || child.IsNull()) child = YAML::Node(YAML::NodeType::Map);
-    if (!child.IsMap()) throw InputError("--set", key_path, "'" + step.key + "' is not a map");
+    if (!child.IsMap()) {
+      throw InputError("--set", Excerpt(key_path), QuotedExcerpt(step.key) + " is not a map");
+    }
     node[step.key] = child;
     node.reset(child);
   }
@@ -216,7 +269,11 @@ void ReadScalar(YamlReader* reader, const YAML::Node& node, const std::string& k
 
 void YamlReader::Read(const std::string& key, double* value) {
   if (!Has(key)) return;
-  ReadScalar(this, Get(key), key, "a number", value);
+  const YAML::Node node = Get(key);
+  double read = 0.0;
+  ReadScalar(this, node, key, "a finite number", &read);
+  if (!std::isfinite(read)) Fail(key, "expected a finite number, got " + ScalarText(node));
+  *value = read;
 }
 
 void YamlReader::Read(const std::string& key, int* value) {
@@ -240,7 +297,13 @@ void YamlReader::Read(const std::string& key, bool* value) {
 
 void YamlReader::Read(const std::string& key, std::string* value) {
   if (!Has(key)) return;
-  ReadScalar(this, Get(key), key, "a string", value);
+  const YAML::Node node = Get(key);
+  std::string read;
+  ReadScalar(this, node, key, "a string", &read);
+  if (!IsPrintableUtf8(read)) {
+    Fail(key, "expected printable UTF-8 text, got " + ScalarText(node));
+  }
+  *value = std::move(read);
 }
 
 namespace {
@@ -258,6 +321,9 @@ void ReadVector(YamlReader* reader, const YAML::Node& node, const std::string& k
       result[i] = node[i].as<double>();
     } catch (const YAML::Exception&) {
       reader->Fail(key, expected + ", got " + ScalarText(node));
+    }
+    if (!std::isfinite(result[i])) {
+      reader->Fail(key, expected + " (finite), got " + ScalarText(node));
     }
   }
   *value = result;
@@ -330,7 +396,7 @@ void YamlReader::ReadText(const std::string& key, std::string* value) {
 std::vector<std::string> YamlReader::Keys() const {
   std::vector<std::string> keys;
   if (!map_->IsMap()) return keys;
-  for (const auto& entry : *map_) keys.push_back(entry.first.as<std::string>());
+  for (const auto& entry : *map_) keys.push_back(KeyText(entry.first, source_, key_path_));
   return keys;
 }
 
@@ -339,7 +405,7 @@ void YamlReader::Finish() const {
   // yaml-cpp keeps repeated keys (and lookups see the first): reject them
   std::set<std::string> seen;
   for (const auto& entry : *map_) {
-    const std::string key = entry.first.as<std::string>();
+    const std::string key = KeyText(entry.first, source_, key_path_);
     if (!seen.insert(key).second) Fail(key, "duplicate key");
     if (read_keys_.count(key) == 0) Fail(key, "unknown key");
   }

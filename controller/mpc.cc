@@ -44,10 +44,8 @@ void ValidateMpcConfig(const MpcConfig& c) {
                        c.max_yaw_acceleration_rad_s2, "must be > 0");
   common::RequireValue(c.actuator_time_constant_s >= 0.0, "controller.mpc.actuator_time_constant",
                        c.actuator_time_constant_s, "must be >= 0");
-  common::RequireValue(c.max_iterations >= 1, "controller.mpc.max_iterations", c.max_iterations,
-                       "must be >= 1");
-  common::RequireValue(c.time_budget_s > 0.0, "controller.mpc.time_budget", c.time_budget_s,
-                       "must be > 0");
+  common::RequireValue(c.max_iterations >= 1 && c.max_iterations <= 1000,
+                       "controller.mpc.max_iterations", c.max_iterations, "must be in [1, 1000]");
 }
 
 // The horizon's data, shared by the cost functor and the controller; the Ceres problem is built
@@ -187,7 +185,6 @@ MpcResult MpcController::Solve(const MpcState& state, const common::Trajectory& 
   // them well conditioned
   options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
   options.max_num_iterations = config_.max_iterations;
-  options.max_solver_time_in_seconds = config_.time_budget_s;
   options.num_threads = 1;
   options.logging_type = ceres::SILENT;
   options.minimizer_progress_to_stdout = false;

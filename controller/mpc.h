@@ -30,9 +30,9 @@ struct MpcConfig {
   /// First-order lag of the actuation (0: none) [s], >= 0: the model predicts the achieved (v,
   /// omega) approaching the command with this time constant.
   double actuator_time_constant_s{0.0};
-  int max_iterations{15};      ///< solver iteration cap, >= 1
-  double time_budget_s{0.05};  ///< solver wall-time cap [s], > 0: a safety valve far above the
-                               ///< typical 1 ms (hitting it makes a run timing-dependent)
+  /// Solver iteration cap, in [1, 1000]. The only cap: a wall-time budget would make a run
+  /// depend on the machine's load.
+  int max_iterations{15};
 };
 
 /// Checks a config. @throws common::InputError naming the field ("controller.mpc.<key>") and value.
@@ -49,7 +49,7 @@ struct MpcState {
 /// How a solve ended.
 enum class MpcStatus {
   kSolved,          ///< converged
-  kIterationLimit,  ///< stopped by the iteration cap or time budget: the improved inputs are used
+  kIterationLimit,  ///< stopped by the iteration cap: the improved inputs are used
   kFailed,          ///< no usable solution: the command is the safe fallback (braking)
 };
 

@@ -1,7 +1,6 @@
 #include "scenarios/batch.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <set>
@@ -26,17 +25,6 @@ constexpr std::pair<const char*, const char*> kShorthands[] = {
     {"mapper", "mapping.method"},     {"mover_count", "traffic.count"},
     {"mover_speed", "traffic.speed"}, {"mover_behaviour", "traffic.behaviour"},
     {"mover_shape", "traffic.shape"}};
-
-// Letters, digits, '.', '_' and '-' as they are; anything else as '-'.
-std::string Sanitized(const std::string& text) {
-  std::string out = text;
-  for (char& c : out) {
-    const bool plain =
-        std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-';
-    if (!plain) c = '-';
-  }
-  return out;
-}
 
 bool Finished(const fs::path& folder, const std::string& id) {
   return ResultExists((folder / "runs" / id / "summary.json").string());
@@ -158,10 +146,9 @@ std::vector<BatchRun> ExpandBatch(const BatchSpec& spec) {
         throw common::InputError(spec.source, "", std::string("a run of the batch: ") + e.what());
       }
       run.scenario_name = scenario.name;
-      run.id = Sanitized(scenario.name);
-      for (const auto& [label, value] : run.parameters) {
-        run.id += "_" + Sanitized(label) + "-" + Sanitized(value);
-      }
+      std::string id = scenario.name;
+      for (const auto& [label, value] : run.parameters) id += "_" + label + "-" + value;
+      run.id = SafeFileName(id);
       if (!ids.insert(run.id).second) {
         throw common::InputError(
             spec.source, "",
@@ -214,14 +201,6 @@ std::vector<BatchRun> PrepareBatchFolder(const BatchSpec& spec, const std::vecto
     if (!fs::exists(scenario, error)) WriteTextFileAtomically(scenario.string(), run.scenario_yaml);
   }
   WriteTextFileAtomically(batch_path.string(), batch.dump(1) + "\n");
-  // what killed runs left half-written
-  for (const char* sub : {"runs", "scenarios", "failed"}) {
-    for (const fs::directory_entry& entry : fs::directory_iterator(folder / sub)) {
-      if (entry.path().filename().string().find(".partial-") != std::string::npos) {
-        fs::remove_all(entry.path(), error);
-      }
-    }
-  }
   std::vector<BatchRun> pending;
   for (const BatchRun& run : runs) {
     if (!Finished(folder, run.id)) pending.push_back(run);

@@ -76,8 +76,12 @@ struct LocalBatchOptions {
   bool progress_bar{false};     ///< redraw one line on stderr, else one line per run
 };
 
-/// Lays out `out_dir` for the runs: batch.json (the runs and the limits), scenarios/<id>.yaml,
-/// runs/, logs/, failed/; removes what a killed run left half-written. Returns the runs not yet
+/// The subfolders of a batch folder where a killed run leaves files half-written (for
+/// CampaignFolder to remove).
+inline const std::vector<std::string> kBatchPartialSubfolders = {"runs", "scenarios", "failed"};
+
+/// Lays out `out_dir` (opened as a CampaignFolder of kind "batch") for the runs: batch.json (the
+/// runs and the limits), scenarios/<id>.yaml, runs/, logs/, failed/. Returns the runs not yet
 /// finished (no runs/<id>/summary.json). @throws common::InputError if `out_dir` holds another
 /// batch (other runs or scenarios).
 std::vector<BatchRun> PrepareBatchFolder(const BatchSpec& spec, const std::vector<BatchRun>& runs,

@@ -415,6 +415,8 @@ EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_d
                             const std::string& trav_executable, const std::string& command_line,
                             bool progress_bar, const std::optional<SlurmOptions>& slurm) {
   ValidateEvalOptions(options);
+  if (slurm) ValidateSlurmOptions(*slurm);
+  const CampaignFolder campaign(out_dir, "eval", "options.json", {"scenes"});
   const fs::path folder(out_dir);
   const fs::path options_path = folder / "options.json";
   std::error_code error;
@@ -427,18 +429,11 @@ EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_d
                                "--out, or the same options to resume it");
     }
   } else {
-    fs::create_directories(folder);
     nlohmann::json stored = EvalOptionsJson(options);
     stored["command"] = command_line;
     WriteTextFileAtomically(options_path, stored.dump(1) + "\n");
   }
   for (const char* sub : {"scenes", "logs", "failed"}) fs::create_directories(folder / sub);
-  // what a killed worker may have left half-written
-  for (const fs::directory_entry& entry : fs::directory_iterator(folder / "scenes")) {
-    if (entry.path().filename().string().find(".partial-") != std::string::npos) {
-      fs::remove(entry.path(), error);
-    }
-  }
 
   EvalRunResult result;
   const std::vector<EvalScene> scenes = EvalScenes(options);
@@ -499,6 +494,7 @@ void WriteEvalReportFromFolder(const std::string& out_dir, const EvalOptions& op
 }
 
 int CollectEvaluation(const std::string& out_dir) {
+  const CampaignFolder campaign(out_dir, "eval", "options.json", {"scenes"});
   const fs::path options_path = fs::path(out_dir) / "options.json";
   const EvalOptions options =
       EvalOptionsFromJson(ReadJsonFile(options_path.string()), options_path.string());

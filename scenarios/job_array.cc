@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -13,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/input_error.h"
+#include "common/input_file.h"
 #include "scenarios/output_folder.h"
 
 namespace trav::scenarios {
@@ -49,6 +52,13 @@ std::string ShellQuoted(const std::string& word) {
   std::string quoted = "'";
   for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return quoted + "'";
+}
+
+// True if `path` is inside `folder` (lexically, after removing "." and "..").
+bool IsInside(const std::string& path, const std::string& folder) {
+  const fs::path relative = fs::path(path).lexically_normal().lexically_relative(folder);
+  return !relative.empty() && *relative.begin() != ".." && fs::path(path).is_absolute() ==
+                                                              fs::path(folder).is_absolute();
 }
 
 nlohmann::json JobJson(const Job& job) {
@@ -106,8 +116,30 @@ JobsProgress RunJobsLocally(const std::string& folder, const std::vector<Job>& j
   return result;
 }
 
+void ValidateSlurmOptions(const SlurmOptions& options) {
+  // Slurm's partition names, and its time formats: minutes, M:S, H:M:S, D-H, D-H:M, D-H:M:S
+  static const std::regex kPartition("[A-Za-z0-9_.-]{1,64}(,[A-Za-z0-9_.-]{1,64}){0,15}");
+  static const std::regex kTime("(UNLIMITED|INFINITE|([0-9]{1,4}-)?[0-9]{1,6}(:[0-9]{1,2}){0,2})");
+  if (!options.partition.empty() && !std::regex_match(options.partition, kPartition)) {
+    throw common::InputError("--partition", "",
+                             "expected a Slurm partition name (letters, digits, '_', '.', '-'; "
+                             "comma-separated), got " +
+                                 common::QuotedExcerpt(options.partition));
+  }
+  if (!options.time.empty() && !std::regex_match(options.time, kTime)) {
+    throw common::InputError("--time", "",
+                             "expected a Slurm time limit (MM, HH:MM:SS or D-HH:MM:SS), got " +
+                                 common::QuotedExcerpt(options.time));
+  }
+  if (options.jobs_per_task < 1 || options.jobs_per_task > 100000) {
+    throw common::InputError("jobs per task", std::to_string(options.jobs_per_task),
+                             "must be in [1, 100000]");
+  }
+}
+
 std::string SubmitJobArray(const std::string& folder_path, const std::vector<Job>& jobs,
                            double time_limit_s, const SlurmOptions& options) {
+  ValidateSlurmOptions(options);
   const fs::path folder = fs::absolute(folder_path);
   const fs::path slurm = folder / "slurm";
   fs::create_directories(slurm);
@@ -130,29 +162,38 @@ std::string SubmitJobArray(const std::string& folder_path, const std::vector<Job
       {"folder", folder.string()}, {"time_limit_s", time_limit_s}, {"tasks", tasks}};
   WriteTextFileAtomically(tasks_path.string(), tasks_file.dump(1) + "\n");
 
+  // the job's settings go to sbatch as arguments, never into the script: the script holds one
+  // command whose words are quoted, so no path or option can add a line to it
   std::ostringstream script;
   script << "#!/bin/sh\n"
-         << "#SBATCH --job-name=trav\n"
-         << "#SBATCH --array=0-" << tasks.size() - 1 << "\n"
-         << "#SBATCH --output=" << (folder / "logs" / "slurm-%A_%a.out").string() << "\n"
-         << "#SBATCH --cpus-per-task=1\n";
-  if (!options.partition.empty()) script << "#SBATCH --partition=" << options.partition << "\n";
-  if (!options.time.empty()) script << "#SBATCH --time=" << options.time << "\n";
-  script << "exec " << ShellQuoted(options.trav_executable) << " job-task "
+         << "exec " << ShellQuoted(options.trav_executable) << " job-task "
          << ShellQuoted(tasks_path.string()) << " \"$SLURM_ARRAY_TASK_ID\"\n";
   const fs::path script_path = slurm / ("job-" + tag + ".sh");
   WriteTextFileAtomically(script_path.string(), script.str());
+  std::vector<std::string> sbatch_argv = {
+      "sbatch",
+      "--parsable",
+      "--job-name=trav",
+      "--array=0-" + std::to_string(tasks.size() - 1),
+      "--output=" + (folder / "logs" / "slurm-%A_%a.out").string(),
+      "--cpus-per-task=1"};
+  if (!options.partition.empty()) sbatch_argv.push_back("--partition=" + options.partition);
+  if (!options.time.empty()) sbatch_argv.push_back("--time=" + options.time);
+  sbatch_argv.push_back(script_path.string());
 
   const fs::path sbatch_log = slurm / ("sbatch-" + tag + ".log");
-  const ProcessResult sbatch =
-      RunProcess({{"sbatch", "--parsable", script_path.string()}, sbatch_log.string()});
+  const ProcessResult sbatch = RunProcess({sbatch_argv, sbatch_log.string()});
   const std::string output = Trimmed(ReadTextFile(sbatch_log.string()));
   if (!sbatch.succeeded()) {
     throw std::runtime_error("sbatch failed (" + std::string(ProcessEndName(sbatch.end)) + " " +
-                             std::to_string(sbatch.exit_code) +
-                             "): " + (sbatch.message.empty() ? output : sbatch.message));
+                             std::to_string(sbatch.exit_code) + "): " +
+                             common::Excerpt(sbatch.message.empty() ? output : sbatch.message, 400));
   }
   const std::string job_id = output.substr(0, output.find(';'));
+  if (job_id.empty() || job_id.find_first_not_of("0123456789") != std::string::npos) {
+    throw std::runtime_error("sbatch answered " + common::QuotedExcerpt(output) +
+                             ", not a job id");
+  }
   std::fprintf(stderr, "submitted Slurm job %s: %zu array tasks for %zu jobs (%s)\n",
                job_id.c_str(), tasks.size(), jobs.size(), script_path.c_str());
   if (!options.wait) return job_id;
@@ -177,22 +218,45 @@ std::string SubmitJobArray(const std::string& folder_path, const std::vector<Job
 }
 
 void RunJobTask(const std::string& tasks_file, int index) {
-  std::ifstream file(tasks_file);
-  const nlohmann::json tasks = nlohmann::json::parse(file, nullptr, false);
-  if (!file || tasks.is_discarded() || !tasks.contains("tasks")) {
+  const nlohmann::json tasks =
+      nlohmann::json::parse(common::ReadInputFile(tasks_file), nullptr, false);
+  if (tasks.is_discarded() || !tasks.is_object() || !tasks.contains("tasks") ||
+      !tasks["tasks"].is_array()) {
     throw common::InputError(tasks_file, "", "is not a Slurm tasks file of trav");
   }
   const nlohmann::json& list = tasks.at("tasks");
   if (index < 0 || static_cast<std::size_t>(index) >= list.size()) {
     throw common::InputError(tasks_file, "", "has no task " + std::to_string(index));
   }
+  // only trav's own jobs, writing inside the tasks file's folder: a tasks file is data, and must
+  // not be a way to run any command
+  const std::string self = fs::read_symlink("/proc/self/exe").string();
+  std::string folder;
+  double time_limit_s = 0.0;
   std::vector<Job> jobs;
-  for (const nlohmann::json& job : list[static_cast<std::size_t>(index)]) {
-    Job parsed = JobFromJson(job);
-    if (!ResultExists(parsed.result_path)) jobs.push_back(std::move(parsed));
+  try {
+    folder = fs::path(tasks.at("folder").get<std::string>()).lexically_normal().string();
+    time_limit_s = tasks.at("time_limit_s").get<double>();
+    for (const nlohmann::json& job : list[static_cast<std::size_t>(index)]) {
+      Job parsed = JobFromJson(job);
+      const bool own_command = parsed.argv.size() >= 2 && parsed.argv[0] == self &&
+                               (parsed.argv[1] == "run" || parsed.argv[1] == "eval-scene");
+      if (!own_command || SafeFileName(parsed.id) != parsed.id ||
+          !IsInside(parsed.log_path, folder) || !IsInside(parsed.result_path, folder)) {
+        throw common::InputError(tasks_file, "tasks[" + std::to_string(index) + "]",
+                                 "holds a job that is not one of trav's own (" +
+                                     common::QuotedExcerpt(parsed.id) + ")");
+      }
+      if (!ResultExists(parsed.result_path)) jobs.push_back(std::move(parsed));
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw common::InputError(tasks_file, "", std::string("is not a Slurm tasks file of trav: ") +
+                                                 common::Excerpt(e.what(), 120));
   }
-  RunJobsLocally(tasks.at("folder").get<std::string>(), jobs, 1,
-                 tasks.at("time_limit_s").get<double>(), nullptr);
+  if (!std::isfinite(time_limit_s) || time_limit_s <= 0.0) {
+    throw common::InputError(tasks_file, "time_limit_s", "must be a positive number of seconds");
+  }
+  RunJobsLocally(folder, jobs, 1, time_limit_s, nullptr);
 }
 
 }  // namespace trav::scenarios

@@ -45,6 +45,11 @@ struct SlurmOptions {
   std::string trav_executable;  ///< the `trav` the tasks run (on a filesystem the nodes share)
 };
 
+/// Checks Slurm options against strict patterns (a partition name, a Slurm time format, a job
+/// count), so that no value can carry anything else to sbatch. @throws common::InputError naming
+/// the option.
+void ValidateSlurmOptions(const SlurmOptions& options);
+
 /// Submits `jobs` as one Slurm job array (`sbatch`): `options.jobs_per_task` jobs per array task,
 /// each task `trav job-task <folder>/slurm/tasks-<n>.json <index>` running its jobs one after the
 /// other with `time_limit_s` each (slurm/job-<n>.sh is the script, logs/slurm-<job>_<task>.out the

@@ -47,12 +47,16 @@ struct ScenarioOptions {
   std::vector<std::string> sets;
   std::optional<std::uint64_t> seed;
   std::optional<std::string> out;
+  bool overwrite{false};
 };
 
 void AddScenarioOptions(CLI::App* command, ScenarioOptions* options) {
   command->add_option("scenario", options->path,
                       "Scenario YAML file (default: the built-in hilly-terrain scenario)");
   command->add_option("--out", options->out, "Output folder (default: output.dir of the scenario)");
+  command->add_flag("--overwrite", options->overwrite,
+                    "Replace an earlier result of the same command in the output folder (trav "
+                    "never replaces anything else)");
   command->add_option("--seed", options->seed, "Terrain seed (overrides terrain.seed)");
   command
       ->add_option("--set", options->sets,
@@ -95,9 +99,9 @@ ProgressCallback TerminalProgress() {
 }
 
 // Runs a resolved scenario into its output folder; prints and returns the summary.
-RunSummary RunInFolder(const Scenario& scenario, const RunOptions& run_options) {
+RunSummary RunInFolder(const Scenario& scenario, const RunOptions& run_options, bool overwrite) {
   const std::string model = ExistingRobotModel(scenario);
-  OutputFolder folder(scenario.output_dir);
+  OutputFolder folder(scenario.output_dir, "run", overwrite);
   WriteTextFile(folder.File("scenario.yaml"), ResolvedScenarioYaml(scenario));
   const RunSummary summary =
       RunScenario(scenario, model, folder.File(""), run_options, TerminalProgress());
@@ -106,8 +110,16 @@ RunSummary RunInFolder(const Scenario& scenario, const RunOptions& run_options) 
   return summary;
 }
 
-// Fakes the failure a scenario asks for (test_fault): a crash, or a run that never ends.
+// Fakes the failure a scenario asks for (test_fault): a crash, or a run that never ends. A test
+// hook, so only where the environment enables it (TRAV_TEST_FAULTS=1, docs/reliability.md).
 void InjectFault(TestFault fault) {
+  if (fault == TestFault::kNone) return;
+  const char* enabled = std::getenv("TRAV_TEST_FAULTS");
+  if (enabled == nullptr || std::string(enabled) != "1") {
+    throw common::InputError("test_fault", "",
+                             "is a test hook; it works only with TRAV_TEST_FAULTS=1 in the "
+                             "environment");
+  }
   if (fault == TestFault::kCrash) std::abort();
   while (fault == TestFault::kHang) pause();
 }
@@ -117,7 +129,7 @@ int Run(const ScenarioOptions& options, std::optional<bool> video, bool record_c
   InjectFault(scenario.test_fault);
   RunOptions run_options;
   run_options.record_clouds = record_clouds;
-  const RunSummary summary = RunInFolder(scenario, run_options);
+  const RunSummary summary = RunInFolder(scenario, run_options, options.overwrite);
   const std::string& out = scenario.output_dir;
 
   std::printf("outcome: %s (expected %s)\n", OutcomeName(summary.outcome),
@@ -148,7 +160,7 @@ int Scan(const ScenarioOptions& options, int frames) {
   RunOptions run_options;
   run_options.record_clouds = true;
   run_options.max_lidar_frames = frames;
-  const RunSummary summary = RunInFolder(scenario, run_options);
+  const RunSummary summary = RunInFolder(scenario, run_options, options.overwrite);
   std::printf(
       "%d frames of %.0f points on average written to %s/clouds (PCD: x y z in the sensor frame, "
       "time, line)\n",
@@ -160,7 +172,7 @@ int Terrain(const ScenarioOptions& options) {
   ScenarioOptions terrain_options = options;
   if (!terrain_options.out) throw common::InputError("--out", "", "trav terrain needs --out DIR");
   const Scenario scenario = ResolveScenario(terrain_options, std::nullopt);
-  OutputFolder folder(scenario.output_dir);
+  OutputFolder folder(scenario.output_dir, "terrain", options.overwrite);
   const sim::TerrainWorld world =
       sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W});
   ExportTerrain(world, scenario.mapping, scenario.ground_truth, folder);
@@ -219,10 +231,11 @@ void AddClusterFlags(CLI::App* command, ClusterFlags* flags, const std::string& 
 // The Slurm options of the flags, or nothing for local processes.
 std::optional<SlurmOptions> SlurmOf(const ClusterFlags& flags, const std::string& per_task_flag) {
   if (!flags.slurm) return std::nullopt;
-  if (flags.options.jobs_per_task < 1) {
+  if (flags.options.jobs_per_task < 1 || flags.options.jobs_per_task > 100000) {
     throw common::InputError(per_task_flag, std::to_string(flags.options.jobs_per_task),
-                             "must be >= 1");
+                             "must be in [1, 100000]");
   }
+  ValidateSlurmOptions(flags.options);
   SlurmOptions options = flags.options;
   options.wait = !flags.no_wait;
   options.trav_executable = std::filesystem::read_symlink("/proc/self/exe").string();
@@ -268,6 +281,7 @@ struct BatchCommand {
 int Batch(const BatchCommand& command) {
   const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
   if (!command.collect.empty()) {
+    const CampaignFolder folder(command.collect, "batch", "batch.json", kBatchPartialSubfolders);
     const int finished = CollectBatch(command.collect);
     std::printf("%d runs with results; report: %s/report.md\n", finished, command.collect.c_str());
     return kExitExpected;
@@ -279,8 +293,10 @@ int Batch(const BatchCommand& command) {
   }
   const BatchSpec spec = LoadBatchFile(command.file);
   const std::vector<BatchRun> runs = ExpandBatch(spec);
+  const std::optional<SlurmOptions> slurm = SlurmOf(command.cluster, "--runs-per-task");
+  const CampaignFolder folder(command.out, "batch", "batch.json", kBatchPartialSubfolders);
   const std::vector<BatchRun> pending = PrepareBatchFolder(spec, runs, command.out);
-  if (const std::optional<SlurmOptions> slurm = SlurmOf(command.cluster, "--runs-per-task")) {
+  if (slurm) {
     const std::string job = SubmitBatchToSlurm(spec, pending, command.out, *slurm);
     if (!slurm->wait && !job.empty()) {
       std::printf("job %s submitted; gather what has finished with: trav batch --collect %s\n",

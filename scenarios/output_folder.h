@@ -2,19 +2,35 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 namespace trav::scenarios {
 
+/// The marker file trav writes into every folder it creates as a result ("<folder>/.trav", JSON
+/// {"kind": ...}); a folder without it is never replaced, deleted or written into by trav.
+inline constexpr const char* kFolderMarker = ".trav";
+
+/// The kind recorded in a folder's marker ("run", "terrain", "batch", "eval", "tune"), or nothing
+/// if the folder has no readable marker.
+std::optional<std::string> FolderKindOf(const std::string& folder);
+
 /// An output folder written atomically: files go into a hidden sibling folder
-/// ("<dir>.partial-<pid>") that Commit() renames to the final name, replacing an older folder of
-/// that name. If the object is destroyed without Commit() (bad input, a crash unwinding), the
-/// partial folder is removed, so no half-written output is ever left under the final name.
+/// ("<dir>.partial-<pid>", marked with `kind`) that Commit() renames to the final name. If the
+/// object is destroyed without Commit() (bad input, an error unwinding), the partial folder and
+/// the parent folders it created are removed, so nothing half-written is left.
+///
+/// It never loses data: the final path must not exist, or be an empty folder, or, with
+/// `overwrite`, a writable folder whose marker has the same `kind` (an earlier result of the same
+/// command), which Commit() replaces. Anything else (a file, a folder of the user's, a read-only
+/// result, a result of another kind) is bad input, checked when the object is made and again at
+/// Commit(). Partial folders that killed trav processes left beside the final path are removed.
 class OutputFolder {
  public:
-  /// Creates the partial folder (and missing parents). @throws std::runtime_error on failure.
-  explicit OutputFolder(const std::string& final_path);
+  /// @throws common::InputError naming the path if it may not be written; std::runtime_error if
+  /// the partial folder cannot be created.
+  OutputFolder(const std::string& final_path, const std::string& kind, bool overwrite);
   ~OutputFolder();
   OutputFolder(const OutputFolder&) = delete;
   OutputFolder& operator=(const OutputFolder&) = delete;
@@ -22,7 +38,8 @@ class OutputFolder {
   /// Path of a file inside the partial folder.
   std::string File(const std::string& name) const;
 
-  /// Moves the partial folder to its final name. @throws std::runtime_error on failure.
+  /// Moves the partial folder to its final name. @throws common::InputError if the final path
+  /// has meanwhile become something trav may not replace, or cannot be renamed.
   void Commit();
 
   const std::string& final_path() const { return final_path_; }
@@ -30,10 +47,44 @@ class OutputFolder {
  private:
   std::string final_path_;
   std::string partial_path_;
+  std::string kind_;
+  bool overwrite_;
+  std::vector<std::string> created_parents_;  ///< deepest first
   bool committed_{false};
 };
 
-/// Writes `text` to `path`. @throws std::runtime_error on failure.
+/// A folder that many processes fill over time (a batch, an evaluation, a tuning), opened for
+/// one trav process at a time: created if absent (marked with `kind`), else accepted if it is
+/// empty, holds the marker of `kind`, or holds `identity_file` (written by trav before markers
+/// existed). Anything else is bad input. The folder is locked (flock on "<folder>/.trav.lock")
+/// for the object's lifetime, so two trav processes never work in one folder at once; the lock
+/// goes with the process, however it ends. Files a killed process left half-written
+/// ("*.partial-*") in `partial_subfolders` are removed.
+class CampaignFolder {
+ public:
+  /// @throws common::InputError naming the folder if it may not be used or is in use.
+  CampaignFolder(const std::string& path, const std::string& kind, const std::string& identity_file,
+                 const std::vector<std::string>& partial_subfolders);
+  ~CampaignFolder();
+  CampaignFolder(const CampaignFolder&) = delete;
+  CampaignFolder& operator=(const CampaignFolder&) = delete;
+
+  /// The folder's absolute path.
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  int lock_fd_{-1};
+};
+
+/// A name that is safe as one path component: letters, digits, '_', '-' and '.' kept, anything
+/// else '-', a leading '.' as '_', empty as "_", and longer than 96 characters cut with a hash of
+/// the whole appended, so that no name can be "." or "..", hold a '/', or be too long.
+std::string SafeFileName(const std::string& text);
+
+/// Writes `text` to `path` and checks every step through fsync and close.
+/// @throws common::InputError naming the file and the system's reason (a full disk, no
+/// permission).
 void WriteTextFile(const std::string& path, const std::string& text);
 
 /// The contents of a file, or "" if it cannot be read.
@@ -45,8 +96,13 @@ nlohmann::json ReadJsonFile(const std::string& path);
 /// A JSON file, or nothing if it is absent or not valid JSON (a record still to be written).
 std::optional<nlohmann::json> ReadJsonIfPresent(const std::string& path);
 
-/// Writes `text` to `path` under a temporary name ("<path>.partial-<pid>") and renames it, so
-/// `path` is either complete or as it was. @throws std::runtime_error on failure.
+/// Writes `text` to `path` under a temporary name ("<path>.partial-<pid>"), checked through
+/// fsync and close (WriteTextFile), then renames it, so `path` is either complete or as it was.
+/// @throws common::InputError naming the file on failure (the temporary file is removed).
 void WriteTextFileAtomically(const std::string& path, const std::string& text);
+
+/// Checks a stream that wrote `path` after closing it. @throws common::InputError naming the file
+/// (with the system's reason) if any write failed.
+void CheckWritten(const std::string& path, bool stream_ok);
 
 }  // namespace trav::scenarios

@@ -20,6 +20,7 @@
 #include <sys/wait.h>
 
 #include "common/input_error.h"
+#include "scenarios/output_folder.h"
 #include "scenarios/process_pool.h"
 
 extern char** environ;
@@ -86,11 +87,14 @@ Table ReadCsv(const std::string& path) {
   return table;
 }
 
-// A gnuplot string literal: single quotes take everything literally except '' for a quote.
+// A gnuplot string literal: single quotes take everything literally except '' for a quote, and
+// a line break ends the command, so control characters become spaces: no label (a scenario
+// name, a batch's parameter) can add a command to the script.
 std::string Quote(const std::string& text) {
   std::string quoted = "'";
   for (const char c : text) {
-    quoted += c;
+    const auto byte = static_cast<unsigned char>(c);
+    quoted += byte < 0x20 || byte == 0x7f ? ' ' : c;
     if (c == '\'') quoted += '\'';
   }
   return quoted + "'";
@@ -286,11 +290,7 @@ PlotResult PlotTable(const Table& table, const std::vector<LinePlot>& specs,
     }
     script += "\nunset output\n";
   }
-  {
-    std::ofstream file(script_path);
-    file << script;
-    if (!file) throw std::runtime_error("cannot write " + script_path);
-  }
+  WriteTextFile(script_path, script);
 
   // gnuplot, then the images under their final names only if every one of them was written
   const ProcessResult run = RunProcess({{options.gnuplot, script_path}, log_path});

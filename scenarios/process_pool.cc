@@ -2,7 +2,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -15,8 +15,6 @@
 #include <utility>
 
 #include <sys/wait.h>
-
-extern char** environ;
 
 namespace trav::scenarios {
 namespace {
@@ -72,40 +70,71 @@ struct Running {
 };
 
 // Starts `task` in a process group of its own; returns its pid, or -1 with `result` filled in.
+// The child is killed (SIGKILL) when this thread ends, however it ends (PR_SET_PDEATHSIG), so a
+// killed batch or evaluation never leaves workers running unsupervised. fork and exec rather than
+// posix_spawn, because the parent-death signal must be set in the child.
 pid_t Start(const ProcessTask& task, ProcessResult* result) {
   if (task.argv.empty()) {
     result->end = ProcessEnd::kNotStarted;
     result->message = "empty command";
     return -1;
   }
+  // everything the child needs, prepared before fork (the child only makes system calls)
   std::vector<std::string> args = task.argv;
   std::vector<char*> argv;
   for (std::string& arg : args) argv.push_back(arg.data());
   argv.push_back(nullptr);
-
   const char* output = task.log_path.empty() ? "/dev/null" : task.log_path.c_str();
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, output, O_WRONLY | O_CREAT | O_TRUNC,
-                                   0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  // its own process group; SIGCHLD unblocked even while the pool waits for it
   sigset_t mask;
   pthread_sigmask(SIG_SETMASK, nullptr, &mask);
   sigdelset(&mask, SIGCHLD);
-  posix_spawnattr_t attributes;
-  posix_spawnattr_init(&attributes);
-  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK);
-  posix_spawnattr_setpgroup(&attributes, 0);
-  posix_spawnattr_setsigmask(&attributes, &mask);
-  pid_t pid = -1;
-  const int status = posix_spawnp(&pid, argv[0], &actions, &attributes, argv.data(), environ);
-  posix_spawnattr_destroy(&attributes);
-  posix_spawn_file_actions_destroy(&actions);
-  if (status != 0) {
+  const pid_t parent = getpid();
+  int report[2];  // the child writes errno here if it cannot exec; closed by a successful exec
+  if (pipe2(report, O_CLOEXEC) != 0) {
     result->end = ProcessEnd::kNotStarted;
-    result->message = "cannot start " + task.argv[0] + ": " + std::strerror(status);
+    result->message = std::string("cannot start ") + task.argv[0] + ": " + std::strerror(errno);
+    return -1;
+  }
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(report[0]);
+    int error = 0;
+    setpgid(0, 0);
+    if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent) _exit(127);
+    const int input = open("/dev/null", O_RDONLY);
+    const int log = open(output, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (input < 0 || log < 0 || dup2(input, STDIN_FILENO) < 0 || dup2(log, STDOUT_FILENO) < 0 ||
+        dup2(log, STDERR_FILENO) < 0) {
+      error = errno;
+    } else {
+      signal(SIGINT, SIG_DFL);
+      signal(SIGTERM, SIG_DFL);
+      pthread_sigmask(SIG_SETMASK, &mask, nullptr);
+      execvp(argv[0], argv.data());
+      error = errno;
+    }
+    const ssize_t written = write(report[1], &error, sizeof(error));
+    _exit(written == sizeof(error) ? 127 : 126);
+  }
+  close(report[1]);
+  if (pid < 0) {
+    close(report[0]);
+    result->end = ProcessEnd::kNotStarted;
+    result->message = std::string("cannot start ") + task.argv[0] + ": " + std::strerror(errno);
+    return -1;
+  }
+  setpgid(pid, pid);  // also here, so that the group exists before anyone signals it
+  int error = 0;
+  ssize_t n = 0;
+  while ((n = read(report[0], &error, sizeof(error))) < 0 && errno == EINTR) {
+  }
+  close(report[0]);
+  if (n == sizeof(error)) {
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    result->end = ProcessEnd::kNotStarted;
+    result->message = "cannot start " + task.argv[0] + ": " + std::strerror(error);
     return -1;
   }
   return pid;

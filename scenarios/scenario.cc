@@ -416,7 +416,6 @@ void VisitScenario(Archive& a, Scenario& s) {
       m.Field("max_yaw_acceleration", &k.max_yaw_acceleration_rad_s2);
       m.Field("actuator_time_constant", &k.actuator_time_constant_s);
       m.Field("max_iterations", &k.max_iterations);
-      m.Field("time_budget", &k.time_budget_s);
     });
   });
   a.Map("planner", [&](Archive& p) {

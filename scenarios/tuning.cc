@@ -140,7 +140,7 @@ Evaluation Evaluate(const TuneSpec& spec, const std::vector<double>& values,
         document.Set(spec.parameters[i].key, Number(values[i]));
       }
       const Scenario scenario = LoadScenario(document);
-      const std::string id = scenario.name + "_seed-" + seed;
+      const std::string id = SafeFileName(scenario.name + "_seed-" + seed);
       ids.push_back(id);
       const fs::path summary = candidate / "runs" / id / "summary.json";
       if (ResultExists(summary.string())) continue;
@@ -302,6 +302,8 @@ TuneSpec LoadTuneFile(const std::string& path) {
 
 TuneResult RunTuning(const TuneSpec& spec, const std::string& out_dir,
                      const TuneExecution& execution) {
+  if (execution.slurm) ValidateSlurmOptions(*execution.slurm);
+  const CampaignFolder campaign(out_dir, "tune", "tune.json", {});
   const fs::path folder = fs::absolute(out_dir);
   fs::create_directories(folder / "candidates");
   const fs::path identity_path = folder / "tune.json";

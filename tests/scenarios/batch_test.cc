@@ -64,8 +64,11 @@ TEST_F(BatchTest, RecordsACrashAndAHangAsOutcomesAndFinishesTheOthers) {
   }
   Write("crash.yaml", ShortScenario("crash", 1.0, "test_fault: crash\n"));
   Write("hang.yaml", ShortScenario("hang", 1.0, "test_fault: hang\n"));
+  // a limit far above a 1 s run's time on a loaded machine or under a sanitizer, so that only
+  // the hang reaches it
   const fs::path batch =
-      Write("batch.yaml", "scenarios: [" + list + "crash.yaml, hang.yaml]\ntime_limit: 3\n");
+      Write("batch.yaml", "scenarios: [" + list + "crash.yaml, hang.yaml]\ntime_limit: 20\n");
+  setenv("TRAV_TEST_FAULTS", "1", 1);  // the fault hooks, inherited by the batch's runs
 
   const CommandResult run =
       RunTrav("batch " + batch.string() + " --out " + (root_ / "out").string() + " --jobs 2");

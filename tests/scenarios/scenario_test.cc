@@ -96,7 +96,7 @@ TEST(ScenarioTest, BadInputNamesSourceKeyAndValue) {
       ThrowsMessage<common::InputError>(HasSubstr("test.yaml: terrain.resolutoin: unknown key")));
   EXPECT_THAT([] { Load("duration: long"); },
               ThrowsMessage<common::InputError>(
-                  HasSubstr("test.yaml: duration: expected a number, got 'long'")));
+                  HasSubstr("test.yaml: duration: expected a finite number, got 'long'")));
   EXPECT_THAT([] { Load("terrain: {resolution: -0.1}"); },
               ThrowsMessage<common::InputError>(
                   HasSubstr("test.yaml: terrain.resolution: value '-0.1' must be > 0")));

@@ -142,7 +142,7 @@ TEST_F(TravCliTest, MissingFilesAreBadInput) {
   CommandResult result =
       RunTrav("run " + (root_ / "missing.yaml").string() + " --out " + (root_ / "run").string());
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_THAT(result.output, HasSubstr("missing.yaml: cannot open file"));
+  EXPECT_THAT(result.output, HasSubstr("missing.yaml: cannot open: No such file or directory"));
   const std::string scenario = WriteScenario("short.yaml", std::string(kShortRun) + "");
   result = RunTrav("run " + scenario + " --set robot.model=nothere.xml --out " +
                    (root_ / "run").string());
