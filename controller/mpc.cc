@@ -48,6 +48,8 @@ void ValidateMpcConfig(const MpcConfig& c) {
                        "controller.mpc.max_iterations", c.max_iterations, "must be in [1, 1000]");
 }
 
+std::string CeresVersion() { return CERES_VERSION_STRING; }
+
 // The horizon's data, shared by the cost functor and the controller; the Ceres problem is built
 // once and reused by every solve (only the data and the initial inputs change).
 struct MpcController::Problem {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -37,6 +38,9 @@ struct MpcConfig {
 
 /// Checks a config. @throws common::InputError naming the field ("controller.mpc.<key>") and value.
 void ValidateMpcConfig(const MpcConfig& config);
+
+/// The version of the Ceres solver library the MPC uses ("2.1.0").
+std::string CeresVersion();
 
 /// The robot's planar state as the MPC sees it.
 struct MpcState {

@@ -25,6 +25,7 @@
 #include "scenarios/navigation.h"
 #include "scenarios/pcd_io.h"
 #include "scenarios/plots.h"
+#include "scenarios/provenance.h"
 #include "scenarios/run_metrics.h"
 #include "scenarios/social_force.h"
 #include "scenarios/tracking.h"
@@ -846,6 +847,7 @@ std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
   json["expected_outcome"] = OutcomeName(scenario.expected_outcome);
   json["terrain"] = {{"type", sim::TerrainTypeName(scenario.terrain.type)},
                      {"seed", scenario.terrain.seed}};
+  json["provenance"] = Provenance(ResolvedScenarioYaml(scenario));
   json["sim_time_s"] = summary.sim_time_s;
   json["wall_time_s"] = summary.wall_time_s;
   json["real_time_factor"] = summary.real_time_factor;

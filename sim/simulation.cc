@@ -94,6 +94,12 @@ int RequireId(const mjModel* model, mjtObj type, const char* name) {
 
 }  // namespace
 
+std::string MujocoVersion() {
+  const int version = mj_version();
+  return std::to_string(version / 100) + "." + std::to_string(version / 10 % 10) + "." +
+         std::to_string(version % 10);
+}
+
 void InstallMujocoHandlers() {
   static std::once_flag once;
   std::call_once(once, [] {

@@ -199,4 +199,7 @@ class Simulation {
 /// process-wide handlers; without them it prints and exits.
 void InstallMujocoHandlers();
 
+/// The version of the MuJoCo library trav runs with ("2.2.2").
+std::string MujocoVersion();
+
 }  // namespace trav::sim

@@ -10,6 +10,9 @@
 #include <embree3/rtcore.h>
 
 namespace trav::lidar {
+
+std::string EmbreeVersion() { return RTC_VERSION_STRING; }
+
 namespace {
 
 // Embree reports errors through a callback; the first one is kept and thrown by CheckDevice.
