@@ -21,7 +21,9 @@ std::string Excerpt(const std::string& text, std::size_t max_length) {
       break;
     }
     const auto byte = static_cast<unsigned char>(c);
-    if (byte >= 0x20 && byte < 0x7f) {
+    if (c == '\n' || c == '\t') {
+      quoted += ' ';
+    } else if (byte >= 0x20 && byte < 0x7f) {
       quoted += c;
     } else {
       static const char kHex[] = "0123456789abcdef";

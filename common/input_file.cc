@@ -11,30 +11,31 @@
 
 namespace trav::common {
 
-void RequireRegularFile(const std::string& path, std::size_t max_bytes) {
-  if (path.empty()) throw InputError("", "", "an input file name is empty");
+void RequireRegularFile(const std::string& path, const std::string& what, std::size_t max_bytes) {
+  const std::string name = Excerpt(path, 200);
+  if (path.empty()) throw InputError("", "", "the " + what + " file name is empty");
   struct stat status {};
   if (stat(path.c_str(), &status) != 0) {
-    throw InputError(Excerpt(path, 200), "", std::string("cannot open: ") + std::strerror(errno));
+    throw InputError(name, "", "cannot open " + what + ": " + std::strerror(errno));
   }
-  if (S_ISDIR(status.st_mode)) throw InputError(Excerpt(path, 200), "", "is a folder, not a file");
+  if (S_ISDIR(status.st_mode)) throw InputError(name, "", "is a folder, not a " + what);
   if (!S_ISREG(status.st_mode)) {
-    throw InputError(Excerpt(path, 200), "", "is not a regular file (a FIFO, socket or device)");
+    throw InputError(name, "", "is not a regular file (a FIFO, socket or device), not a " + what);
   }
   if (static_cast<std::size_t>(status.st_size) > max_bytes) {
-    throw InputError(Excerpt(path, 200), "",
+    throw InputError(name, "",
                      "is " + std::to_string(status.st_size) + " bytes, more than the " +
-                         std::to_string(max_bytes) + " trav reads");
+                         std::to_string(max_bytes) + " trav reads as a " + what);
   }
 }
 
-std::string ReadInputFile(const std::string& path, std::size_t max_bytes) {
-  RequireRegularFile(path, max_bytes);
+std::string ReadInputFile(const std::string& path, const std::string& what, std::size_t max_bytes) {
+  RequireRegularFile(path, what, max_bytes);
   std::ifstream file(path, std::ios::binary);
-  if (!file) throw InputError(Excerpt(path, 200), "", "cannot open");
+  if (!file) throw InputError(Excerpt(path, 200), "", "cannot open " + what);
   std::ostringstream text;
   text << file.rdbuf();
-  if (file.bad()) throw InputError(Excerpt(path, 200), "", "cannot read");
+  if (file.bad()) throw InputError(Excerpt(path, 200), "", "cannot read " + what);
   return text.str();
 }
 

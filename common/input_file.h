@@ -10,11 +10,14 @@ namespace trav::common {
 inline constexpr std::size_t kMaxInputFileBytes = 64u << 20;
 
 /// Checks that `path` names a regular file (not a folder, FIFO or device, which could block or
-/// never end) of at most `max_bytes`. @throws InputError naming the file otherwise.
-void RequireRegularFile(const std::string& path, std::size_t max_bytes = kMaxInputFileBytes);
+/// never end) of at most `max_bytes`. @throws InputError naming the file and `what` it is for
+/// ("scan table") otherwise.
+void RequireRegularFile(const std::string& path, const std::string& what,
+                        std::size_t max_bytes = kMaxInputFileBytes);
 
 /// The contents of the regular file `path` (RequireRegularFile). @throws InputError naming the
-/// file if it is not one or cannot be read.
-std::string ReadInputFile(const std::string& path, std::size_t max_bytes = kMaxInputFileBytes);
+/// file and `what` it is for if it is not one or cannot be read.
+std::string ReadInputFile(const std::string& path, const std::string& what,
+                          std::size_t max_bytes = kMaxInputFileBytes);
 
 }  // namespace trav::common

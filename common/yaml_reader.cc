@@ -79,7 +79,7 @@ YamlDocument& YamlDocument::operator=(YamlDocument&&) noexcept = default;
 YamlDocument::~YamlDocument() = default;
 
 YamlDocument YamlDocument::Load(const std::string& path) {
-  const std::string text = ReadInputFile(path);
+  const std::string text = ReadInputFile(path, "YAML file");
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -385,12 +385,18 @@ void YamlReader::Read(const std::string& key, std::vector<std::string>* value) {
   const YAML::Node node = Get(key);
   if (!node.IsSequence()) Fail(key, "expected a sequence, got " + ScalarText(node));
   value->clear();
-  for (const YAML::Node& element : node) value->push_back(NodeText(element));
+  for (const YAML::Node& element : node) {
+    value->push_back(NodeText(element));
+    if (!IsPrintableUtf8(value->back())) {
+      Fail(key, "expected printable UTF-8 text, got " + QuotedExcerpt(value->back()));
+    }
+  }
 }
 
 void YamlReader::ReadText(const std::string& key, std::string* value) {
   if (!Has(key)) return;
   *value = NodeText(Get(key));
+  if (!IsPrintableUtf8(*value)) Fail(key, "expected printable UTF-8 text, got " + QuotedExcerpt(*value));
 }
 
 std::vector<std::string> YamlReader::Keys() const {

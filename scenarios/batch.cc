@@ -94,7 +94,7 @@ BatchSpec LoadBatchFile(const std::string& path) {
       int first = 1, count = 0;
       seeds.ReadRequired("first", &first);
       seeds.ReadRequired("count", &count);
-      seeds.Check("count", count >= 1, "must be >= 1");
+      seeds.Check("count", count >= 1 && count <= 100000, "must be in [1, 100000]");
       seeds.Finish();
       SweepAxis axis{"seed", "terrain.seed", {}};
       for (int k = 0; k < count; ++k) axis.values.push_back(std::to_string(first + k));
@@ -119,12 +119,19 @@ BatchSpec LoadBatchFile(const std::string& path) {
     }
   }
   root.Read("time_limit", &spec.time_limit_s);
-  root.Check("time_limit", spec.time_limit_s > 0.0, "must be > 0 s");
+  root.Check("time_limit", spec.time_limit_s > 0.0 && spec.time_limit_s <= 1e6,
+             "must be in (0, 1e6] s");
   root.Finish();
   return spec;
 }
 
 std::vector<BatchRun> ExpandBatch(const BatchSpec& spec) {
+  double total = static_cast<double>(spec.scenarios.size());
+  for (const SweepAxis& axis : spec.axes) total *= static_cast<double>(axis.values.size());
+  if (total > kMaxBatchRuns) {
+    throw common::InputError(spec.source, "sweep",
+                             "gives more runs than the 100000 one batch holds");
+  }
   std::vector<BatchRun> runs;
   std::set<std::string> ids;
   for (const std::string& base : spec.scenarios) {

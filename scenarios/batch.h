@@ -10,6 +10,9 @@
 
 namespace trav::scenarios {
 
+/// The most runs one batch holds.
+inline constexpr double kMaxBatchRuns = 100000;
+
 /// One axis of a batch's sweep: a scenario key and the values it takes.
 struct SweepAxis {
   std::string label;                ///< its name in run ids and reports ("seed", "mapper", ...)

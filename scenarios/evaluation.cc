@@ -258,13 +258,16 @@ std::optional<nlohmann::json> FinishedScene(const fs::path& path) {
 
 void ValidateEvalOptions(const EvalOptions& options) {
   if (options.terrains.empty()) throw common::InputError("--terrains", "", "needs a terrain type");
-  common::RequireValue(options.scenes >= 1, "--scenes", options.scenes, "must be >= 1");
+  common::RequireValue(options.scenes >= 1 && options.scenes <= 100000, "--scenes", options.scenes,
+                       "must be in [1, 100000]");
   common::RequireValue(options.route_length_m > 0.0 && options.route_length_m <= 40.0,
                        "--route-length", options.route_length_m, "must be in (0, 40] m");
-  common::RequireValue(options.max_frames >= 0, "--frames", options.max_frames, "must be >= 0");
-  common::RequireValue(options.jobs >= 1, "--jobs", options.jobs, "must be >= 1");
-  common::RequireValue(options.scene_time_limit_s > 0.0, "--time-limit", options.scene_time_limit_s,
-                       "must be > 0 s");
+  common::RequireValue(options.max_frames >= 0 && options.max_frames <= 100000, "--frames",
+                       options.max_frames, "must be in [0, 100000]");
+  common::RequireValue(options.jobs >= 1 && options.jobs <= 1024, "--jobs", options.jobs,
+                       "must be in [1, 1024]");
+  common::RequireValue(options.scene_time_limit_s > 0.0 && options.scene_time_limit_s <= 1e6,
+                       "--time-limit", options.scene_time_limit_s, "must be in (0, 1e6] s");
   if (options.methods.empty()) throw common::InputError("--methods", "", "needs a method");
   std::set<std::string> seen;
   for (const std::string& method : options.methods) {
@@ -278,7 +281,8 @@ void ValidateEvalOptions(const EvalOptions& options) {
     }
   }
   for (const int count : options.inducing_points) {
-    common::RequireValue(count >= 10, "--inducing", count, "must be >= 10");
+    common::RequireValue(count >= 10 && count <= 3000, "--inducing", count,
+                         "must be in [10, 3000]");
   }
   std::set<std::string> terrains;
   for (const std::string& terrain : options.terrains) {

@@ -219,7 +219,7 @@ std::string SubmitJobArray(const std::string& folder_path, const std::vector<Job
 
 void RunJobTask(const std::string& tasks_file, int index) {
   const nlohmann::json tasks =
-      nlohmann::json::parse(common::ReadInputFile(tasks_file), nullptr, false);
+      nlohmann::json::parse(common::ReadInputFile(tasks_file, "Slurm tasks file"), nullptr, false);
   if (tasks.is_discarded() || !tasks.is_object() || !tasks.contains("tasks") ||
       !tasks["tasks"].is_array()) {
     throw common::InputError(tasks_file, "", "is not a Slurm tasks file of trav");

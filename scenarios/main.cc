@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "common/input_error.h"
 #include "common/logging.h"
@@ -25,6 +26,7 @@
 #include "scenarios/scenario_run.h"
 #include "scenarios/terrain_export.h"
 #include "scenarios/tuning.h"
+#include "sim/simulation.h"
 #include "sim/terrain.h"
 
 namespace trav::scenarios {
@@ -76,13 +78,11 @@ Scenario ResolveScenario(const ScenarioOptions& options, std::optional<bool> vid
   return LoadScenario(document);
 }
 
-// The robot model file of a scenario. @throws common::InputError if it cannot be read.
+// The robot model file of a scenario, checked before anything is written.
+// @throws common::InputError if it is not a robot model trav can drive (sim::ValidateRobotModel).
 std::string ExistingRobotModel(const Scenario& scenario) {
   const std::string model = RobotModelPath(scenario, ModelsDirectory());
-  if (access(model.c_str(), R_OK) != 0) {
-    throw common::InputError(model, "robot.model",
-                             "cannot open robot model '" + scenario.robot_model + "'");
-  }
+  sim::ValidateRobotModel(model);
   return model;
 }
 
@@ -288,8 +288,8 @@ int Batch(const BatchCommand& command) {
   }
   if (command.file.empty()) throw common::InputError("BATCH.yaml", "", "trav batch needs a file");
   if (command.out.empty()) throw common::InputError("--out", "", "trav batch needs --out DIR");
-  if (command.jobs < 1) {
-    throw common::InputError("--jobs", std::to_string(command.jobs), "must be >= 1");
+  if (command.jobs < 1 || command.jobs > 1024) {
+    throw common::InputError("--jobs", std::to_string(command.jobs), "must be in [1, 1024]");
   }
   const BatchSpec spec = LoadBatchFile(command.file);
   const std::vector<BatchRun> runs = ExpandBatch(spec);
@@ -334,13 +334,14 @@ struct TuneCommand {
 
 int Tune(const TuneCommand& command) {
   if (command.out.empty()) throw common::InputError("--out", "", "trav tune needs --out DIR");
-  if (command.jobs < 1) {
-    throw common::InputError("--jobs", std::to_string(command.jobs), "must be >= 1");
+  if (command.jobs < 1 || command.jobs > 1024) {
+    throw common::InputError("--jobs", std::to_string(command.jobs), "must be in [1, 1024]");
   }
   TuneSpec spec = LoadTuneFile(command.file);
   if (command.budget) {
-    if (*command.budget < 2) {
-      throw common::InputError("--budget", std::to_string(*command.budget), "must be >= 2");
+    if (*command.budget < 2 || *command.budget > 100000) {
+      throw common::InputError("--budget", std::to_string(*command.budget),
+                               "must be in [2, 100000]");
     }
     spec.budget = *command.budget;
   }
@@ -523,7 +524,17 @@ int Main(int argc, char** argv) {
     }
     return Terrain(terrain_options);
   } catch (const common::InputError& e) {
-    std::fprintf(stderr, "trav: error: %s\n", e.what());
+    std::fprintf(stderr, "trav: error: %s\n", common::Excerpt(e.what(), 2000).c_str());
+    return kExitBadInput;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // the machine's answer to a path of the user's: no permission, no space, not a folder
+    std::fprintf(stderr, "trav: error: %s\n", common::Excerpt(e.what(), 2000).c_str());
+    return kExitBadInput;
+  } catch (const nlohmann::json::exception& e) {
+    // trav reads JSON only from its own folders and job files: one edited or cut short by hand,
+    // or a name that is not UTF-8, is bad input
+    std::fprintf(stderr, "trav: error: malformed JSON in a trav folder or file: %s\n",
+                 common::Excerpt(e.what(), 400).c_str());
     return kExitBadInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "trav: internal error: %s\n", e.what());

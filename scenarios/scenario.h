@@ -128,6 +128,10 @@ const std::string& DefaultScenarioYaml();
 /// replayed).
 std::string ResolvedScenarioYaml(const Scenario& scenario);
 
+/// The bounds of every numeric scenario key, as a Markdown table ("| `key.path` | min | max |"),
+/// sorted by key; "[i]" stands for any item of a sequence. docs/scenario-format.md holds it.
+std::string ScenarioBoundsTable();
+
 /// The pose X_BL of a mount given as [x, y, z, roll, pitch, yaw].
 Eigen::Isometry3d MountPose(const Eigen::Matrix<double, 6, 1>& mount);
 

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/input_error.h"
+#include "common/input_file.h"
 #include "scenarios/run_metrics.h"
 
 namespace trav::scenarios {
@@ -43,13 +44,13 @@ std::vector<Eigen::Vector2d> ShapePoints(const TrackSettings& s) {
 }
 
 common::Trajectory LoadReference(const std::string& path) {
-  std::ifstream file(path);
-  if (!file) throw common::InputError(path, "track.file", "cannot open reference trajectory");
+  std::istringstream file(common::ReadInputFile(path, "reference trajectory"));
   std::string line;
   std::getline(file, line);
   if (line.rfind("t,x,y,yaw,v,omega", 0) != 0) {
     throw common::InputError(path, "line 1",
-                             "expected the header 't,x,y,yaw,v,omega', got '" + line + "'");
+                             "expected the header 't,x,y,yaw,v,omega', got " +
+                                 common::QuotedExcerpt(line));
   }
   std::vector<common::TrajectoryPoint> points;
   for (int number = 2; std::getline(file, line); ++number) {
@@ -64,7 +65,8 @@ common::Trajectory LoadReference(const std::string& path) {
     if (!ok || !std::all_of(values, values + 6, [](double v) { return std::isfinite(v); }) ||
         (!points.empty() && values[0] <= points.back().t_s)) {
       throw common::InputError(path, "line " + std::to_string(number),
-                               "expected 6 finite numbers with increasing t, got '" + line + "'");
+                               "expected 6 finite numbers with increasing t, got " +
+                                   common::QuotedExcerpt(line));
     }
     common::TrajectoryPoint p;
     p.t_s = values[0];

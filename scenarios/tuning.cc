@@ -236,8 +236,10 @@ TuneSpec LoadTuneFile(const std::string& path) {
   spec.sets = std::move(header.sets);
   spec.seeds = {"1"};
   root.Read("seeds", &spec.seeds);
-  root.Check("seeds", !spec.seeds.empty(), "must list at least one seed");
+  root.Check("seeds", !spec.seeds.empty() && spec.seeds.size() <= 1000,
+             "must list 1 to 1000 seeds");
   root.Read("held_out_seeds", &spec.held_out_seeds);
+  root.Check("held_out_seeds", spec.held_out_seeds.size() <= 1000, "must list at most 1000 seeds");
   common::YamlReader parameters = root.Map("parameters");
   for (const std::string& key : parameters.Keys()) {
     common::YamlReader range = parameters.Map(key);
@@ -256,7 +258,8 @@ TuneSpec LoadTuneFile(const std::string& path) {
     spec.parameters.push_back(parameter);
   }
   parameters.Finish();
-  root.Check("parameters", !spec.parameters.empty(), "must name at least one parameter");
+  root.Check("parameters", !spec.parameters.empty() && spec.parameters.size() <= 100,
+             "must name 1 to 100 parameters");
   const std::set<std::string> known = KnownMetrics();
   common::YamlReader objective = root.Map("objective");
   for (const std::string& metric : objective.Keys()) {
@@ -279,10 +282,11 @@ TuneSpec LoadTuneFile(const std::string& path) {
   root.Read("failure_penalty", &spec.failure_penalty);
   root.ReadEnum("algorithm", &spec.algorithm, kAlgorithms);
   root.Read("budget", &spec.budget);
-  root.Check("budget", spec.budget >= 2, "must be >= 2");
+  root.Check("budget", spec.budget >= 2 && spec.budget <= 100000, "must be in [2, 100000]");
   root.Read("seed", &spec.seed);
   root.Read("time_limit", &spec.time_limit_s);
-  root.Check("time_limit", spec.time_limit_s > 0.0, "must be > 0 s");
+  root.Check("time_limit", spec.time_limit_s > 0.0 && spec.time_limit_s <= 1e6,
+             "must be in (0, 1e6] s");
   root.Finish();
 
   // every parameter is a number of every scenario
@@ -354,7 +358,7 @@ TuneResult RunTuning(const TuneSpec& spec, const std::string& out_dir,
     ++result.evaluations;
     result.cached += cached ? 1 : 0;
     if (result.evaluations == 1) result.initial_objective = evaluation.objective;
-    if (evaluation.objective < result.best_objective) {
+    if (evaluation.objective < result.best_objective || result.best.empty()) {
       result.best_objective = evaluation.objective;
       result.best = values;
     }

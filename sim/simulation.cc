@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <unordered_map>
@@ -11,6 +13,7 @@
 #include <mujoco/mujoco.h>
 
 #include "common/input_error.h"
+#include "common/input_file.h"
 #include "common/logging.h"
 
 namespace trav::sim {
@@ -83,6 +86,15 @@ double TopOf(const common::Primitive& primitive) {
   return primitive.X_WO.translation().z() + extent;
 }
 
+// MuJoCo's virtual file system, freed with its owner.
+struct ScopedVfs {
+  ScopedVfs() { mj_defaultVFS(&vfs); }
+  ~ScopedVfs() { mj_deleteVFS(&vfs); }
+  ScopedVfs(const ScopedVfs&) = delete;
+  ScopedVfs& operator=(const ScopedVfs&) = delete;
+  mjVFS vfs;
+};
+
 int RequireId(const mjModel* model, mjtObj type, const char* name) {
   const int id = mj_name2id(model, type, name);
   if (id < 0) {
@@ -93,6 +105,49 @@ int RequireId(const mjModel* model, mjtObj type, const char* name) {
 }
 
 }  // namespace
+
+void ValidateRobotModel(const std::string& robot_model_path) {
+  InstallMujocoHandlers();
+  common::RequireRegularFile(robot_model_path, "robot model");
+  char error[1024] = "";
+  std::unique_ptr<mjModel, decltype(&mj_deleteModel)> model(nullptr, mj_deleteModel);
+  try {
+    model.reset(mj_loadXML(robot_model_path.c_str(), nullptr, error, sizeof(error)));
+  } catch (const std::runtime_error& e) {
+    std::snprintf(error, sizeof(error), "%s", e.what());
+  }
+  if (!model) {
+    throw common::InputError(robot_model_path, "robot.model",
+                             "is not a MuJoCo model that loads: " + common::Excerpt(error, 300));
+  }
+  std::vector<std::string> missing;
+  auto require = [&](mjtObj type, const std::string& name) {
+    if (mj_name2id(model.get(), type, name.c_str()) < 0) {
+      missing.push_back(std::string(mju_type2Str(type)) + " '" + name + "'");
+    }
+  };
+  require(mjOBJ_BODY, "base");
+  require(mjOBJ_JOINT, "root");
+  require(mjOBJ_SITE, "lidar");
+  for (int w = 0; w < 4; ++w) {
+    require(mjOBJ_JOINT, kWheelJoints[w]);
+    require(mjOBJ_ACTUATOR, kWheelActuators[w]);
+  }
+  if (!missing.empty()) {
+    std::string list;
+    for (const std::string& name : missing) list += (list.empty() ? "" : ", ") + name;
+    throw common::InputError(robot_model_path, "robot.model",
+                             "lacks what trav drives and senses: " + list +
+                                 " (docs/scenario-format.md, robot.model)");
+  }
+  for (int w = 0; w < 4; ++w) {
+    if (mj_name2id(model.get(), mjOBJ_ACTUATOR, kWheelActuators[w]) != w) {
+      throw common::InputError(robot_model_path, "robot.model",
+                               std::string("actuator ") + kWheelActuators[w] + " must be number " +
+                                   std::to_string(w));
+    }
+  }
+}
 
 std::string MujocoVersion() {
   const int version = mj_version();
@@ -113,23 +168,20 @@ void Simulation::DataDeleter::operator()(mjData* data) const { mj_deleteData(dat
 
 Simulation::Simulation(const TerrainWorld& terrain, const common::Pose2& start_W,
                        const WorldOptions& options, const std::vector<MovingObstacle>& movers) {
-  InstallMujocoHandlers();
-  if (!std::ifstream(options.robot_model_path).good()) {
-    throw common::InputError(options.robot_model_path, "", "cannot open robot model");
-  }
+  ValidateRobotModel(options.robot_model_path);
   ValidateMovingObstacles(movers);
   // load the generated world from a virtual file; the robot file is included from disk
   const std::string xml = BuildWorldXml(terrain, options, movers);
-  mjVFS vfs;
-  mj_defaultVFS(&vfs);
+  // on the heap (about 2 MB), and freed however the load ends (MuJoCo errors throw through
+  // mj_loadXML)
+  const auto vfs = std::make_unique<ScopedVfs>();
   constexpr const char* kWorldFile = "trav_world.xml";
-  if (mj_makeEmptyFileVFS(&vfs, kWorldFile, static_cast<int>(xml.size())) != 0) {
+  if (mj_makeEmptyFileVFS(&vfs->vfs, kWorldFile, static_cast<int>(xml.size())) != 0) {
     throw std::runtime_error("MuJoCo VFS: cannot allocate the world file");
   }
-  std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, kWorldFile)], xml.data(), xml.size());
+  std::memcpy(vfs->vfs.filedata[mj_findFileVFS(&vfs->vfs, kWorldFile)], xml.data(), xml.size());
   char error[1024] = "";
-  model_.reset(mj_loadXML(kWorldFile, &vfs, error, sizeof(error)));
-  mj_deleteVFS(&vfs);
+  model_.reset(mj_loadXML(kWorldFile, &vfs->vfs, error, sizeof(error)));
   if (!model_) throw std::runtime_error(std::string("cannot build the MuJoCo world: ") + error);
 
   // height samples from memory (the asset declares only the size)

@@ -199,6 +199,13 @@ class Simulation {
 /// process-wide handlers; without them it prints and exits.
 void InstallMujocoHandlers();
 
+/// Checks that `robot_model_path` is a MuJoCo model that loads on its own and has what trav drives
+/// and senses: the free joint `root` of the body `base`, the site `lidar`, the wheel joints
+/// front_left_wheel, rear_left_wheel, front_right_wheel, rear_right_wheel and their velocity
+/// actuators front_left_motor, rear_left_motor, front_right_motor, rear_right_motor, in this order.
+/// @throws common::InputError naming the file and what is wrong.
+void ValidateRobotModel(const std::string& robot_model_path);
+
 /// The version of the MuJoCo library trav runs with ("2.2.2").
 std::string MujocoVersion();
 

@@ -204,9 +204,30 @@ void ValidateTerrainConfig(const TerrainConfig& c) {
                        "must be at least one cell");
   common::RequireValue(c.size_m.y() >= c.resolution_m, "terrain.size[1]", c.size_m.y(),
                        "must be at least one cell");
-  common::RequireValue(
-      c.size_m.x() / c.resolution_m <= 8192 && c.size_m.y() / c.resolution_m <= 8192,
-      "terrain.resolution", c.resolution_m, "gives more than 8192 samples along an axis");
+  // what one run may hold in memory: 2048^2 height samples (with the ray-casting mesh and the
+  // MuJoCo height field about 0.5 GB), and 20,000 generated obstacles
+  const double samples = (c.size_m.x() / c.resolution_m + 1.0) * (c.size_m.y() / c.resolution_m + 1.0);
+  common::RequireValue(samples <= 2048.0 * 2048.0, "terrain.resolution", c.resolution_m,
+                       "gives more than 2048 x 2048 height samples for terrain.size");
+  const double area_m2 = c.size_m.x() * c.size_m.y();
+  constexpr double kMaxObstacles = 20000.0;
+  if (c.type == TerrainType::kForest) {
+    common::RequireValue(c.forest.tree_density_per_m2 * area_m2 <= kMaxObstacles,
+                         "terrain.parameters.tree_density", c.forest.tree_density_per_m2,
+                         "gives more than 20000 trees on terrain.size");
+  }
+  if (c.type == TerrainType::kRoad) {
+    const double blocks = area_m2 / (c.road.block_size_m * c.road.block_size_m) + 4.0;
+    common::RequireValue(blocks * c.road.poles_per_block <= kMaxObstacles,
+                         "terrain.parameters.poles_per_block", c.road.poles_per_block,
+                         "gives more than 20000 poles on terrain.size");
+  }
+  if (c.type == TerrainType::kIndoor) {
+    const double rooms = area_m2 / (c.indoor.min_room_size_m * c.indoor.min_room_size_m) + 4.0;
+    common::RequireValue(rooms * c.indoor.furniture_per_room <= kMaxObstacles,
+                         "terrain.parameters.furniture_per_room", c.indoor.furniture_per_room,
+                         "gives more than 20000 pieces of furniture on terrain.size");
+  }
   const bool hilly = c.type == TerrainType::kHilly || c.type == TerrainType::kForest ||
                      c.type == TerrainType::kRuin;
   if (hilly) ValidateHilly(c);

@@ -94,6 +94,34 @@ void FillHeightField(const Eigen::MatrixXf& height_m, const HeightFieldLayout& l
   }
 }
 
+namespace {
+
+// `text` as the value of a double-quoted XML attribute (a file path with any characters).
+std::string XmlAttribute(const std::string& text) {
+  std::string escaped;
+  for (const char c : text) {
+    switch (c) {
+      case '&':
+        escaped += "&amp;";
+        break;
+      case '"':
+        escaped += "&quot;";
+        break;
+      case '<':
+        escaped += "&lt;";
+        break;
+      case '>':
+        escaped += "&gt;";
+        break;
+      default:
+        escaped += c;
+    }
+  }
+  return escaped;
+}
+
+}  // namespace
+
 std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options,
                           const std::vector<MovingObstacle>& movers) {
   const HeightFieldLayout layout = ComputeHeightFieldLayout(world);
@@ -109,7 +137,7 @@ std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options
   std::ostringstream xml;
   xml << std::setprecision(9);
   xml << "<mujoco model=\"trav_world\">\n"
-      << "  <include file=\"" << options.robot_model_path << "\"/>\n"
+      << "  <include file=\"" << XmlAttribute(options.robot_model_path) << "\"/>\n"
       << "  <option timestep=\"" << options.timestep_s << "\"/>\n"
       << "  <visual>\n"
       << "    <quality shadowsize=\"1024\" offsamples=\"0\" numslices=\"12\" numstacks=\"8\"/>\n"

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "common/input_error.h"
+#include "common/input_file.h"
 
 namespace trav::lidar {
 namespace {
@@ -93,8 +94,7 @@ void Mid360Pattern::Rays(std::int64_t first, Eigen::Index count, Eigen::Matrix3X
 }
 
 std::unique_ptr<TablePattern> TablePattern::Load(const std::string& path) {
-  std::ifstream file(path);
-  if (!file) throw common::InputError(path, "", "cannot open scan table");
+  std::istringstream file(common::ReadInputFile(path, "scan table"));
   auto table = std::make_unique<TablePattern>();
   std::string line;
   int line_number = 0;
@@ -106,7 +106,8 @@ std::unique_ptr<TablePattern> TablePattern::Load(const std::string& path) {
       if (line.rfind("Time/s,Azimuth/deg,Zenith/deg", 0) != 0) {
         throw common::InputError(
             path, "line 1",
-            "expected the header 'Time/s,Azimuth/deg,Zenith/deg', got '" + line + "'");
+            "expected the header 'Time/s,Azimuth/deg,Zenith/deg', got " +
+                common::QuotedExcerpt(line));
       }
       continue;
     }
@@ -121,7 +122,8 @@ std::unique_ptr<TablePattern> TablePattern::Load(const std::string& path) {
         values[2] < 0.0 || values[2] > 180.0) {
       throw common::InputError(
           path, "line " + std::to_string(line_number),
-          "expected 'index,azimuth_deg,zenith_deg' with zenith in [0, 180], got '" + line + "'");
+          "expected 'index,azimuth_deg,zenith_deg' with zenith in [0, 180], got " +
+              common::QuotedExcerpt(line));
     }
     const double azimuth = values[1] * kDegToRad;
     const double zenith = values[2] * kDegToRad;

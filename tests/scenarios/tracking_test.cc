@@ -101,16 +101,16 @@ TEST(TrackingConfigTest, BadControllerSettingsNameTheKey) {
   };
   EXPECT_THAT(
       [&] { load("controller: {mpc: {horizon: -5}}"); },
-      ThrowsMessage<common::InputError>(HasSubstr("t.yaml: controller.mpc.horizon: value -5")));
+      ThrowsMessage<common::InputError>(HasSubstr("t.yaml: controller.mpc.horizon: value '-5' is outside its bounds [1, 200]")));
   EXPECT_THAT([&] { load("controller: {mpc: {state_weights: [1, 2]}}"); },
               ThrowsMessage<common::InputError>(
                   HasSubstr("controller.mpc.state_weights: expected a sequence of 3 numbers")));
   EXPECT_THAT(
       [&] { load("controller: {mpc: {rate_weights: [1, -2]}}"); },
-      ThrowsMessage<common::InputError>(HasSubstr("controller.mpc.rate_weights: value -2")));
+      ThrowsMessage<common::InputError>(HasSubstr("controller.mpc.rate_weights: value [1, -2] is outside its bounds")));
   EXPECT_THAT([&] { load("controller: {rate: 0}"); },
               ThrowsMessage<common::InputError>(
-                  HasSubstr("controller.rate: value '0' must be in [5, 1000] Hz")));
+                  HasSubstr("controller.rate: value '0' is outside its bounds [5, 1000]")));
   EXPECT_THAT(
       [&] { load("mode: track\ntrack: {reference: file}"); },
       ThrowsMessage<common::InputError>(HasSubstr("track.file: required for reference 'file'")));
