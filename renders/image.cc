@@ -2,11 +2,14 @@
 
 #include <png.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 
+#include "common/input_error.h"
 #include "renders/overlay.h"
 
 namespace trav::renders {
@@ -41,6 +44,11 @@ void WriteRows(const std::string& path, int width, int height, int bit_depth, in
   png_write_image(png, const_cast<png_bytepp>(rows.data()));
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
+  // a full disk shows only when the buffered bytes go out
+  const bool flushed = std::fflush(file.get()) == 0;
+  if (std::fclose(file.release()) != 0 || !flushed) {
+    throw common::InputError(path, "", std::string("cannot write: ") + std::strerror(errno));
+  }
 }
 
 }  // namespace

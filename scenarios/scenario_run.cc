@@ -23,6 +23,7 @@
 #include "renders/video_writer.h"
 #include "scenarios/mappers.h"
 #include "scenarios/navigation.h"
+#include "scenarios/output_folder.h"
 #include "scenarios/pcd_io.h"
 #include "scenarios/plots.h"
 #include "scenarios/provenance.h"
@@ -756,7 +757,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
     summary.video_frames = video->frames_written();
   }
   trajectory.close();
-  if (!trajectory) throw std::runtime_error("cannot write " + output_dir + "/trajectory.csv");
+  CheckWritten(output_dir + "/trajectory.csv", !trajectory.fail());
 
   summary.sim_time_s = simulation.time();
   summary.wall_time_s =
@@ -798,7 +799,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
     summary.tracking = navigator->tracking_metrics();
     summary.navigation = navigation;
     timeseries.close();
-    if (!timeseries) throw std::runtime_error("cannot write " + output_dir + "/timeseries.csv");
+    CheckWritten(output_dir + "/timeseries.csv", !timeseries.fail());
     summary.plots = PlotsJson(WriteRunPlots(output_dir));
   }
   summary.compute = times.ToJson();

@@ -40,7 +40,8 @@ void WriteHeightmaps(const sim::TerrainWorld& world, const OutputFolder& folder)
   std::ofstream raw(folder.File("heightmap.raw"), std::ios::binary);
   raw.write(reinterpret_cast<const char*>(world.height_m.data()),
             static_cast<std::streamsize>(world.height_m.size() * sizeof(float)));
-  if (!raw) throw std::runtime_error("cannot write " + folder.File("heightmap.raw"));
+  raw.close();
+  CheckWritten(folder.File("heightmap.raw"), !raw.fail());
 }
 
 void WriteCloud(const sim::TerrainWorld& world, const OutputFolder& folder) {
@@ -113,7 +114,8 @@ common::GridGeometry WriteGroundTruth(const sim::TerrainWorld& world,
   std::ofstream raw(folder.File("ground_truth.raw"), std::ios::binary);
   raw.write(reinterpret_cast<const char*>(cost.data()),
             static_cast<std::streamsize>(cost.size() * sizeof(float)));
-  if (!raw) throw std::runtime_error("cannot write " + folder.File("ground_truth.raw"));
+  raw.close();
+  CheckWritten(folder.File("ground_truth.raw"), !raw.fail());
   renders::WritePng(folder.File("ground_truth.png"), renders::TraversabilityImage(cost));
   return map_geometry;
 }
