@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -47,11 +48,13 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height, double 
 
   const std::string size = std::to_string(width) + "x" + std::to_string(height);
   const std::string rate = FormatNumber(fps);
+  // absolute, so that no file name (one starting with '-') can reach ffmpeg as an option
+  const std::string output = std::filesystem::absolute(path).string();
   std::vector<std::string> args = {
       "ffmpeg",        "-loglevel", "error",       "-nostdin",   "-y",         "-f",   "rawvideo",
       "-pixel_format", "rgb24",     "-video_size", size,         "-framerate", rate,   "-i",
       "pipe:0",        "-c:v",      "libx264",     "-preset",    "veryfast",   "-crf", "23",
-      "-pix_fmt",      "yuv420p",   "-movflags",   "+faststart", "-f",         "mp4",  path};
+      "-pix_fmt",      "yuv420p",   "-movflags",   "+faststart", "-f",         "mp4",  output};
   std::vector<char*> argv;
   for (std::string& arg : args) argv.push_back(arg.data());
   argv.push_back(nullptr);

@@ -323,6 +323,12 @@ EvalOptions EvalOptionsFromJson(const nlohmann::json& json, const std::string& s
   } catch (const nlohmann::json::exception& e) {
     throw common::InputError(source, "", std::string("not an evaluation's options: ") + e.what());
   }
+  // a stored file is input too: the same bounds as the command line's
+  try {
+    ValidateEvalOptions(options);
+  } catch (const common::InputError& e) {
+    throw common::InputError(source, "", e.what());
+  }
   return options;
 }
 

@@ -217,7 +217,7 @@ std::string SubmitJobArray(const std::string& folder_path, const std::vector<Job
   return job_id;
 }
 
-void RunJobTask(const std::string& tasks_file, int index) {
+JobTask ReadJobTask(const std::string& tasks_file, int index, const std::string& trav_executable) {
   const nlohmann::json tasks =
       nlohmann::json::parse(common::ReadInputFile(tasks_file, "Slurm tasks file"), nullptr, false);
   if (tasks.is_discarded() || !tasks.is_object() || !tasks.contains("tasks") ||
@@ -230,33 +230,39 @@ void RunJobTask(const std::string& tasks_file, int index) {
   }
   // only trav's own jobs, writing inside the tasks file's folder: a tasks file is data, and must
   // not be a way to run any command
-  const std::string self = fs::read_symlink("/proc/self/exe").string();
-  std::string folder;
-  double time_limit_s = 0.0;
-  std::vector<Job> jobs;
+  JobTask task;
   try {
-    folder = fs::path(tasks.at("folder").get<std::string>()).lexically_normal().string();
-    time_limit_s = tasks.at("time_limit_s").get<double>();
+    task.folder = fs::path(tasks.at("folder").get<std::string>()).lexically_normal().string();
+    task.time_limit_s = tasks.at("time_limit_s").get<double>();
     for (const nlohmann::json& job : list[static_cast<std::size_t>(index)]) {
       Job parsed = JobFromJson(job);
-      const bool own_command = parsed.argv.size() >= 2 && parsed.argv[0] == self &&
+      const bool own_command = parsed.argv.size() >= 2 && parsed.argv[0] == trav_executable &&
                                (parsed.argv[1] == "run" || parsed.argv[1] == "eval-scene");
       if (!own_command || SafeFileName(parsed.id) != parsed.id ||
-          !IsInside(parsed.log_path, folder) || !IsInside(parsed.result_path, folder)) {
+          !IsInside(parsed.log_path, task.folder) || !IsInside(parsed.result_path, task.folder)) {
         throw common::InputError(tasks_file, "tasks[" + std::to_string(index) + "]",
                                  "holds a job that is not one of trav's own (" +
                                      common::QuotedExcerpt(parsed.id) + ")");
       }
-      if (!ResultExists(parsed.result_path)) jobs.push_back(std::move(parsed));
+      task.jobs.push_back(std::move(parsed));
     }
   } catch (const nlohmann::json::exception& e) {
     throw common::InputError(tasks_file, "", std::string("is not a Slurm tasks file of trav: ") +
                                                  common::Excerpt(e.what(), 120));
   }
-  if (!std::isfinite(time_limit_s) || time_limit_s <= 0.0) {
-    throw common::InputError(tasks_file, "time_limit_s", "must be a positive number of seconds");
+  if (!std::isfinite(task.time_limit_s) || task.time_limit_s <= 0.0 || task.time_limit_s > 1e6) {
+    throw common::InputError(tasks_file, "time_limit_s", "must be in (0, 1e6] s");
   }
-  RunJobsLocally(folder, jobs, 1, time_limit_s, nullptr);
+  return task;
+}
+
+void RunJobTask(const std::string& tasks_file, int index) {
+  JobTask task = ReadJobTask(tasks_file, index, fs::read_symlink("/proc/self/exe").string());
+  std::vector<Job> pending;
+  for (Job& job : task.jobs) {
+    if (!ResultExists(job.result_path)) pending.push_back(std::move(job));
+  }
+  RunJobsLocally(task.folder, pending, 1, task.time_limit_s, nullptr);
 }
 
 }  // namespace trav::scenarios

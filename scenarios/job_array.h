@@ -59,6 +59,19 @@ void ValidateSlurmOptions(const SlurmOptions& options);
 std::string SubmitJobArray(const std::string& folder, const std::vector<Job>& jobs,
                            double time_limit_s, const SlurmOptions& options);
 
+/// One array task of a Slurm tasks file.
+struct JobTask {
+  std::string folder;       ///< the batch or evaluation folder the jobs write into
+  double time_limit_s{0.0};  ///< per job [s]
+  std::vector<Job> jobs;
+};
+
+/// Reads task `index` of `tasks_file`, accepting only trav's own jobs: `trav_executable` with the
+/// subcommand run or eval-scene, a safe id, and log and result files inside the folder (a tasks
+/// file is data, never a way to run any command).
+/// @throws common::InputError naming the file if it is malformed or holds another job.
+JobTask ReadJobTask(const std::string& tasks_file, int index, const std::string& trav_executable);
+
 /// The array task's side: runs the jobs of task `index` in `tasks_file` that have no result yet,
 /// one after the other, recording each end in the folder the file belongs to.
 /// @throws common::InputError if the file cannot be read or has no such task.

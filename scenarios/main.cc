@@ -524,7 +524,7 @@ int Main(int argc, char** argv) {
     }
     return Terrain(terrain_options);
   } catch (const common::InputError& e) {
-    std::fprintf(stderr, "trav: error: %s\n", common::Excerpt(e.what(), 2000).c_str());
+    std::fprintf(stderr, "trav: error: %s\n", common::Excerpt(e.what(), 1000).c_str());
     return kExitBadInput;
   } catch (const std::filesystem::filesystem_error& e) {
     // the machine's answer to a path of the user's: no permission, no space, not a folder

@@ -7,13 +7,24 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
-// A LiDAR point with its time offset and laser line, as Livox drivers publish them.
+#include "common/input_error.h"
+
+// A LiDAR point with its time offset and laser line, as Livox drivers publish them. PCL's point
+// macro declares an anonymous struct in a union, which clang flags as an extension.
+#if defined(__clang__)
+#pragma clang diagnostic push
+#pragma clang diagnostic ignored "-Wgnu-anonymous-struct"
+#pragma clang diagnostic ignored "-Wnested-anon-types"
+#endif
 struct EIGEN_ALIGN16 TravLidarPoint {
   PCL_ADD_POINT4D;
   float time;
   std::uint16_t line;
   PCL_MAKE_ALIGNED_OPERATOR_NEW
 };
+#if defined(__clang__)
+#pragma clang diagnostic pop
+#endif
 POINT_CLOUD_REGISTER_POINT_STRUCT(TravLidarPoint, (float, x, x)(float, y, y)(float, z, z)(
                                                       float, time, time)(std::uint16_t, line, line))
 
@@ -27,7 +38,7 @@ void WritePcd(const std::string& path, const common::PointCloud& cloud) {
         pcl::PointXYZ(cloud.points(0, i), cloud.points(1, i), cloud.points(2, i));
   }
   if (pcl::io::savePCDFileBinary(path, pcl_cloud) != 0)
-    throw std::runtime_error("cannot write " + path);
+    throw common::InputError(path, "", "cannot write");
 }
 
 void WriteLidarFramePcd(const std::string& path, const lidar::LidarFrame& frame) {
@@ -48,7 +59,7 @@ void WriteLidarFramePcd(const std::string& path, const lidar::LidarFrame& frame)
                                              static_cast<float>(X_WL.translation().z()), 0.0f);
   pcl_cloud.sensor_orientation_ = Eigen::Quaternionf(X_WL.linear().cast<float>());
   if (pcl::io::savePCDFileBinary(path, pcl_cloud) != 0)
-    throw std::runtime_error("cannot write " + path);
+    throw common::InputError(path, "", "cannot write");
 }
 
 }  // namespace trav::scenarios

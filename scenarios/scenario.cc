@@ -187,7 +187,6 @@ class ReadArchive {
     }
   }
   void Finish() const { reader_.Finish(); }
-  static constexpr bool kReading = true;
 
  private:
   template <typename T>
@@ -281,7 +280,6 @@ class WriteArchive {
     node_[key] = sequence;
   }
   const YAML::Node& node() const { return node_; }
-  static constexpr bool kReading = false;
 
  private:
   void WriteFlow(const std::string& key, const std::vector<double>& values) {
@@ -318,7 +316,6 @@ class BoundsArchive {
     BoundsArchive child(prefix_ + key + "[i].", bounds_);
     for (T item : Variants<T>()) visit(child, item);
   }
-  static constexpr bool kReading = false;
 
  private:
   // Items that together reach every key of a sequence's items.

@@ -49,8 +49,7 @@ common::Trajectory LoadReference(const std::string& path) {
   std::getline(file, line);
   if (line.rfind("t,x,y,yaw,v,omega", 0) != 0) {
     throw common::InputError(path, "line 1",
-                             "expected the header 't,x,y,yaw,v,omega', got " +
-                                 common::QuotedExcerpt(line));
+                             "expected the header 't,x,y,yaw,v,omega' (is this a trajectory?)");
   }
   std::vector<common::TrajectoryPoint> points;
   for (int number = 2; std::getline(file, line); ++number) {

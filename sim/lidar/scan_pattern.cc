@@ -106,8 +106,7 @@ std::unique_ptr<TablePattern> TablePattern::Load(const std::string& path) {
       if (line.rfind("Time/s,Azimuth/deg,Zenith/deg", 0) != 0) {
         throw common::InputError(
             path, "line 1",
-            "expected the header 'Time/s,Azimuth/deg,Zenith/deg', got " +
-                common::QuotedExcerpt(line));
+            "expected the header 'Time/s,Azimuth/deg,Zenith/deg' (is this a scan table?)");
       }
       continue;
     }
