@@ -3,6 +3,7 @@
 // Skipped, with the reason, only where the daemons cannot start.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -25,6 +26,7 @@ using test_util::CommandResult;
 using test_util::ReadFile;
 using test_util::RunTrav;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 class SlurmClusterTest : public ::testing::Test {
  protected:
@@ -65,7 +67,10 @@ TEST_F(SlurmClusterTest, BatchAndEvaluationRunAsJobArrays) {
                                       out.string() + " --slurm --partition debug");
   ASSERT_EQ(batch.exit_code, 0) << batch.output;
   EXPECT_THAT(batch.output, HasSubstr("4 array tasks for 4 jobs"));
-  EXPECT_THAT(ReadFile(out / "slurm/job-0.sh"), HasSubstr("#SBATCH --array=0-3"));
+  // the settings went to sbatch as arguments: the script is one quoted command
+  const std::string script = ReadFile(out / "slurm/job-0.sh");
+  EXPECT_EQ(std::count(script.begin(), script.end(), '\n'), 2) << script;
+  EXPECT_THAT(script, Not(HasSubstr("#SBATCH")));
   const nlohmann::json results = nlohmann::json::parse(ReadFile(out / "results.json"));
   ASSERT_EQ(results.size(), 4u);
   for (const nlohmann::json& row : results) EXPECT_EQ(row.at("outcome"), "completed");
@@ -74,6 +79,15 @@ TEST_F(SlurmClusterTest, BatchAndEvaluationRunAsJobArrays) {
     task_logs += entry.path().filename().string().rfind("slurm-", 0) == 0 ? 1 : 0;
   }
   EXPECT_EQ(task_logs, 4);
+
+  // a value that would add a line to a script is refused before anything is written
+  const CommandResult injected =
+      RunTrav("batch " + (root_ / "batch.yaml").string() + " --out " + (root_ / "bad").string() +
+              " --slurm --partition 'debug\ntouch " + (root_ / "pwned").string() + "'");
+  EXPECT_EQ(injected.exit_code, 2) << injected.output;
+  EXPECT_THAT(injected.output, HasSubstr("--partition"));
+  EXPECT_FALSE(fs::exists(root_ / "bad"));
+  EXPECT_FALSE(fs::exists(root_ / "pwned"));
 
   // submitted without waiting (two runs per task), then collected once the job has ended
   const fs::path later = root_ / "later";
