@@ -504,7 +504,8 @@ void WriteEvalReportFromFolder(const std::string& out_dir, const EvalOptions& op
 }
 
 int CollectEvaluation(const std::string& out_dir) {
-  const CampaignFolder campaign(out_dir, "eval", "options.json", {"scenes"});
+  const CampaignFolder campaign(out_dir, "eval", "options.json", {"scenes"},
+                                CampaignFolder::Use::kExisting);
   const fs::path options_path = fs::path(out_dir) / "options.json";
   const EvalOptions options =
       EvalOptionsFromJson(ReadJsonFile(options_path.string()), options_path.string());

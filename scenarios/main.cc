@@ -281,7 +281,8 @@ struct BatchCommand {
 int Batch(const BatchCommand& command) {
   const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
   if (!command.collect.empty()) {
-    const CampaignFolder folder(command.collect, "batch", "batch.json", kBatchPartialSubfolders);
+    const CampaignFolder folder(command.collect, "batch", "batch.json", kBatchPartialSubfolders,
+                                CampaignFolder::Use::kExisting);
     const int finished = CollectBatch(command.collect);
     std::printf("%d runs with results; report: %s/report.md\n", finished, command.collect.c_str());
     return kExitExpected;

@@ -186,7 +186,7 @@ void OutputFolder::Commit() {
 
 CampaignFolder::CampaignFolder(const std::string& path, const std::string& kind,
                                const std::string& identity_file,
-                               const std::vector<std::string>& partial_subfolders) {
+                               const std::vector<std::string>& partial_subfolders, Use use) {
   if (path.empty()) throw common::InputError("--out", "", "the output folder is empty");
   RequirePrintablePath(path);
   const fs::path folder = fs::absolute(fs::path(path)).lexically_normal();
@@ -195,6 +195,10 @@ CampaignFolder::CampaignFolder(const std::string& path, const std::string& kind,
   std::error_code error;
   const fs::file_status status = fs::symlink_status(folder, error);
   bool fresh = !fs::exists(status);
+  if (use == Use::kExisting && (fresh || (!FolderKindOf(path_) &&
+                                          !fs::is_regular_file(folder / identity_file, error)))) {
+    throw common::InputError(path, "", "holds no trav " + kind + " (no " + identity_file + ")");
+  }
   if (!fresh) {
     if (!fs::is_directory(status)) {
       throw common::InputError(path, "", "exists and is not a folder; trav does not replace it");

@@ -62,9 +62,16 @@ class OutputFolder {
 /// ("*.partial-*") in `partial_subfolders` are removed.
 class CampaignFolder {
  public:
+  /// What the folder may be when it is opened.
+  enum class Use {
+    kCreateOrResume,  ///< new, empty, or one of `kind` (run or resume a campaign)
+    kExisting,        ///< one of `kind` only (collect its results)
+  };
+
   /// @throws common::InputError naming the folder if it may not be used or is in use.
   CampaignFolder(const std::string& path, const std::string& kind, const std::string& identity_file,
-                 const std::vector<std::string>& partial_subfolders);
+                 const std::vector<std::string>& partial_subfolders,
+                 Use use = Use::kCreateOrResume);
   ~CampaignFolder();
   CampaignFolder(const CampaignFolder&) = delete;
   CampaignFolder& operator=(const CampaignFolder&) = delete;

@@ -200,6 +200,13 @@ TEST_F(OutputFolderTest, ACampaignFolderIsUsedByOneProcessAtATime) {
   EXPECT_THROW(CampaignFolder((root_ / "mine").string(), "batch", "batch.json", {}),
                common::InputError);
   EXPECT_EQ(test_util::ReadFile(root_ / "mine" / "data.csv"), "1,2");
+  // collecting needs a campaign that exists: nothing is created for a mistyped folder
+  EXPECT_THROW(CampaignFolder((root_ / "typo").string(), "batch", "batch.json", {},
+                              CampaignFolder::Use::kExisting),
+               common::InputError);
+  EXPECT_FALSE(fs::exists(root_ / "typo"));
+  EXPECT_NO_THROW(CampaignFolder(out.string(), "batch", "batch.json", {},
+                                 CampaignFolder::Use::kExisting));
 }
 
 }  // namespace
