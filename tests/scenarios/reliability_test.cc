@@ -3,11 +3,13 @@
 // user's is ever replaced, bad input exits 2 without leaving anything behind.
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 #include <set>
 #include <string>
@@ -56,6 +58,35 @@ class ReliabilityTest : public ::testing::Test {
       _exit(127);
     }
     return pid;
+  }
+
+  // Runs `trav` with `args` on a full disk: no file it writes can grow past `bytes` (writes fail
+  // with EFBIG, as they fail with ENOSPC on a full disk). Returns its exit code and output.
+  static CommandResult RunOnFullDisk(std::vector<std::string> args, rlim_t bytes) {
+    args.insert(args.begin(), TRAV_BINARY);
+    int output[2];
+    if (pipe(output) != 0) return {};
+    const pid_t pid = fork();
+    if (pid == 0) {
+      signal(SIGXFSZ, SIG_IGN);
+      const rlimit limit{bytes, bytes};
+      setrlimit(RLIMIT_FSIZE, &limit);
+      close(output[0]);
+      dup2(output[1], STDOUT_FILENO);
+      dup2(output[1], STDERR_FILENO);
+      std::vector<char*> argv;
+      for (std::string& arg : args) argv.push_back(arg.data());
+      argv.push_back(nullptr);
+      execv(argv[0], argv.data());
+      _exit(127);
+    }
+    close(output[1]);
+    CommandResult result;
+    char buffer[4096];
+    for (ssize_t n; (n = read(output[0], buffer, sizeof(buffer))) > 0;) result.output.append(buffer, n);
+    close(output[0]);
+    result.exit_code = Wait(pid);
+    return result;
   }
 
   static int Wait(pid_t pid) {
@@ -190,6 +221,64 @@ TEST_F(ReliabilityTest, ABatchKilledAtRandomMomentsResumesWithEveryRunOnce) {
       EXPECT_FALSE(nlohmann::json::parse(ReadFile(entry.path()), nullptr, false).is_discarded())
           << "invalid: " << entry.path();
     }
+  }
+}
+
+TEST_F(ReliabilityTest, AnEvaluationKilledAtRandomMomentsResumesWithEverySceneOnce) {
+  const std::string out = (root_ / "eval").string();
+  const std::vector<std::string> args = {
+      "eval",    "--out",   out,      "--terrains", "flat", "--scenes",      "3", "--frames",
+      "4",       "--jobs",  "2",      "--methods",  "ground-truth,constant=0.25", "--no-ablation"};
+  std::mt19937 random(7);
+  std::uniform_int_distribution<int> delay_ms(50, 1500);
+  for (int kill_round = 0; kill_round < 6; ++kill_round) {
+    const pid_t pid = Spawn(args, (root_ / "killed.log").string());
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(random)));
+    kill(pid, SIGKILL);
+    Wait(pid);
+    int left = ProcessesMentioning("eval-scene " + out);
+    for (int i = 0; i < 50 && left > 0; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      left = ProcessesMentioning("eval-scene " + out);
+    }
+    EXPECT_EQ(left, 0) << "scene workers outlived the killed evaluation";
+  }
+  ASSERT_EQ(Wait(Spawn(args, (root_ / "last.log").string())), 0) << ReadFile(root_ / "last.log");
+  const nlohmann::json results = nlohmann::json::parse(ReadFile(root_ / "eval" / "results.json"));
+  ASSERT_EQ(results.size(), 2u);  // one row per method
+  for (const nlohmann::json& row : results) EXPECT_EQ(row.at("scenes"), 3) << row.dump();
+  for (const fs::directory_entry& entry : fs::recursive_directory_iterator(root_ / "eval")) {
+    EXPECT_EQ(entry.path().filename().string().find(".partial-"), std::string::npos)
+        << "left half-written: " << entry.path();
+    if (entry.path().extension() == ".json") {
+      EXPECT_FALSE(nlohmann::json::parse(ReadFile(entry.path()), nullptr, false).is_discarded())
+          << "invalid: " << entry.path();
+    }
+  }
+}
+
+TEST_F(ReliabilityTest, AFullDiskLeavesEveryEarlierResultAndSaysSo) {
+  Write("r.yaml", "schema_version: 1\nname: r\nmode: drive\nterrain: {type: flat, size: [10, "
+                  "10]}\nduration: 0.2\nlidar: {enabled: false}\nvideo: {enabled: false}\n");
+  const std::string batch = Write("batch.yaml", "scenarios: [r.yaml]\nsweep: {seed: [1, 2]}\n");
+  const std::string out = (root_ / "out").string();
+  ASSERT_EQ(RunTrav("batch " + batch + " --out " + out).exit_code, 0);
+  std::map<fs::path, std::string> before;  // every result (the lock file only holds a pid)
+  for (const fs::directory_entry& entry : fs::recursive_directory_iterator(out)) {
+    if (entry.is_regular_file() && entry.path().filename() != ".trav.lock") {
+      before[entry.path()] = ReadFile(entry.path());
+    }
+  }
+  // the report again, on a disk with room for no more than 64 bytes per file
+  const CommandResult full = RunOnFullDisk({"batch", "--collect", out}, 64);
+  EXPECT_EQ(full.exit_code, 2) << full.output;
+  EXPECT_THAT(full.output, HasSubstr("cannot write"));
+  for (const auto& [path, text] : before) {
+    EXPECT_EQ(ReadFile(path), text) << "changed: " << path;
+  }
+  for (const fs::directory_entry& entry : fs::recursive_directory_iterator(out)) {
+    EXPECT_EQ(entry.path().filename().string().find(".partial-"), std::string::npos)
+        << "left half-written: " << entry.path();
   }
 }
 
