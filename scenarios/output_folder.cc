@@ -231,10 +231,10 @@ CampaignFolder::CampaignFolder(const std::string& path, const std::string& kind,
                                  (holder.empty() ? std::string() : " (pid " + holder + ")") +
                                  "; wait for it to end, or choose another output folder");
   }
+  // the holder's pid, for the message a second process prints (the lock holds without it)
   const std::string pid = std::to_string(getpid());
-  if (ftruncate(lock_fd_, 0) != 0 || write(lock_fd_, pid.data(), pid.size()) < 0) {
-    // the pid is only for the message of a second process; the lock itself holds
-  }
+  const bool noted = ftruncate(lock_fd_, 0) == 0 && write(lock_fd_, pid.data(), pid.size()) > 0;
+  static_cast<void>(noted);
   if (fresh) WriteMarker(folder, kind);
   for (const std::string& sub : partial_subfolders) {
     fs::directory_iterator entries(folder / sub, error);
