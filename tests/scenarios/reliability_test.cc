@@ -328,7 +328,7 @@ TEST_F(ReliabilityTest, AnOutputFolderOfTheUsersIsNeverTouched) {
                                                "flat, size: [10, 10]}\nduration: 0.2\nlidar: "
                                                "{enabled: false}\nvideo: {enabled: false}\n")
                                    .string();
-  for (const std::string& flags : {"", " --overwrite"}) {
+  for (const char* flags : {"", " --overwrite"}) {
     const CommandResult run = RunTrav("run " + scenario + " --out " + mine.string() + flags);
     EXPECT_EQ(run.exit_code, 2) << run.output;
     EXPECT_THAT(run.output, HasSubstr("is not a trav result"));
