@@ -1,6 +1,6 @@
 # Writes build_info.h (the source tree's git commit, "+dirty" when it has uncommitted changes) into
 # OUT, touching it only when the text changes, so that a commit rebuilds only what reports it.
-# Run at every build (scenarios/CMakeLists.txt): -DROOT=<source root> -DOUT=<file>.
+# Run at every build (scenarios/run/CMakeLists.txt): -DROOT=<source root> -DOUT=<file>.
 find_package(Git QUIET)
 set(commit "unknown")
 if(GIT_FOUND AND EXISTS "${ROOT}/.git")

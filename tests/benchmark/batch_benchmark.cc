@@ -16,7 +16,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "scenarios/job_array.h"
+#include "scenarios/experiments/job_array.h"
 
 namespace {
 

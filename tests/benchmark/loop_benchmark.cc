@@ -16,8 +16,8 @@
 
 #include "common/yaml_reader.h"
 #include "renders/renderer.h"
-#include "scenarios/scenario.h"
-#include "scenarios/scenario_run.h"
+#include "scenarios/run/scenario.h"
+#include "scenarios/run/scenario_run.h"
 
 namespace {
 

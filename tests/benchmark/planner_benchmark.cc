@@ -16,7 +16,7 @@
 #include "planner/astar.h"
 #include "planner/cost_map.h"
 #include "planner/navigation_planner.h"
-#include "planner/ompl_planner.h"
+#include "planner/ompl/ompl_planner.h"
 
 namespace {
 

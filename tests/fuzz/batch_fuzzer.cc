@@ -3,8 +3,8 @@
 #include <cstdint>
 #include <string>
 
-#include "scenarios/batch.h"
-#include "scenarios/tuning.h"
+#include "scenarios/experiments/batch.h"
+#include "scenarios/experiments/tuning.h"
 #include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <string>
 
-#include "scenarios/batch.h"
-#include "scenarios/evaluation.h"
+#include "scenarios/experiments/batch.h"
+#include "scenarios/experiments/evaluation.h"
 #include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -17,8 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::filesystem::path folder = trav::fuzz::ScratchFolder() / "campaign";
   std::filesystem::remove_all(folder);
   std::filesystem::create_directories(folder);
-  trav::fuzz::InputFile(data + 1, size - 1,
-                        eval ? "campaign/options.json" : "campaign/batch.json");
+  trav::fuzz::InputFile(data + 1, size - 1, eval ? "campaign/options.json" : "campaign/batch.json");
   trav::fuzz::ExpectCleanRejection([&] {
     if (eval) {
       trav::scenarios::CollectEvaluation(folder.string());

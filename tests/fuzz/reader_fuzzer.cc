@@ -3,8 +3,8 @@
 #include <cstdint>
 #include <string>
 
-#include "scenarios/job_array.h"
-#include "scenarios/tracking.h"
+#include "scenarios/experiments/job_array.h"
+#include "scenarios/run/track_reference.h"
 #include "sim/lidar/scan_pattern.h"
 #include "tests/fuzz/fuzz_input.h"
 

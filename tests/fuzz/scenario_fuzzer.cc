@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "common/yaml_reader.h"
-#include "scenarios/scenario.h"
+#include "scenarios/run/scenario.h"
 #include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

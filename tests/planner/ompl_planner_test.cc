@@ -1,4 +1,4 @@
-#include "planner/ompl_planner.h"
+#include "planner/ompl/ompl_planner.h"
 
 #include <algorithm>
 #include <cmath>

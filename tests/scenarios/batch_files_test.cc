@@ -5,8 +5,8 @@
 #include <gtest/gtest.h>
 
 #include "common/input_error.h"
-#include "scenarios/batch.h"
-#include "scenarios/batch_report.h"
+#include "scenarios/experiments/batch.h"
+#include "scenarios/experiments/batch_report.h"
 
 namespace trav::scenarios {
 namespace {

@@ -1,4 +1,4 @@
-#include "scenarios/calibration.h"
+#include "scenarios/run/calibration.h"
 
 #include <algorithm>
 #include <string>

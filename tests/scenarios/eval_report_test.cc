@@ -1,10 +1,10 @@
-#include "scenarios/eval_report.h"
+#include "scenarios/experiments/eval_report.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "common/input_error.h"
-#include "scenarios/evaluation.h"
+#include "scenarios/experiments/evaluation.h"
 
 namespace trav::scenarios {
 namespace {

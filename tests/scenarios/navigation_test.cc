@@ -12,8 +12,8 @@
 #include <gtest/gtest.h>
 
 #include "common/input_error.h"
-#include "scenarios/scenario.h"
-#include "scenarios/scenario_run.h"
+#include "scenarios/run/scenario.h"
+#include "scenarios/run/scenario_run.h"
 
 namespace trav::scenarios {
 namespace {

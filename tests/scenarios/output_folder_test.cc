@@ -1,9 +1,7 @@
 // The output folder's promises: nothing of anyone else's is replaced or deleted, nothing
 // half-written is left, writes are checked through close, campaign folders are locked.
-#include "scenarios/output_folder.h"
+#include "scenarios/run/output_folder.h"
 
-#include <sys/resource.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -13,6 +11,8 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
 
 #include "common/input_error.h"
 #include "tests/cli_test_util.h"
@@ -205,8 +205,8 @@ TEST_F(OutputFolderTest, ACampaignFolderIsUsedByOneProcessAtATime) {
                               CampaignFolder::Use::kExisting),
                common::InputError);
   EXPECT_FALSE(fs::exists(root_ / "typo"));
-  EXPECT_NO_THROW(CampaignFolder(out.string(), "batch", "batch.json", {},
-                                 CampaignFolder::Use::kExisting));
+  EXPECT_NO_THROW(
+      CampaignFolder(out.string(), "batch", "batch.json", {}, CampaignFolder::Use::kExisting));
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "scenarios/plots.h"
+#include "scenarios/run/plots.h"
 
 #include <unistd.h>
 

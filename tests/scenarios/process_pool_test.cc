@@ -1,4 +1,4 @@
-#include "scenarios/process_pool.h"
+#include "scenarios/run/process_pool.h"
 
 #include <csignal>
 #include <filesystem>

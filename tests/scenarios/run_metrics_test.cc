@@ -1,8 +1,10 @@
-#include "scenarios/run_metrics.h"
+#include "scenarios/run/run_metrics.h"
 
 #include <cmath>
 
 #include <gtest/gtest.h>
+
+#include "common/statistics.h"
 
 namespace trav::scenarios {
 namespace {
@@ -68,11 +70,11 @@ TEST(ModuleTimesTest, ReportsCallsMedianMaximumAndTotal) {
 }
 
 TEST(QuantileTest, TakesTheElementAtTheFlooredRank) {
-  EXPECT_DOUBLE_EQ(Quantile({}, 0.5), 0.0);
-  EXPECT_DOUBLE_EQ(Quantile({5.0, 1.0, 3.0}, 0.5), 3.0);
-  EXPECT_DOUBLE_EQ(Quantile({4.0, 1.0, 3.0, 2.0}, 0.5), 2.0);  // rank floor(1.5) = 1
-  EXPECT_DOUBLE_EQ(Quantile({4.0, 1.0, 3.0, 2.0}, 1.0), 4.0);
-  EXPECT_DOUBLE_EQ(Quantile({4.0, 1.0, 3.0, 2.0}, 0.0), 1.0);
+  EXPECT_DOUBLE_EQ(common::Quantile({}, 0.5), 0.0);
+  EXPECT_DOUBLE_EQ(common::Quantile({5.0, 1.0, 3.0}, 0.5), 3.0);
+  EXPECT_DOUBLE_EQ(common::Quantile({4.0, 1.0, 3.0, 2.0}, 0.5), 2.0);  // rank floor(1.5) = 1
+  EXPECT_DOUBLE_EQ(common::Quantile({4.0, 1.0, 3.0, 2.0}, 1.0), 4.0);
+  EXPECT_DOUBLE_EQ(common::Quantile({4.0, 1.0, 3.0, 2.0}, 0.0), 1.0);
 }
 
 // A 1 m grid of 11 x 11 cells centred on the origin, and an area with a 4 m window.

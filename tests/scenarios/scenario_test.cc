@@ -1,4 +1,4 @@
-#include "scenarios/scenario.h"
+#include "scenarios/run/scenario.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -100,16 +100,16 @@ TEST(ScenarioTest, BadInputNamesSourceKeyAndValue) {
               ThrowsMessage<common::InputError>(
                   HasSubstr("test.yaml: duration: expected a finite number, got 'long'")));
   EXPECT_THAT([] { Load("terrain: {resolution: -0.1}"); },
-              ThrowsMessage<common::InputError>(
-                  HasSubstr("test.yaml: terrain.resolution: value '-0.1' is outside its bounds [0.02, 1]")));
+              ThrowsMessage<common::InputError>(HasSubstr(
+                  "test.yaml: terrain.resolution: value '-0.1' is outside its bounds [0.02, 1]")));
   EXPECT_THAT([] { Load("terrain: {type: swamp}"); },
               ThrowsMessage<common::InputError>(HasSubstr("terrain.type: unknown value 'swamp'")));
-  EXPECT_THAT(
-      [] { Load("drive: [{v: 1, duration: 0}]"); },
-      ThrowsMessage<common::InputError>(HasSubstr("drive[0].duration: value '0' is outside its bounds [0.001, 86400]")));
-  EXPECT_THAT(
-      [] { Load("schema_version: 2"); },
-      ThrowsMessage<common::InputError>(HasSubstr("schema_version: value '2' is outside its bounds [1, 1]")));
+  EXPECT_THAT([] { Load("drive: [{v: 1, duration: 0}]"); },
+              ThrowsMessage<common::InputError>(
+                  HasSubstr("drive[0].duration: value '0' is outside its bounds [0.001, 86400]")));
+  EXPECT_THAT([] { Load("schema_version: 2"); },
+              ThrowsMessage<common::InputError>(
+                  HasSubstr("schema_version: value '2' is outside its bounds [1, 1]")));
   EXPECT_THAT([] { Load("video: {width: 5}"); },
               ThrowsMessage<common::InputError>(
                   HasSubstr("test.yaml: video.width: value '5' is outside its bounds [16, 4096]")));
@@ -160,8 +160,8 @@ namespace {
 // The bounds in docs/scenario-format.md are the ones the loader checks: the table between the
 // markers is ScenarioBoundsTable() as it is.
 TEST(ScenarioBoundsTest, TheDocumentedBoundsAreTheCheckedOnes) {
-  const std::string docs = test_util::ReadFile(std::string(TRAV_SOURCE_DIR) +
-                                               "/docs/scenario-format.md");
+  const std::string docs =
+      test_util::ReadFile(std::string(TRAV_SOURCE_DIR) + "/docs/scenario-format.md");
   const std::string begin = "<!-- bounds:begin -->\n", end = "<!-- bounds:end -->";
   const std::size_t from = docs.find(begin), to = docs.find(end);
   ASSERT_NE(from, std::string::npos);
@@ -177,10 +177,12 @@ TEST(ScenarioBoundsTest, EveryNumberOutsideItsBoundsOrNotFiniteIsBadInput) {
   for (const char* text :
        {"duration: 1e308", "duration: .inf", "duration: .nan", "physics: {timestep: 1e-300}",
         "robot: {start: [.nan, 0, 0]}", "robot: {start: [0, 1e9, 0]}", "goal: [-.inf, 0]",
-        "lidar: {mount: [0, 0, .nan, 0, 0, 0]}", "lidar: {rate: 1e9}", "traffic: {count: 2147483647}",
+        "lidar: {mount: [0, 0, .nan, 0, 0, 0]}", "lidar: {rate: 1e9}",
+        "traffic: {count: 2147483647}",
         "terrain: {type: road, parameters: {poles_per_block: 2147483647}}",
-        "terrain: {size: [500, 500], resolution: 0.02}", "mapping: {map_size: 1000, resolution: 0.02}",
-        "video: {fps: 1e-9}", "terrain: {type: stairs, parameters: {num_steps: 100000000}}",
+        "terrain: {size: [500, 500], resolution: 0.02}",
+        "mapping: {map_size: 1000, resolution: 0.02}", "video: {fps: 1e-9}",
+        "terrain: {type: stairs, parameters: {num_steps: 100000000}}",
         "terrain: {type: indoor, parameters: {furniture_per_room: 1000000}}",
         "track: {size: 1e300}"}) {
     EXPECT_THROW(load(text), common::InputError) << text;

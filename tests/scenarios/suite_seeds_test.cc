@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "scenarios/scenario.h"
-#include "scenarios/scenario_run.h"
+#include "scenarios/run/scenario.h"
+#include "scenarios/run/scenario_run.h"
 
 namespace trav::scenarios {
 namespace {

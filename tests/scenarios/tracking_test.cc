@@ -1,6 +1,5 @@
 // Tracking scenarios end to end: the MPC drives the Scout Mini in MuJoCo along the shipped
 // references (scenarios/track/).
-#include "scenarios/tracking.h"
 
 #include <filesystem>
 #include <fstream>
@@ -10,8 +9,9 @@
 #include <gtest/gtest.h>
 
 #include "common/input_error.h"
-#include "scenarios/scenario.h"
-#include "scenarios/scenario_run.h"
+#include "scenarios/run/scenario.h"
+#include "scenarios/run/scenario_run.h"
+#include "scenarios/run/track_reference.h"
 
 namespace trav::scenarios {
 namespace {
@@ -99,15 +99,15 @@ TEST(TrackingConfigTest, BadControllerSettingsNameTheKey) {
   auto load = [](const std::string& text) {
     return LoadScenario(common::YamlDocument::Parse(text, "t.yaml"));
   };
-  EXPECT_THAT(
-      [&] { load("controller: {mpc: {horizon: -5}}"); },
-      ThrowsMessage<common::InputError>(HasSubstr("t.yaml: controller.mpc.horizon: value '-5' is outside its bounds [1, 200]")));
+  EXPECT_THAT([&] { load("controller: {mpc: {horizon: -5}}"); },
+              ThrowsMessage<common::InputError>(HasSubstr(
+                  "t.yaml: controller.mpc.horizon: value '-5' is outside its bounds [1, 200]")));
   EXPECT_THAT([&] { load("controller: {mpc: {state_weights: [1, 2]}}"); },
               ThrowsMessage<common::InputError>(
                   HasSubstr("controller.mpc.state_weights: expected a sequence of 3 numbers")));
-  EXPECT_THAT(
-      [&] { load("controller: {mpc: {rate_weights: [1, -2]}}"); },
-      ThrowsMessage<common::InputError>(HasSubstr("controller.mpc.rate_weights: value [1, -2] is outside its bounds")));
+  EXPECT_THAT([&] { load("controller: {mpc: {rate_weights: [1, -2]}}"); },
+              ThrowsMessage<common::InputError>(
+                  HasSubstr("controller.mpc.rate_weights: value [1, -2] is outside its bounds")));
   EXPECT_THAT([&] { load("controller: {rate: 0}"); },
               ThrowsMessage<common::InputError>(
                   HasSubstr("controller.rate: value '0' is outside its bounds [5, 1000]")));

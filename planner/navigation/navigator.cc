@@ -1,0 +1,235 @@
+#include "planner/navigation/navigator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "common/input_error.h"
+
+namespace trav::planner {
+namespace {
+
+// Events replan at most this often [s]: a deviation that persists must not replan every tick.
+constexpr double kMinEventInterval_s = 0.1;
+// Progress stalls when the plan asks for this speed [m/s] and the robot has been slower than a
+// tenth of it for kStallTime_s.
+constexpr double kStallSpeed_m_s = 0.3;
+constexpr double kStallTime_s = 1.0;
+// Spacing of the samples of the safety and lethal-cell checks along the plan [s].
+constexpr double kCheckStep_s = 0.05;
+
+double YawOf(const common::RobotState& state) {
+  const Eigen::Vector3d forward = state.X_WB.linear().col(0);
+  return std::atan2(forward.y(), forward.x());
+}
+
+// True if the map marks p_W lethal (at or above the threshold, or unknown when unknown cells are
+// blocked).
+bool Lethal(const common::GridLayers& map, const CostMapConfig& config,
+            const Eigen::Vector2d& p_W) {
+  const common::GridGeometry& g = map.geometry();
+  const std::optional<Eigen::Vector2i> cell = g.CellIndex(p_W);
+  if (!cell) return false;
+  const float c = map.Layer(config.cost_layer)(cell->x(), cell->y());
+  if (std::isnan(c)) return config.unknown_policy == UnknownPolicy::kBlocked;
+  return c >= config.lethal_threshold;
+}
+
+}  // namespace
+
+void ValidateNavigationSettings(const NavigationSettings& s) {
+  using common::RequireValue;
+  RequireValue(s.goal_radius_m > 0.0, "navigation.goal_radius", s.goal_radius_m, "must be > 0");
+  RequireValue(s.planning_rate_hz > 0.0 && s.planning_rate_hz <= 50.0, "navigation.planning_rate",
+               s.planning_rate_hz, "must be in (0, 50] Hz");
+  RequireValue(s.replan_deviation_m > 0.0, "navigation.replan_deviation", s.replan_deviation_m,
+               "must be > 0");
+  RequireValue(s.safety_horizon_s >= 0.0, "navigation.safety_horizon", s.safety_horizon_s,
+               "must be >= 0");
+  RequireValue(s.stuck_time_s > 0.0, "navigation.stuck_time", s.stuck_time_s, "must be > 0");
+  RequireValue(s.stuck_distance_m > 0.0, "navigation.stuck_distance", s.stuck_distance_m,
+               "must be > 0");
+  RequireValue(s.near_miss_clearance_m >= 0.0, "navigation.near_miss_clearance",
+               s.near_miss_clearance_m, "must be >= 0");
+  RequireValue(s.mover_sensing_range_m > 0.0, "navigation.mover_sensing_range",
+               s.mover_sensing_range_m, "must be > 0");
+  RequireValue(s.mapping_latency_s >= 0.0, "navigation.mapping_latency", s.mapping_latency_s,
+               "must be >= 0");
+  RequireValue(s.planning_failure_time_s > 0.0, "navigation.planning_failure_time",
+               s.planning_failure_time_s, "must be > 0");
+}
+
+namespace {
+
+// The MPC may exceed the plan's speed only to catch up a little (20 %), never up to the hardware
+// limit: a robot that fell behind a plan must not race to where the plan is now.
+controller::MpcConfig TrackingConfig(controller::MpcConfig mpc,
+                                     const NavigationPlannerConfig& planner) {
+  const DynamicLimits& limits = planner.optimizer.limits;
+  mpc.max_speed_m_s = std::min(mpc.max_speed_m_s, 1.2 * limits.max_speed_m_s);
+  mpc.min_speed_m_s = std::max(mpc.min_speed_m_s, -1.2 * limits.max_speed_m_s);
+  mpc.max_yaw_rate_rad_s = std::min(mpc.max_yaw_rate_rad_s, 1.2 * limits.max_yaw_rate_rad_s);
+  return mpc;
+}
+
+}  // namespace
+
+Navigator::Navigator(const NavigationSettings& settings, const NavigationPlannerConfig& planner,
+                     const controller::MpcConfig& mpc, const Eigen::Vector2d& goal_W)
+    : settings_(settings),
+      planner_(planner),
+      tracker_(TrackingConfig(mpc, planner)),
+      goal_W_(goal_W) {
+  ValidateNavigationSettings(settings_);
+}
+
+double Navigator::time_without_plan_s(double now_s) const { return now_s - last_valid_plan_s_; }
+
+NavigatorTick Navigator::Update(const common::RobotState& state, const common::GridLayers* map,
+                               bool map_updated, const std::vector<MovingObstacle>& movers) {
+  NavigatorTick tick;
+  const ReplanReason reason = ReasonToReplan(state, map, map_updated);
+  if (reason != ReplanReason::kNone && map != nullptr) {
+    Replan(state, *map, movers, reason);
+    tick.replan = reason;
+  }
+  // no plan, or the plan was found unsafe and no new one has replaced it: stand still rather than
+  // chase a stale reference
+  if (trajectory_.empty() || force_replan_) return tick;
+  if (!AheadIsSafe(state.time_s, map, movers)) {
+    ++statistics_.safety_stops;
+    force_replan_ = true;
+    tick.safety_stop = true;
+    return tick;
+  }
+  if (!tracker_.SolveDue(state.time_s)) {
+    tick.command = tracker_.Command(state);
+    return tick;
+  }
+  const auto control_start = std::chrono::steady_clock::now();
+  tick.command = tracker_.Command(state);
+  tick.solved = true;
+  statistics_.control_ms.push_back(
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - control_start)
+          .count());
+  return tick;
+}
+
+ReplanReason Navigator::ReasonToReplan(const common::RobotState& state,
+                                       const common::GridLayers* map, bool map_updated) {
+  // a map update during the event blackout is checked when the blackout ends, not dropped
+  map_check_pending_ = map_check_pending_ || map_updated;
+  const double now = state.time_s;
+  if (map == nullptr) return ReplanReason::kNone;
+  if (trajectory_.empty()) return now >= next_plan_s_ ? ReplanReason::kFirst : ReplanReason::kNone;
+  if (now >= next_plan_s_) return ReplanReason::kPeriodic;
+  if (now < next_plan_s_ - 1.0 / settings_.planning_rate_hz + kMinEventInterval_s) {
+    return ReplanReason::kNone;
+  }
+  if (force_replan_) return ReplanReason::kSafetyStop;
+  const double planned_speed = std::abs(trajectory_.Sample(now).v);
+  if (planned_speed < kStallSpeed_m_s || std::abs(state.v_WB_B.x()) > 0.1 * kStallSpeed_m_s) {
+    last_moving_s_ = now;
+  } else if (now - last_moving_s_ > kStallTime_s) {
+    last_moving_s_ = now;
+    return ReplanReason::kStalled;
+  }
+  const Eigen::Vector2d position_W = state.X_WB.translation().head<2>();
+  if ((trajectory_.Sample(now).position_W - position_W).norm() > settings_.replan_deviation_m) {
+    return ReplanReason::kDeviation;
+  }
+  if (map_check_pending_) {
+    map_check_pending_ = false;
+    for (double t = now; t <= trajectory_.end_time(); t += kCheckStep_s) {
+      if (Lethal(*map, planner_.config().search, trajectory_.Sample(t).position_W)) {
+        return ReplanReason::kNewLethalCells;
+      }
+    }
+  }
+  return ReplanReason::kNone;
+}
+
+void Navigator::Replan(const common::RobotState& state, const common::GridLayers& map,
+                       const std::vector<MovingObstacle>& movers, ReplanReason reason) {
+  const double now = state.time_s;
+  const TrajectoryOptimizerConfig& optimizer = planner_.config().optimizer;
+  // the start: the measured pose; the rates of the plan being followed when the robot is on it
+  // (a smooth splice), else the measured ones, within the limits
+  common::TrajectoryPoint start;
+  start.t_s = now;
+  start.position_W = state.X_WB.translation().head<2>();
+  start.yaw = YawOf(state);
+  const bool on_plan =
+      !trajectory_.empty() && (trajectory_.Sample(now).position_W - start.position_W).norm() <=
+                                  settings_.replan_deviation_m;
+  if (on_plan) {
+    const common::TrajectoryPoint planned = trajectory_.Sample(now);
+    start.v = planned.v;
+    start.omega = planned.omega;
+    start.acceleration = planned.acceleration;
+  } else {
+    start.v = state.v_WB_B.x();
+    start.omega = state.w_WB_B.z();
+  }
+  const double v_max = 0.99 * optimizer.limits.max_speed_m_s;
+  const double omega_max = 0.99 * optimizer.limits.max_yaw_rate_rad_s;
+  const double a_max = 0.99 * optimizer.limits.max_acceleration_m_s2;
+  start.v = std::clamp(start.v, -v_max, v_max);
+  start.omega = std::clamp(start.omega, -omega_max, omega_max);
+  start.acceleration = std::clamp(start.acceleration, -a_max, a_max);
+
+  const NavigationPlan plan = planner_.Plan(map, start, goal_W_, movers);
+  map_check_pending_ = false;  // the new plan saw the latest map
+  ++statistics_.plans;
+  if (reason != ReplanReason::kPeriodic && reason != ReplanReason::kFirst) {
+    ++statistics_.replans_on_events;
+  }
+  statistics_.planning_ms.push_back(1e3 * (plan.search_time_s + plan.optimization_time_s));
+  statistics_.last_status = ToString(plan.status);
+  if (plan.status == NavigationStatus::kOptimizerFailed) {
+    const OptimizationDiagnostics& d = plan.optimized.diagnostics;
+    statistics_.last_status += " (" + d.worst_constraint + " violated by " +
+                               std::to_string(static_cast<int>(100.0 * d.max_violation)) +
+                               " %, end " + std::to_string(d.terminal_error_m) +
+                               " m from the goal)";
+  }
+  const bool usable = plan.has_trajectory() && (plan.status == NavigationStatus::kPlanned ||
+                                                plan.status == NavigationStatus::kPlannedToNearest);
+  // a plan to the substitute of an unreachable goal that ends where the robot already is leads
+  // nowhere: it is followed, but the time without a plan keeps running
+  const bool leads_nowhere =
+      plan.status == NavigationStatus::kPlannedToNearest && plan.has_trajectory() &&
+      (plan.optimized.trajectory.points().back().position_W - start.position_W).norm() <=
+          settings_.goal_radius_m;
+  if (usable) {
+    trajectory_ = plan.optimized.trajectory;
+    waypoints_W_ = plan.waypoints_W;
+    tracker_.SetReference(trajectory_);
+    if (!leads_nowhere) last_valid_plan_s_ = now;
+    force_replan_ = false;
+  } else {
+    ++statistics_.failed_plans;
+  }
+  next_plan_s_ = now + 1.0 / settings_.planning_rate_hz;
+}
+
+bool Navigator::AheadIsSafe(double now_s, const common::GridLayers* map,
+                            const std::vector<MovingObstacle>& movers) const {
+  const NavigationPlannerConfig& config = planner_.config();
+  const double end = std::min(trajectory_.end_time(), now_s + settings_.safety_horizon_s);
+  const Eigen::Vector2d here_W = trajectory_.Sample(now_s).position_W;
+  for (double t = now_s; t <= end; t += kCheckStep_s) {
+    const Eigen::Vector2d p_W = trajectory_.Sample(t).position_W;
+    // lethal cells under the robot itself (a mapping artefact) do not stop it: only those ahead
+    const bool ahead = (p_W - here_W).norm() > config.optimizer.robot_radius_m;
+    if (map != nullptr && ahead && Lethal(*map, config.search, p_W)) return false;
+    for (const MovingObstacle& mover : movers) {
+      if ((p_W - mover.PositionAt(t)).norm() < config.optimizer.robot_radius_m + mover.radius_m) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace trav::planner

@@ -1,0 +1,123 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "common/grid.h"
+#include "common/pose.h"
+#include "common/trajectory.h"
+#include "controller/mpc_tracker.h"
+#include "planner/navigation_planner.h"
+
+namespace trav::planner {
+
+/// Settings of the autonomy loop (scenario key `navigation`).
+struct NavigationSettings {
+  double goal_radius_m{0.5};       ///< success when the base is this close to the goal [m]
+  double planning_rate_hz{5.0};    ///< periodic replanning [Hz], in (0, 50]
+  double replan_deviation_m{0.5};  ///< replan when the robot strays this far from the plan [m]
+  double safety_horizon_s{1.5};    ///< look-ahead of the per-tick safety check [s]
+  double stuck_time_s{10.0};       ///< stuck: within `stuck_distance_m` of one place this long [s]
+  double stuck_distance_m{0.3};    ///< [m]
+  double planning_failure_time_s{5.0};  ///< no valid plan for this long is a planning failure [s]
+  double near_miss_clearance_m{0.3};    ///< a mover closer than this is a near miss [m], >= 0
+  /// The planner knows every mover's true position and velocity; else it gets the movers it
+  /// perceives in the scans within `mover_sensing_range_m` (mapping::MoverTracker).
+  bool movers_from_ground_truth{true};
+  double mover_sensing_range_m{15.0};  ///< [m], > 0
+  /// The map reaches the planner this long after the frame it comes from [s], >= 0.
+  double mapping_latency_s{0.0};
+};
+
+/// Checks settings. @throws common::InputError naming `navigation.<key>` and the value.
+void ValidateNavigationSettings(const NavigationSettings& settings);
+
+/// Why the navigator replanned.
+enum class ReplanReason {
+  kNone,
+  kFirst,
+  kPeriodic,
+  kNewLethalCells,
+  kDeviation,
+  kSafetyStop,
+  kStalled,  ///< the plan says move, the robot has not for a second
+};
+
+/// What the navigator did in one control tick.
+struct NavigatorTick {
+  common::Twist2 command;                      ///< the body twist to apply
+  ReplanReason replan{ReplanReason::kNone};    ///< why it planned (kNone: it did not plan)
+  bool solved{false};                          ///< the MPC solved for a new command
+  bool safety_stop{false};                     ///< it braked: the plan ahead is unsafe
+};
+
+/// The autonomy stack of one robot: plans on the latest traversability map at a fixed rate and on
+/// events (the plan crosses newly lethal cells, the robot strays from it, a safety stop), tracks
+/// the plan with the MPC at the control rate, and brakes when the plan ahead becomes unsafe (it
+/// enters lethal cells, or comes within the robot's radius of a predicted mover) or when there is
+/// no valid plan. Time is simulation time; planning is synchronous (the world waits for it).
+class Navigator {
+ public:
+  /// @throws common::InputError for invalid planner or MPC settings.
+  Navigator(const NavigationSettings& settings, const NavigationPlannerConfig& planner,
+            const controller::MpcConfig& mpc, const Eigen::Vector2d& goal_W);
+
+  /// The tick at the state's time: the body twist command and what was done for it. `map` is the latest traversability map (null
+  /// before the first one: the robot waits); `map_updated` says it changed since the last call;
+  /// `movers` are the predicted moving obstacles.
+  NavigatorTick Update(const common::RobotState& state, const common::GridLayers* map,
+                       bool map_updated, const std::vector<MovingObstacle>& movers);
+
+  /// Time since the last valid plan, or since the start if there was none [s]. A plan toward the
+  /// substitute of an unreachable goal that ends within the goal radius of the robot is not valid:
+  /// the goal cannot be reached from here.
+  double time_without_plan_s(double now_s) const;
+
+  /// The trajectory being tracked (empty before the first plan).
+  const common::Trajectory& trajectory() const { return trajectory_; }
+
+  /// The latest plan's waypoints (A* simplified) [m].
+  const std::vector<Eigen::Vector2d>& waypoints_W() const { return waypoints_W_; }
+
+  /// Counters and timings for the summary.
+  struct Statistics {
+    int plans{0};                     ///< planning calls
+    int failed_plans{0};              ///< calls without a usable trajectory
+    int safety_stops{0};              ///< control ticks that braked for safety
+    int replans_on_events{0};         ///< calls triggered by an event rather than the clock
+    std::vector<double> planning_ms;  ///< wall time of each planning call
+    std::vector<double> control_ms;   ///< wall time of each MPC solve
+    std::string last_status;          ///< planner status of the latest call
+  };
+  const Statistics& statistics() const { return statistics_; }
+
+  /// Tracking metrics against the trajectories followed.
+  controller::TrackingMetrics tracking_metrics() const { return tracker_.Metrics(); }
+
+ private:
+  ReplanReason ReasonToReplan(const common::RobotState& state, const common::GridLayers* map,
+                              bool map_updated);
+  void Replan(const common::RobotState& state, const common::GridLayers& map,
+              const std::vector<MovingObstacle>& movers, ReplanReason reason);
+  bool AheadIsSafe(double now_s, const common::GridLayers* map,
+                   const std::vector<MovingObstacle>& movers) const;
+
+  NavigationSettings settings_;
+  NavigationPlanner planner_;
+  controller::MpcTracker tracker_;
+  Eigen::Vector2d goal_W_;
+  common::Trajectory trajectory_;
+  std::vector<Eigen::Vector2d> waypoints_W_;
+  double next_plan_s_{0.0};
+  double last_valid_plan_s_{0.0};
+  bool force_replan_{false};
+  bool map_check_pending_{false};  // a map update not yet checked against the plan
+  double last_moving_s_{0.0};      // last time the robot moved or was meant to stand still
+  Statistics statistics_;
+};
+
+}  // namespace trav::planner

@@ -1,0 +1,382 @@
+#include "scenarios/experiments/eval_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <sstream>
+
+#include "common/statistics.h"
+#include "scenarios/run/output_folder.h"
+#include "scenarios/run/plots.h"
+#include "scenarios/run/run_metrics.h"
+
+namespace trav::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The paper's Table I (average mean error / average variance), reference/mapping.md section 2.11.
+struct PaperRow {
+  const char* terrain;
+  double sgp[2];
+  double fsgp[2];
+  double fsgp_bgk[2];
+};
+constexpr PaperRow kPaperTableI[] = {
+    {"hilly", {0.2604, 0.0392}, {0.2321, 0.0345}, {0.1237, 0.0085}},
+    {"forest", {0.1831, 0.0245}, {0.1777, 0.0227}, {0.1687, 0.0213}},
+    {"ruin", {0.2003, 0.0239}, {0.1965, 0.0219}, {0.1831, 0.0206}},
+    {"road", {0.1694, 0.0373}, {0.1434, 0.0328}, {0.1051, 0.0240}},
+    {"indoor", {0.2455, 0.0451}, {0.2537, 0.0429}, {0.1978, 0.0420}},
+};
+
+std::string Format(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof(text), format, value);
+  return text;
+}
+
+// A method's record in a scene, or null.
+const nlohmann::json* MethodRecord(const nlohmann::json& scene, const std::string& method) {
+  const nlohmann::json& methods = scene.at("methods");
+  const auto it = methods.find(method);
+  return it == methods.end() ? nullptr : &*it;
+}
+
+// An aggregate over every terrain type (Tables II and III), computed like a row.
+std::optional<EvalAggregate> OverAllTerrains(const std::vector<nlohmann::json>& scenes,
+                                             const std::string& method) {
+  std::vector<std::string> all_terrains;
+  for (const nlohmann::json& scene : scenes) {
+    all_terrains.push_back(scene.at("terrain").get<std::string>());
+  }
+  std::vector<nlohmann::json> relabelled = scenes;
+  for (nlohmann::json& scene : relabelled) scene["terrain"] = "all";
+  const std::vector<EvalAggregate> rows = AggregateScenes(relabelled, {"all"}, {method});
+  if (rows.empty()) return std::nullopt;
+  return rows.front();
+}
+
+// error_over_time_<terrain>.csv: t and one column per method, each the mean over the type's
+// scenes of the frame's mean error (frames are indexed alike in every scene: one per LiDAR
+// period); empty fields where no scene scored that frame.
+std::string ErrorOverTimeCsv(const std::vector<nlohmann::json>& scenes, const std::string& terrain,
+                             const std::vector<std::string>& methods) {
+  std::size_t frames = 0;
+  std::vector<const nlohmann::json*> of_type;
+  for (const nlohmann::json& scene : scenes) {
+    if (scene.at("terrain") != terrain) continue;
+    of_type.push_back(&scene);
+    frames = std::max(frames, scene.at("drive").at("frames").get<std::size_t>());
+  }
+  std::string csv = "t";
+  for (const std::string& method : methods) csv += "," + method;
+  csv += "\n";
+  for (std::size_t k = 0; k < frames; ++k) {
+    double t_sum = 0.0;
+    int t_count = 0;
+    std::string row;
+    for (const std::string& method : methods) {
+      double sum = 0.0;
+      int count = 0;
+      for (const nlohmann::json* scene : of_type) {
+        const nlohmann::json* record = MethodRecord(*scene, method);
+        if (record == nullptr) continue;
+        const nlohmann::json& per_frame = record->at("frames");
+        if (k >= per_frame.at("t_s").size()) continue;
+        if (method == methods.front()) {
+          t_sum += per_frame.at("t_s")[k].get<double>();
+          ++t_count;
+        }
+        const nlohmann::json& error = per_frame.at("mean_error")[k];
+        if (error.is_number()) {
+          sum += error.get<double>();
+          ++count;
+        }
+      }
+      row += "," + (count > 0 ? Format("%.6g", sum / count) : std::string());
+    }
+    if (t_count == 0) continue;
+    csv += Format("%.3f", t_sum / t_count) + row + "\n";
+  }
+  return csv;
+}
+
+// The ablation's methods by inducing-point count: FSGP-BGK itself at its own count.
+std::vector<std::pair<int, std::string>> AblationMethods(const EvalOptions& options,
+                                                         int base_inducing_points) {
+  std::vector<std::pair<int, std::string>> methods;
+  std::vector<int> counts = options.inducing_points;
+  std::sort(counts.begin(), counts.end());
+  counts.erase(std::unique(counts.begin(), counts.end()), counts.end());
+  for (const int count : counts) {
+    methods.emplace_back(count, count == base_inducing_points
+                                    ? std::string("fsgp-bgk")
+                                    : "fsgp-bgk-m" + std::to_string(count));
+  }
+  return methods;
+}
+
+const EvalAggregate* Find(const std::vector<EvalAggregate>& rows, const std::string& terrain,
+                          const std::string& method) {
+  for (const EvalAggregate& row : rows) {
+    if (row.terrain == terrain && row.method == method) return &row;
+  }
+  return nullptr;
+}
+
+void WriteCsvAndPlots(const fs::path& folder, const std::string& csv_name, const std::string& csv,
+                      const std::vector<LinePlot>& plots, std::vector<std::string>* notes) {
+  WriteTextFileAtomically((folder / csv_name).string(), csv);
+  const PlotResult result = WriteLinePlots((folder / csv_name).string(), plots, folder.string());
+  if (!result.message.empty()) notes->push_back(result.message);
+}
+
+std::string TableOne(const std::vector<EvalAggregate>& rows, const EvalOptions& options,
+                     const std::vector<std::string>& methods) {
+  std::ostringstream md;
+  md << "## Table I: mean error / error variance per terrain type\n\n"
+     << "Mean over scenes of the per-frame mean |traversability - ground truth| over the cells "
+        "observed so far, and of its variance.\n\n| terrain |";
+  for (const std::string& method : methods) md << " " << method << " |";
+  md << "\n|---|";
+  for (std::size_t i = 0; i < methods.size(); ++i) md << "---|";
+  md << "\n";
+  for (const std::string& terrain : options.terrains) {
+    md << "| " << terrain << " |";
+    for (const std::string& method : methods) {
+      const EvalAggregate* row = Find(rows, terrain, method);
+      md << " "
+         << (row ? Format("%.4f", row->mean_error) + " / " + Format("%.4f", row->error_variance)
+                 : std::string("-"))
+         << " |";
+    }
+    md << "\n";
+  }
+  md << "\nThe paper's Table I (its simulator, its ground-truth formula):\n\n"
+     << "| terrain | sgp | fsgp | fsgp-bgk |\n|---|---|---|---|\n";
+  for (const PaperRow& paper : kPaperTableI) {
+    md << "| " << paper.terrain << " | " << Format("%.4f", paper.sgp[0]) << " / "
+       << Format("%.4f", paper.sgp[1]) << " | " << Format("%.4f", paper.fsgp[0]) << " / "
+       << Format("%.4f", paper.fsgp[1]) << " | " << Format("%.4f", paper.fsgp_bgk[0]) << " / "
+       << Format("%.4f", paper.fsgp_bgk[1]) << " |\n";
+  }
+  return md.str();
+}
+
+// A two-method comparison over every terrain type (Tables II and III).
+std::string Comparison(const std::vector<nlohmann::json>& scenes, const std::string& title,
+                       const std::vector<std::pair<std::string, std::string>>& methods_and_paper,
+                       const std::string& paper_header) {
+  std::ostringstream md;
+  md << "## " << title << "\n\n| method | mean error | error variance | median update [ms] | "
+     << "peak memory [MiB] | " << paper_header << " |\n|---|---|---|---|---|---|\n";
+  for (const auto& [method, paper] : methods_and_paper) {
+    const std::optional<EvalAggregate> row = OverAllTerrains(scenes, method);
+    if (!row) {
+      md << "| " << method << " | not evaluated (add it to --methods) | | | | " << paper << " |\n";
+      continue;
+    }
+    md << "| " << method << " | " << Format("%.4f", row->mean_error) << " | "
+       << Format("%.4f", row->error_variance) << " | " << Format("%.2f", row->runtime_ms_median)
+       << " | " << Format("%.2f", row->peak_memory_mb) << " | " << paper << " |\n";
+  }
+  return md.str();
+}
+
+// "Drives ...: success 9, planning_failure 1 (indoor-2)." from the scenes' drive outcomes.
+std::string DriveOutcomes(const std::vector<nlohmann::json>& scenes) {
+  std::map<std::string, std::vector<std::string>> by_outcome;
+  for (const nlohmann::json& scene : scenes) {
+    by_outcome[scene.at("drive").at("outcome").get<std::string>()].push_back(
+        scene.value("id", std::string()));
+  }
+  std::string text =
+      "Drives (the closed loop on the ground-truth oracle; every frame until the "
+      "drive ends is scored):";
+  bool first = true;
+  for (const auto& [outcome, ids] : by_outcome) {
+    text += std::string(first ? " " : ", ") + outcome + " " + std::to_string(ids.size());
+    first = false;
+    if (outcome == "success" || outcome == "completed") continue;
+    std::string list;
+    for (const std::string& id : ids) list += (list.empty() ? "" : ", ") + id;
+    text += " (" + list + ")";
+  }
+  return text + ".";
+}
+
+}  // namespace
+
+std::vector<EvalAggregate> AggregateScenes(const std::vector<nlohmann::json>& scenes,
+                                           const std::vector<std::string>& terrains,
+                                           const std::vector<std::string>& methods) {
+  std::vector<EvalAggregate> rows;
+  for (const std::string& terrain : terrains) {
+    for (const std::string& method : methods) {
+      EvalAggregate row;
+      row.terrain = terrain;
+      row.method = method;
+      std::vector<double> runtimes;
+      for (const nlohmann::json& scene : scenes) {
+        if (scene.at("terrain") != terrain) continue;
+        const nlohmann::json* record = MethodRecord(scene, method);
+        if (record == nullptr || !record->at("mean_error").is_number()) continue;
+        ++row.scenes;
+        row.mean_error += record->at("mean_error").get<double>();
+        row.error_variance += record->at("error_variance").get<double>();
+        row.coverage += record->at("coverage").get<double>();
+        row.peak_memory_mb =
+            std::max(row.peak_memory_mb, record->at("peak_memory_mb").get<double>());
+        for (const nlohmann::json& ms : record->at("frames").at("runtime_ms")) {
+          runtimes.push_back(ms.get<double>());
+        }
+      }
+      if (row.scenes == 0) continue;
+      row.mean_error /= row.scenes;
+      row.error_variance /= row.scenes;
+      row.coverage /= row.scenes;
+      row.frames = static_cast<int>(runtimes.size());
+      row.runtime_ms_median = common::Quantile(runtimes, 0.5);
+      rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
+void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
+                     int base_inducing_points, const std::vector<nlohmann::json>& scenes,
+                     const std::vector<nlohmann::json>& failures, const std::string& command) {
+  const fs::path folder(out_dir);
+  const std::vector<std::string> methods = EvalMethods(options);
+  const std::vector<EvalAggregate> rows = AggregateScenes(scenes, options.terrains, methods);
+
+  // results.json and results.csv
+  nlohmann::json results = nlohmann::json::array();
+  std::string csv =
+      "terrain,method,mean_error,error_variance,runtime_ms_median,peak_memory_mb,scenes,frames,"
+      "coverage\n";
+  for (const EvalAggregate& row : rows) {
+    results.push_back({{"terrain", row.terrain},
+                       {"method", row.method},
+                       {"mean_error", row.mean_error},
+                       {"error_variance", row.error_variance},
+                       {"runtime_ms_median", row.runtime_ms_median},
+                       {"peak_memory_mb", row.peak_memory_mb},
+                       {"scenes", row.scenes},
+                       {"frames", row.frames},
+                       {"coverage", row.coverage}});
+    csv += row.terrain + "," + row.method + "," + Format("%.6g", row.mean_error) + "," +
+           Format("%.6g", row.error_variance) + "," + Format("%.6g", row.runtime_ms_median) + "," +
+           Format("%.6g", row.peak_memory_mb) + "," + std::to_string(row.scenes) + "," +
+           std::to_string(row.frames) + "," + Format("%.4f", row.coverage) + "\n";
+  }
+  WriteTextFileAtomically((folder / "results.json").string(), results.dump(1) + "\n");
+  WriteTextFileAtomically((folder / "results.csv").string(), csv);
+
+  // error over time per terrain type
+  std::vector<std::string> notes;
+  std::vector<PlotSeries> method_series;
+  for (const std::string& method : options.methods) method_series.push_back({method, method});
+  for (const std::string& terrain : options.terrains) {
+    const LinePlot plot{"error_over_time_" + terrain + ".png",
+                        "Mapping error over time, " + terrain + " (mean over scenes)",
+                        "t",
+                        "simulation time [s]",
+                        "mean |traversability - ground truth|",
+                        method_series,
+                        true,
+                        false};
+    WriteCsvAndPlots(folder, "error_over_time_" + terrain + ".csv",
+                     ErrorOverTimeCsv(scenes, terrain, options.methods), {plot}, &notes);
+  }
+
+  // the inducing-point ablation
+  const std::vector<std::pair<int, std::string>> ablation =
+      AblationMethods(options, base_inducing_points);
+  std::ostringstream ablation_md;
+  if (!ablation.empty()) {
+    std::string ablation_csv = "inducing_points";
+    std::vector<PlotSeries> error_series, runtime_series;
+    for (const std::string& terrain : options.terrains) {
+      ablation_csv += "," + terrain + "_error," + terrain + "_runtime_ms";
+      error_series.push_back({terrain + "_error", terrain});
+      runtime_series.push_back({terrain + "_runtime_ms", terrain});
+    }
+    ablation_csv += "\n";
+    ablation_md << "## Inducing-point ablation (FSGP-BGK)\n\nMean error / median update [ms].\n\n"
+                << "| inducing points |";
+    for (const std::string& terrain : options.terrains) ablation_md << " " << terrain << " |";
+    ablation_md << "\n|---|";
+    for (std::size_t i = 0; i < options.terrains.size(); ++i) ablation_md << "---|";
+    ablation_md << "\n";
+    for (const auto& [count, method] : ablation) {
+      ablation_csv += std::to_string(count);
+      ablation_md << "| " << count << " |";
+      for (const std::string& terrain : options.terrains) {
+        const EvalAggregate* row = Find(rows, terrain, method);
+        ablation_csv += row ? "," + Format("%.6g", row->mean_error) + "," +
+                                  Format("%.6g", row->runtime_ms_median)
+                            : std::string(",,");
+        ablation_md << " "
+                    << (row ? Format("%.4f", row->mean_error) + " / " +
+                                  Format("%.2f", row->runtime_ms_median)
+                            : std::string("-"))
+                    << " |";
+      }
+      ablation_csv += "\n";
+      ablation_md << "\n";
+    }
+    const std::vector<LinePlot> plots = {
+        {"ablation_error.png", "FSGP-BGK: mean error against inducing points", "inducing_points",
+         "inducing points M", "mean |traversability - ground truth|", error_series, true, true},
+        {"ablation_runtime.png", "FSGP-BGK: median update against inducing points",
+         "inducing_points", "inducing points M", "median update [ms]", runtime_series, true, true}};
+    WriteCsvAndPlots(folder, "ablation.csv", ablation_csv, plots, &notes);
+  }
+
+  // results.md
+  std::ostringstream md;
+  md << "# trav eval results\n\n"
+     << "Command: `" << command << "`\n\n"
+     << scenes.size() << " scenes finished";
+  if (!failures.empty()) md << ", " << failures.size() << " failed";
+  md << " (" << options.scenes << " per terrain type, seeds " << options.seed << " to "
+     << options.seed + static_cast<std::uint64_t>(options.scenes) - 1
+     << "); per-frame numbers in scenes/<id>.json. " << DriveOutcomes(scenes) << "\n\n"
+     << TableOne(rows, options, methods) << "\n"
+     << Comparison(
+            scenes, "Table II: FSGP-BGK against the elevation map (all terrain types)",
+            {{"fsgp-bgk", "0.1139 / 0.0333 / 33.84 ms"}, {"em", "0.1953 / 0.0422 / 107.85 ms"}},
+            "paper: error / variance / time (GPU)")
+     << "\n"
+     << Comparison(scenes, "Table III: BGK fusion against cloud accumulation (all terrain types)",
+                   {{"fsgp-bgk", "GPU memory 25 %, 29.16 ms"},
+                    {"fsgp-accumulation", "GPU memory 36 %, 42.37 ms"}},
+                   "paper")
+     << "\nPeak memory: the largest growth of the heap in use (glibc mallinfo2, all arenas) "
+        "between the method's construction and the end of any of its updates in one scene.\n\n"
+     << ablation_md.str();
+  if (!failures.empty()) {
+    md << "\n## Failed scenes\n\n| scene | end | exit code | signal | log "
+          "|\n|---|---|---|---|---|\n";
+    for (const nlohmann::json& failure : failures) {
+      md << "| " << failure.value("id", "") << " | " << failure.value("end", "") << " | "
+         << failure.value("exit_code", 0) << " | " << failure.value("signal", 0) << " | "
+         << failure.value("log", "") << " |\n";
+    }
+  }
+  md << "\n## Plots\n\n";
+  for (const std::string& terrain : options.terrains) {
+    md << "![" << terrain << "](error_over_time_" << terrain << ".png)\n";
+  }
+  if (!ablation.empty())
+    md << "![ablation](ablation_error.png)\n![ablation](ablation_runtime.png)\n";
+  for (const std::string& note : notes) md << "\n" << note << "\n";
+  WriteTextFileAtomically((folder / "results.md").string(), md.str());
+}
+
+}  // namespace trav::scenarios

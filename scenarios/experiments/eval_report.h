@@ -1,0 +1,46 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "scenarios/experiments/evaluation.h"
+
+namespace trav::scenarios {
+
+/// One row of results.json: a terrain type and a method over the type's finished scenes.
+struct EvalAggregate {
+  std::string terrain;
+  std::string method;
+  int scenes{0};                  ///< scenes with at least one scored frame
+  int frames{0};                  ///< frames over those scenes
+  double mean_error{0.0};         ///< mean over scenes of the scene's mean (over frames) error
+  double error_variance{0.0};     ///< mean over scenes of the scene's mean error variance
+  double runtime_ms_median{0.0};  ///< median update time over every frame of every scene [ms]
+  double peak_memory_mb{0.0};     ///< largest heap growth of one scene's run [MiB]
+  double coverage{0.0};  ///< mean over scenes of the observed cells the map knows at the end
+};
+
+/// Aggregates finished scene records (RunEvalScene) per terrain type and method, in the order of
+/// `terrains` and `methods`; pairs without a scored scene are left out.
+std::vector<EvalAggregate> AggregateScenes(const std::vector<nlohmann::json>& scenes,
+                                           const std::vector<std::string>& terrains,
+                                           const std::vector<std::string>& methods);
+
+/// Writes the report of an evaluation into `out_dir`, each file atomically:
+/// - results.json: one record per terrain type and method (EvalAggregate's fields: terrain,
+///   method, mean_error, error_variance, runtime_ms_median, peak_memory_mb, scenes, frames,
+///   coverage), and results.csv with the same rows;
+/// - results.md: the paper's Table I (mean error and variance per terrain and method, next to the
+///   paper's numbers), Table II (FSGP-BGK against the elevation map), Table III (BGK against
+///   accumulation: memory and time), the inducing-point ablation, failed scenes, the command;
+/// - error_over_time_<terrain>.csv and .png: each method's mean error against time, averaged
+///   over the type's scenes frame by frame;
+/// - ablation.csv, ablation_error.png and ablation_runtime.png when the ablation ran.
+/// Plots are skipped (and the markdown says so) where gnuplot is missing.
+void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
+                     int base_inducing_points, const std::vector<nlohmann::json>& scenes,
+                     const std::vector<nlohmann::json>& failures, const std::string& command);
+
+}  // namespace trav::scenarios

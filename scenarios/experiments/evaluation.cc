@@ -1,0 +1,521 @@
+#include "scenarios/experiments/evaluation.h"
+
+#include <malloc.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "common/input_error.h"
+#include "common/random.h"
+#include "common/statistics.h"
+#include "common/yaml_reader.h"
+#include "mapping/traversability_mapper.h"
+#include "scenarios/experiments/eval_report.h"
+#include "scenarios/experiments/job_array.h"
+#include "scenarios/run/mappers.h"
+#include "scenarios/run/output_folder.h"
+#include "scenarios/run/process_pool.h"
+#include "scenarios/run/run_metrics.h"
+#include "scenarios/run/scenario.h"
+#include "scenarios/run/scenario_run.h"
+#include "sim/terrain.h"
+#include "sim/terrain_geometry.h"
+
+namespace trav::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* kConstantPrefix = "constant=";
+constexpr const char* kAblationPrefix = "fsgp-bgk-m";
+constexpr int kRouteDraws = 16;
+constexpr double kBytesPerMiB = 1024.0 * 1024.0;
+
+// The scene scenario of a terrain type before its route: 50 x 50 m like the paper's scenes, the
+// MID-360 with 15 % of each frame occluded as in the paper's evaluation, a rolling map large
+// enough to hold the whole world (the paper scores the global map), and the closed loop on the
+// ground-truth oracle so that every method sees the same frames.
+std::string SceneYaml(const std::string& terrain, std::uint64_t seed) {
+  // indoor: finer height field for thin walls, doors wide enough for the robot at 0.2 m
+  const bool indoor = terrain == "indoor";
+  std::ostringstream yaml;
+  yaml << "schema_version: 1\n"
+       << "name: eval_" << terrain << "_" << seed << "\n"
+       << "mode: navigate\n"
+       << "terrain: {type: " << terrain << ", seed: " << seed << ", size: [50, 50], resolution: "
+       << (indoor ? "0.05, parameters: {door_width: 1.5, min_room_size: 5}" : "0.1") << "}\n"
+       << "lidar: {occlusion: 0.15}\n"
+       << "mapping: {method: ground-truth, map_size: 60}\n"
+       << "duration: 90\n"
+       << "video: {enabled: false}\n";
+  return yaml.str();
+}
+
+// The scenario of a scene with the evaluation's overrides (its route still to be drawn).
+Scenario SceneScenario(const EvalOptions& options, const EvalScene& scene) {
+  common::YamlDocument document =
+      common::YamlDocument::Parse(SceneYaml(scene.terrain, scene.seed), "eval scene " + scene.Id());
+  ApplyOverrides(options.sets, &document);
+  return LoadScenario(document);
+}
+
+bool StartsWith(const std::string& text, const std::string& prefix) {
+  return text.compare(0, prefix.size(), prefix) == 0;
+}
+
+// The value C of a method "constant=C", or nothing if it is not one. @throws common::InputError
+// if C is not a number in [0, 1].
+std::optional<float> ConstantOf(const std::string& method) {
+  if (!StartsWith(method, kConstantPrefix)) return std::nullopt;
+  const std::string text = method.substr(std::string(kConstantPrefix).size());
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !(value >= 0.0 && value <= 1.0)) {
+    throw common::InputError("--methods", method, "constant=C needs a number C in [0, 1]");
+  }
+  return static_cast<float>(value);
+}
+
+// The mapper method of a standard method name, or nothing.
+std::optional<MapperMethod> StandardMethod(const std::string& name) {
+  for (const MapperMethod method :
+       {MapperMethod::kSgp, MapperMethod::kFsgp, MapperMethod::kFsgpBgk,
+        MapperMethod::kFsgpAccumulation, MapperMethod::kElevationMap, MapperMethod::kGroundTruth}) {
+    if (name == MapperMethodName(method)) return method;
+  }
+  return std::nullopt;
+}
+
+// A mapper that paints every observed cell of the ground truth's grid with the truth (the
+// oracle) or with a constant: what checks that the evaluation scores exactly what it should.
+class PaintingMapper : public mapping::TraversabilityMapper {
+ public:
+  PaintingMapper(const common::GridLayers& truth_W, const mapping::MapArea& area,
+                 std::optional<float> constant)
+      : truth_(truth_W.Layer(mapping::layers::kTraversability)),
+        constant_(constant),
+        observed_(truth_W.geometry(), area),
+        map_(truth_W.geometry(), {mapping::layers::kTraversability}) {}
+
+  mapping::MapUpdateResult Update(const common::PointCloud& points_W, const Eigen::Isometry3d& X_WB,
+                                  double) override {
+    const std::size_t before = observed_.cells().size();
+    mapping::MapUpdateResult result;
+    result.input_points = static_cast<int>(points_W.size());
+    result.observed_cells = observed_.Add(points_W, X_WB.translation());
+    Eigen::MatrixXf& layer = map_.Layer(mapping::layers::kTraversability);
+    for (std::size_t i = before; i < observed_.cells().size(); ++i) {
+      const Eigen::Vector2i& cell = observed_.cells()[i];
+      layer(cell.x(), cell.y()) = constant_ ? *constant_ : truth_(cell.x(), cell.y());
+    }
+    return result;
+  }
+
+  const common::GridLayers& map() const override { return map_; }
+
+ private:
+  const Eigen::MatrixXf& truth_;
+  std::optional<float> constant_;
+  ObservedCells observed_;
+  common::GridLayers map_;
+};
+
+// The mapper of `method` for a scene.
+std::unique_ptr<mapping::TraversabilityMapper> MakeEvalMapper(const std::string& method,
+                                                              const Scenario& scene,
+                                                              const common::GridLayers& truth_W) {
+  if (const std::optional<float> constant = ConstantOf(method)) {
+    return std::make_unique<PaintingMapper>(truth_W, scene.mapping.area, constant);
+  }
+  Scenario configured = scene;
+  if (StartsWith(method, kAblationPrefix)) {
+    configured.mapper = MapperMethod::kFsgpBgk;
+    configured.mapping.max_training_points =
+        std::stoi(method.substr(std::string(kAblationPrefix).size()));
+  } else {
+    configured.mapper = *StandardMethod(method);
+  }
+  if (configured.mapper == MapperMethod::kGroundTruth) {
+    return std::make_unique<PaintingMapper>(truth_W, scene.mapping.area, std::nullopt);
+  }
+  return MakeMapper(configured);
+}
+
+// Heap in use by this process [bytes]: every arena's allocated chunks and mmapped blocks.
+double HeapInUseBytes() {
+  const struct mallinfo2 info = mallinfo2();
+  return static_cast<double>(info.uordblks) + static_cast<double>(info.hblkhd);
+}
+
+// A LiDAR frame recorded during the drive.
+struct RecordedFrame {
+  common::PointCloud points_W;
+  Eigen::Isometry3d X_WB;
+  double t_s;
+};
+
+// Feeds the frames to one method, scoring its map after every frame.
+nlohmann::json EvaluateMethod(const std::string& method, const Scenario& scene,
+                              const common::GridLayers& truth_W,
+                              const std::vector<RecordedFrame>& frames) {
+  const double heap_before = HeapInUseBytes();
+  double peak_heap = 0.0;
+  std::unique_ptr<mapping::TraversabilityMapper> mapper = MakeEvalMapper(method, scene, truth_W);
+  ObservedCells observed(truth_W.geometry(), scene.mapping.area);
+  std::vector<double> t, mean, variance, runtime, heap_mb;
+  std::vector<int> compared, observed_count;
+  double mean_sum = 0.0, variance_sum = 0.0;
+  int scored = 0;
+  for (const RecordedFrame& frame : frames) {
+    const auto start = Clock::now();
+    mapper->Update(frame.points_W, frame.X_WB, frame.t_s);
+    runtime.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+    const double heap = HeapInUseBytes() - heap_before;
+    peak_heap = std::max(peak_heap, heap);
+    heap_mb.push_back(heap / kBytesPerMiB);
+    observed.Add(frame.points_W, frame.X_WB.translation());
+    const LayerError error =
+        CompareObserved(mapper->map(), truth_W, observed, mapping::layers::kTraversability);
+    t.push_back(frame.t_s);
+    mean.push_back(error.known_cells > 0 ? error.mean : std::nan(""));
+    variance.push_back(error.known_cells > 0 ? error.variance : std::nan(""));
+    compared.push_back(error.known_cells);
+    observed_count.push_back(static_cast<int>(observed.cells().size()));
+    if (error.known_cells > 0) {
+      mean_sum += error.mean;
+      variance_sum += error.variance;
+      ++scored;
+    }
+  }
+  // JSON has no NaN: unscored frames are null
+  auto number_or_null = [](double value) {
+    return std::isnan(value) ? nlohmann::json() : nlohmann::json(value);
+  };
+  auto with_nulls = [&](const std::vector<double>& values) {
+    nlohmann::json array = nlohmann::json::array();
+    for (const double v : values) array.push_back(number_or_null(v));
+    return array;
+  };
+  const double last_observed = observed_count.empty() ? 0.0 : observed_count.back();
+  return {
+      {"mean_error", number_or_null(scored > 0 ? mean_sum / scored : std::nan(""))},
+      {"error_variance", number_or_null(scored > 0 ? variance_sum / scored : std::nan(""))},
+      {"scored_frames", scored},
+      {"runtime_ms_median", common::Quantile(runtime, 0.5)},
+      {"runtime_ms_max", runtime.empty() ? 0.0 : *std::max_element(runtime.begin(), runtime.end())},
+      {"peak_memory_mb", peak_heap / kBytesPerMiB},
+      {"coverage", last_observed > 0 ? compared.back() / last_observed : 0.0},
+      {"frames",
+       {{"t_s", t},
+        {"mean_error", with_nulls(mean)},
+        {"error_variance", with_nulls(variance)},
+        {"compared_cells", compared},
+        {"observed_cells", observed_count},
+        {"runtime_ms", runtime},
+        {"heap_mb", heap_mb}}},
+  };
+}
+
+// Draws the route of a scene: start and goal `length` apart through the world's centre at a
+// random heading, until A* finds a path between them on the ground truth (the world is
+// generated with obstacles kept clear of both). Sets the scenario's start and goal and returns
+// the ground truth of the world drawn.
+common::GridLayers DrawRoute(Scenario* scene, double length_m, std::uint64_t seed) {
+  common::Random random(seed);
+  for (int draw = 0; draw < kRouteDraws; ++draw) {
+    const double heading = random.Uniform(-M_PI, M_PI);
+    const Eigen::Vector2d half =
+        0.5 * length_m * Eigen::Vector2d(std::cos(heading), std::sin(heading));
+    scene->start_W.position = -half;
+    scene->start_W.yaw = heading;
+    scene->goal_W = half;
+    const sim::TerrainWorld world =
+        sim::GenerateTerrain(scene->terrain, {scene->start_W.position, scene->goal_W});
+    common::GridLayers truth_W = WorldGroundTruth(*scene, world, sim::ObstacleHeightGrid(world));
+    if (OptimalPathLength(*scene, truth_W) > 0.0) return truth_W;
+  }
+  throw std::runtime_error("no route of " + std::to_string(length_m) + " m with a path on the " +
+                           "ground truth in " + std::to_string(kRouteDraws) + " draws");
+}
+
+// A finished scene's record, or nothing if it is absent or unreadable (then it is redone).
+std::optional<nlohmann::json> FinishedScene(const fs::path& path) {
+  std::optional<nlohmann::json> record = ReadJsonIfPresent(path.string());
+  if (record && !record->contains("methods")) return std::nullopt;
+  return record;
+}
+
+}  // namespace
+
+void ValidateEvalOptions(const EvalOptions& options) {
+  if (options.terrains.empty()) throw common::InputError("--terrains", "", "needs a terrain type");
+  common::RequireValue(options.scenes >= 1 && options.scenes <= 100000, "--scenes", options.scenes,
+                       "must be in [1, 100000]");
+  common::RequireValue(options.route_length_m > 0.0 && options.route_length_m <= 40.0,
+                       "--route-length", options.route_length_m, "must be in (0, 40] m");
+  common::RequireValue(options.max_frames >= 0 && options.max_frames <= 100000, "--frames",
+                       options.max_frames, "must be in [0, 100000]");
+  common::RequireValue(options.jobs >= 1 && options.jobs <= 1024, "--jobs", options.jobs,
+                       "must be in [1, 1024]");
+  common::RequireValue(options.scene_time_limit_s > 0.0 && options.scene_time_limit_s <= 1e6,
+                       "--time-limit", options.scene_time_limit_s, "must be in (0, 1e6] s");
+  if (options.methods.empty()) throw common::InputError("--methods", "", "needs a method");
+  std::set<std::string> seen;
+  for (const std::string& method : options.methods) {
+    if (!seen.insert(method).second) {
+      throw common::InputError("--methods", method, "is listed twice");
+    }
+    if (!StandardMethod(method) && !ConstantOf(method)) {
+      throw common::InputError("--methods", method,
+                               "unknown method (expected sgp, fsgp, fsgp-bgk, fsgp-accumulation, "
+                               "em, ground-truth or constant=C)");
+    }
+  }
+  for (const int count : options.inducing_points) {
+    common::RequireValue(count >= 10 && count <= 3000, "--inducing", count,
+                         "must be in [10, 3000]");
+  }
+  std::set<std::string> terrains;
+  for (const std::string& terrain : options.terrains) {
+    if (!terrains.insert(terrain).second) {
+      throw common::InputError("--terrains", terrain, "is listed twice");
+    }
+    // every scene's scenario must load: the terrain type and every override
+    SceneScenario(options, {terrain, options.seed});
+  }
+}
+
+nlohmann::json EvalOptionsJson(const EvalOptions& options) {
+  return {{"terrains", options.terrains},
+          {"scenes", options.scenes},
+          {"seed", options.seed},
+          {"methods", options.methods},
+          {"inducing_points", options.inducing_points},
+          {"route_length_m", options.route_length_m},
+          {"max_frames", options.max_frames},
+          {"sets", options.sets},
+          {"jobs", options.jobs},
+          {"scene_time_limit_s", options.scene_time_limit_s}};
+}
+
+EvalOptions EvalOptionsFromJson(const nlohmann::json& json, const std::string& source) {
+  EvalOptions options;
+  try {
+    json.at("terrains").get_to(options.terrains);
+    json.at("scenes").get_to(options.scenes);
+    json.at("seed").get_to(options.seed);
+    json.at("methods").get_to(options.methods);
+    json.at("inducing_points").get_to(options.inducing_points);
+    json.at("route_length_m").get_to(options.route_length_m);
+    json.at("max_frames").get_to(options.max_frames);
+    json.at("sets").get_to(options.sets);
+    json.at("jobs").get_to(options.jobs);
+    json.at("scene_time_limit_s").get_to(options.scene_time_limit_s);
+  } catch (const nlohmann::json::exception& e) {
+    throw common::InputError(source, "", std::string("not an evaluation's options: ") + e.what());
+  }
+  // a stored file is input too: the same bounds as the command line's
+  try {
+    ValidateEvalOptions(options);
+  } catch (const common::InputError& e) {
+    throw common::InputError(source, "", e.what());
+  }
+  return options;
+}
+
+bool SameEvaluation(const EvalOptions& a, const EvalOptions& b) {
+  return a.terrains == b.terrains && a.scenes == b.scenes && a.seed == b.seed &&
+         a.methods == b.methods && a.inducing_points == b.inducing_points &&
+         a.route_length_m == b.route_length_m && a.max_frames == b.max_frames && a.sets == b.sets;
+}
+
+std::vector<EvalScene> EvalScenes(const EvalOptions& options) {
+  std::vector<EvalScene> scenes;
+  for (const std::string& terrain : options.terrains) {
+    for (int k = 0; k < options.scenes; ++k) {
+      scenes.push_back({terrain, options.seed + static_cast<std::uint64_t>(k)});
+    }
+  }
+  return scenes;
+}
+
+int BaseInducingPoints(const EvalOptions& options) {
+  return SceneScenario(options, {options.terrains.front(), options.seed})
+      .mapping.max_training_points;
+}
+
+std::vector<std::string> EvalMethods(const EvalOptions& options) {
+  std::vector<std::string> methods = options.methods;
+  const int base = BaseInducingPoints(options);
+  for (const int count : options.inducing_points) {
+    if (count != base) methods.push_back(kAblationPrefix + std::to_string(count));
+  }
+  return methods;
+}
+
+nlohmann::json RunEvalScene(const EvalOptions& options, const EvalScene& scene,
+                            const std::string& robot_model_path) {
+  Scenario scenario = SceneScenario(options, scene);
+  const common::GridLayers truth_W = DrawRoute(&scenario, options.route_length_m, scene.seed);
+
+  // the drive: the closed loop on the oracle, every frame recorded
+  std::vector<RecordedFrame> frames;
+  RunOptions run_options;
+  run_options.max_lidar_frames = options.max_frames;
+  run_options.on_lidar_frame = [&frames](const common::PointCloud& points_W,
+                                         const Eigen::Isometry3d& X_WB, double t_s) {
+    frames.push_back({points_W, X_WB, t_s});
+  };
+  const fs::path drive_dir =
+      fs::temp_directory_path() / ("trav-eval-" + scene.Id() + "-" + std::to_string(getpid()));
+  fs::create_directories(drive_dir);
+  RunSummary drive;
+  try {
+    drive = RunScenario(scenario, robot_model_path, drive_dir.string(), run_options);
+  } catch (...) {
+    fs::remove_all(drive_dir);
+    throw;
+  }
+  fs::remove_all(drive_dir);
+
+  nlohmann::json methods = nlohmann::json::object();
+  for (const std::string& method : EvalMethods(options)) {
+    methods[method] = EvaluateMethod(method, scenario, truth_W, frames);
+  }
+  return {
+      {"id", scene.Id()},
+      {"terrain", scene.terrain},
+      {"seed", scene.seed},
+      {"route",
+       {{"start",
+         {scenario.start_W.position.x(), scenario.start_W.position.y(), scenario.start_W.yaw}},
+        {"goal", {scenario.goal_W.x(), scenario.goal_W.y()}},
+        {"optimal_length_m", drive.navigation ? drive.navigation->optimal_path_length_m : 0.0}}},
+      {"drive",
+       {{"outcome", OutcomeName(drive.outcome)},
+        {"sim_time_s", drive.sim_time_s},
+        {"distance_m", drive.distance_m},
+        {"frames", frames.size()},
+        {"ground_truth_cells",
+         static_cast<long long>(truth_W.geometry().num_x) * truth_W.geometry().num_y}}},
+      {"methods", methods}};
+}
+
+void RunEvalSceneInFolder(const std::string& out_dir, const EvalScene& scene,
+                          const std::string& models_dir) {
+  const fs::path folder(out_dir);
+  const fs::path options_path = folder / "options.json";
+  const EvalOptions options =
+      EvalOptionsFromJson(ReadJsonFile(options_path.string()), options_path.string());
+  const Scenario scenario = SceneScenario(options, scene);
+  const nlohmann::json record = RunEvalScene(options, scene, RobotModelPath(scenario, models_dir));
+  WriteTextFileAtomically(folder / "scenes" / (scene.Id() + ".json"), record.dump(1) + "\n");
+}
+
+EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_dir,
+                            const std::string& trav_executable, const std::string& command_line,
+                            bool progress_bar, const std::optional<SlurmOptions>& slurm) {
+  ValidateEvalOptions(options);
+  if (slurm) ValidateSlurmOptions(*slurm);
+  const CampaignFolder campaign(out_dir, "eval", "options.json", {"scenes"});
+  const fs::path folder(out_dir);
+  const fs::path options_path = folder / "options.json";
+  std::error_code error;
+  if (fs::exists(options_path, error)) {
+    const EvalOptions previous =
+        EvalOptionsFromJson(ReadJsonFile(options_path.string()), options_path.string());
+    if (!SameEvaluation(previous, options)) {
+      throw common::InputError(options_path.string(), "",
+                               "the folder holds an evaluation with other options; use another "
+                               "--out, or the same options to resume it");
+    }
+  } else {
+    nlohmann::json stored = EvalOptionsJson(options);
+    stored["command"] = command_line;
+    WriteTextFileAtomically(options_path, stored.dump(1) + "\n");
+  }
+  for (const char* sub : {"scenes", "logs", "failed"}) fs::create_directories(folder / sub);
+
+  EvalRunResult result;
+  const std::vector<EvalScene> scenes = EvalScenes(options);
+  result.scenes = static_cast<int>(scenes.size());
+  const fs::path absolute = fs::absolute(folder);
+  std::vector<Job> jobs;
+  for (const EvalScene& scene : scenes) {
+    const fs::path record = absolute / "scenes" / (scene.Id() + ".json");
+    if (FinishedScene(record)) {
+      ++result.resumed;
+      continue;
+    }
+    jobs.push_back({scene.Id(),
+                    {trav_executable, "eval-scene", absolute.string(), scene.terrain,
+                     std::to_string(scene.seed)},
+                    (absolute / "logs" / (scene.Id() + ".log")).string(),
+                    record.string()});
+  }
+  if (result.resumed > 0) {
+    std::fprintf(stderr, "%d of %d scenes already finished in %s: kept\n", result.resumed,
+                 result.scenes, out_dir.c_str());
+  }
+  if (slurm && !jobs.empty()) {
+    result.slurm_job = SubmitJobArray(absolute.string(), jobs, options.scene_time_limit_s, *slurm);
+    if (!slurm->wait) return result;
+    for (const Job& job : jobs) ++(ResultExists(job.result_path) ? result.finished : result.failed);
+  } else {
+    ProgressLine progress(result.scenes, result.resumed, "scene", progress_bar);
+    const JobsProgress ended = RunJobsLocally(absolute.string(), jobs, options.jobs,
+                                              options.scene_time_limit_s, &progress);
+    result.finished = ended.finished;
+    result.failed = ended.failed;
+    result.interrupted = ended.interrupted;
+    if (result.interrupted) return result;
+  }
+  WriteEvalReportFromFolder(out_dir, options, command_line);
+  return result;
+}
+
+void WriteEvalReportFromFolder(const std::string& out_dir, const EvalOptions& options,
+                               const std::string& command_line) {
+  const fs::path folder(out_dir);
+  const std::vector<EvalScene> scenes = EvalScenes(options);
+  std::error_code error;
+  std::vector<nlohmann::json> records;
+  std::vector<nlohmann::json> failures;
+  for (const EvalScene& scene : scenes) {
+    if (std::optional<nlohmann::json> record =
+            FinishedScene(folder / "scenes" / (scene.Id() + ".json"))) {
+      records.push_back(std::move(*record));
+    } else if (fs::exists(folder / "failed" / (scene.Id() + ".json"), error)) {
+      failures.push_back(ReadJsonFile((folder / "failed" / (scene.Id() + ".json")).string()));
+    }
+  }
+  const nlohmann::json stored = ReadJsonFile((folder / "options.json").string());
+  WriteEvalReport(out_dir, options, BaseInducingPoints(options), records, failures,
+                  stored.value("command", command_line));
+}
+
+int CollectEvaluation(const std::string& out_dir) {
+  const CampaignFolder campaign(out_dir, "eval", "options.json", {"scenes"},
+                                CampaignFolder::Use::kExisting);
+  const fs::path options_path = fs::path(out_dir) / "options.json";
+  const EvalOptions options =
+      EvalOptionsFromJson(ReadJsonFile(options_path.string()), options_path.string());
+  WriteEvalReportFromFolder(out_dir, options, "");
+  int finished = 0;
+  for (const EvalScene& scene : EvalScenes(options)) {
+    finished += FinishedScene(fs::path(out_dir) / "scenes" / (scene.Id() + ".json")) ? 1 : 0;
+  }
+  return finished;
+}
+
+}  // namespace trav::scenarios

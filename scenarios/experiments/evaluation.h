@@ -1,0 +1,115 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "scenarios/experiments/job_array.h"
+
+namespace trav::scenarios {
+
+/// What `trav eval` evaluates: the paper's mapping evaluation (docs/evaluation.md). Every scene
+/// is a world of one terrain type with its own seed, a route planned on its ground truth and
+/// driven by the closed loop on the ground-truth oracle, scanned by the MID-360 with 15 %
+/// occlusion; every method is fed the same frames and scored against the ground truth over the
+/// cells observed so far, frame by frame.
+struct EvalOptions {
+  /// Terrain types (names as in scenario files), one table row each.
+  std::vector<std::string> terrains{"hilly", "forest", "ruin", "road", "indoor"};
+  int scenes{2};          ///< scenes per terrain type, >= 1
+  std::uint64_t seed{1};  ///< scene k (from 0) of a type has terrain seed seed + k
+  /// Methods: sgp, fsgp, fsgp-bgk, fsgp-accumulation, em; and, to check the evaluation itself,
+  /// ground-truth (the oracle: the truth at every observed cell) and constant=C (C at every
+  /// observed cell, C in [0, 1]).
+  std::vector<std::string> methods{"sgp", "fsgp", "fsgp-bgk", "fsgp-accumulation", "em"};
+  /// FSGP-BGK inducing-point ablation: each count other than FSGP-BGK's own (mapping key
+  /// max_training_points, 500) adds a method fsgp-bgk-m<count>; empty: no ablation.
+  std::vector<int> inducing_points{50, 125, 500};
+  double route_length_m{24.0};  ///< straight-line distance from start to goal [m], > 0
+  int max_frames{0};            ///< LiDAR frames per scene, 0: until the drive ends; >= 0
+  /// Scenario overrides applied to every scene (key.path=value, as `trav run --set`).
+  std::vector<std::string> sets;
+  int jobs{1};                      ///< scenes run at once (worker processes), >= 1
+  double scene_time_limit_s{3600};  ///< a scene running longer is killed and recorded [s], > 0
+};
+
+/// Checks every option. @throws common::InputError naming the flag and value.
+void ValidateEvalOptions(const EvalOptions& options);
+
+/// The options as stored in the output folder's options.json, and back.
+/// @throws common::InputError (naming `source`) if a field is missing or of the wrong type.
+nlohmann::json EvalOptionsJson(const EvalOptions& options);
+EvalOptions EvalOptionsFromJson(const nlohmann::json& json, const std::string& source);
+
+/// True if two option sets give the same scenes and records (jobs and time limit aside): a
+/// folder evaluated with one can be resumed with the other.
+bool SameEvaluation(const EvalOptions& a, const EvalOptions& b);
+
+/// One scene: a terrain type and a terrain seed.
+struct EvalScene {
+  std::string terrain;
+  std::uint64_t seed{0};
+  std::string Id() const { return terrain + "-" + std::to_string(seed); }
+};
+
+/// The scenes of an evaluation, terrain by terrain, in seed order.
+std::vector<EvalScene> EvalScenes(const EvalOptions& options);
+
+/// The methods every scene runs: `options.methods`, then the ablation's fsgp-bgk-m<count>.
+std::vector<std::string> EvalMethods(const EvalOptions& options);
+
+/// The inducing-point count of FSGP-BGK in the scenes (the mapping default unless overridden).
+int BaseInducingPoints(const EvalOptions& options);
+
+/// Runs one scene and returns its record: the route, the drive's outcome, and per method the
+/// per-frame error, observed and compared cells, update time and heap growth, with the scene's
+/// summary (mean over frames of the mean error and of the error variance, median update time, peak
+/// heap growth). Methods run one after the other on the recorded frames, so each is timed alone and
+/// its memory is its own.
+/// @throws common::InputError on a bad override or terrain; std::runtime_error if no route is
+/// found on the ground truth in 16 draws.
+nlohmann::json RunEvalScene(const EvalOptions& options, const EvalScene& scene,
+                            const std::string& robot_model_path);
+
+/// How an evaluation ended.
+struct EvalRunResult {
+  int scenes{0};    ///< in the evaluation
+  int resumed{0};   ///< finished before this run and kept
+  int finished{0};  ///< finished by this run
+  int failed{0};    ///< crashed, timed out or failed in this run (recorded under failed/)
+  bool interrupted{false};
+  std::string slurm_job;  ///< the Slurm job id when submitted there
+};
+
+/// Runs the evaluation into `out_dir`: options.json, scenes/<id>.json per finished scene (written
+/// atomically by worker jobs `trav_executable eval-scene OUT TERRAIN SEED`, their output in
+/// logs/<id>.log), failed/<id>.json per failed scene (RecordJobEnd), then the report. The jobs run
+/// as local processes, options.jobs at a time, or with `slurm` as a Slurm job array (without
+/// `slurm->wait` it returns once submitted, and `trav eval --collect` writes the report later).
+/// Finished scenes are kept: rerunning into the same folder redoes only the others.
+/// `progress_bar`: redraw one line on stderr, else one line per scene.
+/// @throws common::InputError if the options are invalid or `out_dir` holds an evaluation with
+/// other options; std::runtime_error if Slurm refuses the job.
+EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_dir,
+                            const std::string& trav_executable, const std::string& command_line,
+                            bool progress_bar, const std::optional<SlurmOptions>& slurm);
+
+/// Writes the report (WriteEvalReport) of the evaluation in `out_dir` from the scenes finished
+/// so far and the failure records.
+void WriteEvalReportFromFolder(const std::string& out_dir, const EvalOptions& options,
+                               const std::string& command_line);
+
+/// Writes the report of the evaluation in `out_dir` from what has finished (after a Slurm job
+/// submitted without waiting); returns the number of finished scenes.
+/// @throws common::InputError if `out_dir` has no options.json.
+int CollectEvaluation(const std::string& out_dir);
+
+/// The worker's side: runs one scene of the evaluation in `out_dir` (its options.json) and writes
+/// scenes/<id>.json atomically. @throws common::InputError if options.json is missing or bad.
+void RunEvalSceneInFolder(const std::string& out_dir, const EvalScene& scene,
+                          const std::string& models_dir);
+
+}  // namespace trav::scenarios

@@ -1,0 +1,365 @@
+#include "scenarios/run/plots.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <system_error>
+#include <utility>
+
+#include <sys/wait.h>
+
+#include "common/input_error.h"
+#include "scenarios/run/output_folder.h"
+#include "scenarios/run/process_pool.h"
+
+extern char** environ;
+
+namespace trav::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The compute columns of timeseries.csv and their legend titles.
+constexpr std::pair<const char*, const char*> kComputeColumns[] = {
+    {"lidar_ms", "lidar"},     {"mapping_ms", "mapping"}, {"planning_ms", "planning"},
+    {"control_ms", "control"}, {"physics_ms", "physics"}, {"render_ms", "render"}};
+
+constexpr const char* kTimeLabel = "simulation time [s]";
+
+// At most this much of gnuplot's error output goes into a result's message.
+constexpr std::size_t kMaxErrorChars = 600;
+
+// A CSV file of numbers with a header line.
+struct Table {
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+
+  std::optional<std::size_t> Column(const std::string& name) const {
+    for (std::size_t i = 0; i < columns.size(); ++i) {
+      if (columns[i] == name) return i;
+    }
+    return std::nullopt;
+  }
+};
+
+std::vector<std::string> SplitFields(std::string line) {
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  std::vector<std::string> fields;
+  std::stringstream stream(line);
+  for (std::string field; std::getline(stream, field, ',');) fields.push_back(field);
+  // a trailing comma ends with an empty field getline does not return
+  if (!line.empty() && line.back() == ',') fields.emplace_back();
+  return fields;
+}
+
+// Reads a CSV file; fields that are not numbers read as NaN, and rows whose field count differs
+// from the header's (a truncated last line) are dropped.
+Table ReadCsv(const std::string& path) {
+  std::ifstream file(path);
+  if (!file) throw std::runtime_error("cannot read " + path);
+  Table table;
+  std::string line;
+  if (!std::getline(file, line)) return table;
+  table.columns = SplitFields(line);
+  while (std::getline(file, line)) {
+    const std::vector<std::string> fields = SplitFields(line);
+    if (fields.size() != table.columns.size()) continue;
+    std::vector<double> row(fields.size());
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      char* end = nullptr;
+      row[i] = std::strtod(fields[i].c_str(), &end);
+      if (end == fields[i].c_str()) row[i] = std::nan("");
+    }
+    table.rows.push_back(std::move(row));
+  }
+  if (file.bad()) throw std::runtime_error("cannot read " + path);
+  return table;
+}
+
+// A gnuplot string literal: single quotes take everything literally except '' for a quote, and
+// a line break ends the command, so control characters become spaces: no label (a scenario
+// name, a batch's parameter) can add a command to the script.
+std::string Quote(const std::string& text) {
+  std::string quoted = "'";
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    quoted += byte < 0x20 || byte == 0x7f ? ' ' : c;
+    if (c == '\'') quoted += '\'';
+  }
+  return quoted + "'";
+}
+
+// The rows of `spec` as "x value..." lines, skipping rows with a non-finite value; empty when no
+// row has one.
+std::string DataBlock(const Table& table, const LinePlot& spec) {
+  std::vector<std::size_t> indices = {*table.Column(spec.x_column)};
+  for (const PlotSeries& series : spec.series) indices.push_back(*table.Column(series.column));
+  std::string block;
+  char number[32];
+  for (const std::vector<double>& row : table.rows) {
+    bool finite = true;
+    for (const std::size_t i : indices) finite = finite && std::isfinite(row[i]);
+    if (!finite) continue;
+    for (std::size_t k = 0; k < indices.size(); ++k) {
+      std::snprintf(number, sizeof(number), k == 0 ? "%.6g" : " %.6g", row[indices[k]]);
+      block += number;
+    }
+    block += '\n';
+  }
+  return block;
+}
+
+// The y label of the compute plot, with the mean interval between rows (each row holds the
+// wall time spent since the previous one).
+std::string ComputeLabel(const Table& table) {
+  const std::optional<std::size_t> t = table.Column("t");
+  if (!t || table.rows.size() < 2) return "wall time per row interval [ms]";
+  const double interval_s =
+      (table.rows.back()[*t] - table.rows.front()[*t]) / static_cast<double>(table.rows.size() - 1);
+  if (!std::isfinite(interval_s) || interval_s <= 0.0) return "wall time per row interval [ms]";
+  char label[96];
+  std::snprintf(label, sizeof(label), "wall time per %.3g s of simulation [ms]", interval_s);
+  return label;
+}
+
+// The plots of timeseries.csv: speed, roll and pitch, mapping error, and compute when the file
+// has compute columns (else a reason in `reasons`).
+std::vector<LinePlot> RunPlotSpecs(const Table& table, std::vector<std::string>* reasons) {
+  std::vector<LinePlot> specs = {
+      {"speed.png",
+       "Forward speed",
+       "t",
+       kTimeLabel,
+       "speed [m/s]",
+       {{"v_forward", "measured (v_forward)"}, {"cmd_v", "commanded (cmd_v)"}},
+       false},
+      {"roll_pitch.png",
+       "Roll and pitch of the base",
+       "t",
+       kTimeLabel,
+       "angle [deg]",
+       {{"roll_deg", "roll"}, {"pitch_deg", "pitch"}},
+       false},
+      {"mapping_error.png",
+       "Mapping error against the ground truth",
+       "t",
+       kTimeLabel,
+       "mean |traversability - ground truth|",
+       {{"mapping_error", "mapping error"}},
+       true},
+  };
+  LinePlot compute{"compute.png", "Compute per module", "t", kTimeLabel, ComputeLabel(table), {},
+                   true};
+  for (const auto& [column, title] : kComputeColumns) {
+    if (table.Column(column)) compute.series.push_back({column, title});
+  }
+  if (compute.series.empty()) {
+    reasons->push_back("compute.png: no compute columns in timeseries.csv");
+  } else {
+    specs.push_back(std::move(compute));
+  }
+  return specs;
+}
+
+// Removes the files it holds when it goes out of scope.
+class TemporaryFiles {
+ public:
+  TemporaryFiles() = default;
+  TemporaryFiles(const TemporaryFiles&) = delete;
+  TemporaryFiles& operator=(const TemporaryFiles&) = delete;
+  ~TemporaryFiles() {
+    std::error_code error;
+    for (const std::string& path : paths_) fs::remove(path, error);
+  }
+  std::string Add(const std::string& path) {
+    paths_.push_back(path);
+    return path;
+  }
+
+ private:
+  std::vector<std::string> paths_;
+};
+
+// The start of a text file, whitespace collapsed to single spaces.
+std::string ErrorText(const std::string& path) {
+  std::ifstream file(path);
+  std::string text;
+  for (std::string word; file >> word && text.size() < kMaxErrorChars;) {
+    text += (text.empty() ? "" : " ") + word;
+  }
+  return text.substr(0, kMaxErrorChars);
+}
+
+std::string Join(const std::vector<std::string>& parts) {
+  std::string text;
+  for (const std::string& part : parts) text += (text.empty() ? "" : "; ") + part;
+  return text;
+}
+
+void ValidatePlotOptions(const PlotOptions& options) {
+  common::RequireValue(options.width >= 100 && options.width <= 4096, "plots.width", options.width,
+                       "must be in [100, 4096]");
+  common::RequireValue(options.height >= 100 && options.height <= 4096, "plots.height",
+                       options.height, "must be in [100, 4096]");
+}
+
+PlotResult NoGnuplot(const PlotOptions& options) {
+  PlotResult result;
+  result.status = PlotStatus::kNoGnuplot;
+  result.message = "no plots: gnuplot is not installed (no '" + options.gnuplot +
+                   "' on the PATH; install the gnuplot-nox package)";
+  return result;
+}
+
+// Writes the plots of `table` that have their columns and at least one row of finite values into
+// `output_dir`; `reasons` already lists plots left out by the caller.
+PlotResult PlotTable(const Table& table, const std::vector<LinePlot>& specs,
+                     std::vector<std::string> reasons, const std::string& output_dir,
+                     const PlotOptions& options) {
+  PlotResult result;
+  const fs::path folder(output_dir);
+  std::vector<std::pair<LinePlot, std::string>> plots;
+  for (const LinePlot& spec : specs) {
+    std::string missing = table.Column(spec.x_column) ? "" : spec.x_column;
+    for (const PlotSeries& series : spec.series) {
+      if (!table.Column(series.column)) missing += (missing.empty() ? "" : ", ") + series.column;
+    }
+    if (!missing.empty()) {
+      reasons.push_back(spec.file + ": no column " + missing);
+      continue;
+    }
+    std::string block = DataBlock(table, spec);
+    if (block.empty()) {
+      reasons.push_back(spec.file + ": no row with values");
+    } else {
+      plots.emplace_back(spec, std::move(block));
+    }
+  }
+  if (plots.empty()) {
+    result.message = Join(reasons);
+    return result;
+  }
+
+  // the script: terminal, then per plot its data block, temporary output and curves
+  const std::string tag = std::to_string(getpid());
+  TemporaryFiles temporary;
+  const std::string script_path = temporary.Add((folder / (".plots-" + tag + ".gp")).string());
+  const std::string log_path = temporary.Add((folder / (".plots-" + tag + ".log")).string());
+  const std::string size = std::to_string(options.width) + "," + std::to_string(options.height);
+  std::string script =
+      "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
+      "  set terminal pngcairo size " +
+      size +
+      " noenhanced\n"
+      "} else {\n"
+      "  set terminal png size " +
+      size +
+      " noenhanced\n"
+      "}\n"
+      "set grid\n"
+      "set key below horizontal\n"
+      "set autoscale xfix\n";
+  std::vector<std::string> partial_paths;
+  for (std::size_t p = 0; p < plots.size(); ++p) {
+    const auto& [spec, block] = plots[p];
+    const std::string data = "$data" + std::to_string(p);
+    partial_paths.push_back(
+        temporary.Add((folder / ("." + spec.file + ".partial-" + tag)).string()));
+    script += data + " << EOD\n" + block + "EOD\n";
+    script += "set output " + Quote(partial_paths.back()) + "\n";
+    script += "set title " + Quote(spec.title) + "\n";
+    script += "set xlabel " + Quote(spec.x_label) + "\n";
+    script += "set ylabel " + Quote(spec.y_label) + "\n";
+    script += spec.y_from_zero ? "set yrange [0:*]\n" : "set yrange [*:*]\n";
+    script += "plot ";
+    for (std::size_t s = 0; s < spec.series.size(); ++s) {
+      script += (s == 0 ? "" : ", ") + data + " using 1:" + std::to_string(s + 2) +
+                (spec.markers ? " with linespoints lw 1.5 pt 7 ps 0.6" : " with lines lw 1.5") +
+                " title " + Quote(spec.series[s].title);
+    }
+    script += "\nunset output\n";
+  }
+  WriteTextFile(script_path, script);
+
+  // gnuplot, then the images under their final names only if every one of them was written
+  const ProcessResult run = RunProcess({{options.gnuplot, script_path}, log_path});
+  if (run.end == ProcessEnd::kNotStarted) throw std::runtime_error(run.message);
+  const int exit_status = run.end == ProcessEnd::kExited ? run.exit_code : -1;
+  std::error_code error;
+  bool complete = exit_status == 0;
+  for (const std::string& path : partial_paths) {
+    complete = complete && fs::is_regular_file(path, error) && fs::file_size(path, error) > 0;
+  }
+  if (!complete) {
+    result.status = PlotStatus::kGnuplotFailed;
+    result.message = "no plots: " + options.gnuplot + " failed (exit status " +
+                     std::to_string(exit_status) + "): " + ErrorText(log_path);
+    return result;
+  }
+  for (std::size_t p = 0; p < plots.size(); ++p) {
+    const std::string& file = plots[p].first.file;
+    fs::rename(partial_paths[p], folder / file, error);
+    if (error) {
+      throw std::runtime_error("cannot write " + (folder / file).string() + ": " + error.message());
+    }
+    result.written.push_back(file);
+  }
+  result.message = Join(reasons);
+  return result;
+}
+
+}  // namespace
+
+bool ProgramAvailable(const std::string& program) {
+  if (program.empty()) return false;
+  if (program.find('/') != std::string::npos) return access(program.c_str(), X_OK) == 0;
+  const char* path = std::getenv("PATH");
+  if (path == nullptr) return false;
+  std::stringstream directories(path);
+  for (std::string directory; std::getline(directories, directory, ':');) {
+    if (!directory.empty() && access((directory + "/" + program).c_str(), X_OK) == 0) return true;
+  }
+  return false;
+}
+
+PlotResult WriteLinePlots(const std::string& csv_path, const std::vector<LinePlot>& plots,
+                          const std::string& output_dir, const PlotOptions& options) {
+  ValidatePlotOptions(options);
+  if (!ProgramAvailable(options.gnuplot)) return NoGnuplot(options);
+  return PlotTable(ReadCsv(csv_path), plots, {}, output_dir, options);
+}
+
+PlotResult WriteRunPlots(const std::string& output_dir, const PlotOptions& options) {
+  ValidatePlotOptions(options);
+  const std::string csv_path = (fs::path(output_dir) / "timeseries.csv").string();
+  std::error_code error;
+  if (!fs::is_regular_file(csv_path, error)) {
+    PlotResult result;
+    result.status = PlotStatus::kNoTimeseries;
+    result.message = "no plots: " + csv_path + " does not exist (written in mode navigate)";
+    return result;
+  }
+  if (!ProgramAvailable(options.gnuplot)) return NoGnuplot(options);
+  const Table table = ReadCsv(csv_path);
+  std::vector<std::string> reasons;
+  const std::vector<LinePlot> specs = RunPlotSpecs(table, &reasons);
+  return PlotTable(table, specs, reasons, output_dir, options);
+}
+
+nlohmann::json PlotsJson(const PlotResult& result) {
+  if (!result.ok()) return nullptr;
+  return result.written;
+}
+
+}  // namespace trav::scenarios

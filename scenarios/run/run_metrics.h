@@ -1,0 +1,101 @@
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "common/grid.h"
+#include "common/point_cloud.h"
+#include "mapping/fsgp_config.h"
+
+namespace trav::scenarios {
+
+/// Mean and variance of |predicted - truth| over the cells known in both layers (same geometry).
+struct LayerError {
+  int known_cells{0};
+  double mean{0.0};
+  double variance{0.0};
+};
+LayerError CompareLayers(const Eigen::MatrixXf& predicted, const Eigen::MatrixXf& truth);
+
+/// `map`'s traversability against the ground truth `truth_W` (a grid of the same resolution over
+/// the world, cells aligned or not): each known cell of the map is compared with the truth at its
+/// centre (nearest cell).
+LayerError CompareWithTruth(const common::GridLayers& map, const common::GridLayers& truth_W,
+                            const std::string& layer);
+
+/// The cells of a world grid that LiDAR points have fallen in so far, in the order first observed:
+/// the cells over which `trav eval` scores a map (the paper scores observed cells only, so
+/// occlusion gaps that a regression fills in do not count). A point counts where the mappers take
+/// it: in the square window around the base, no higher than the height limit above it.
+class ObservedCells {
+ public:
+  /// `geometry`: the grid of the ground truth; `area`: the mappers' window and height limit.
+  ObservedCells(const common::GridGeometry& geometry, const mapping::MapArea& area);
+
+  /// Adds the cells of one frame's points (W), taken with the base at p_WB; returns how many
+  /// cells are new.
+  int Add(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB);
+
+  /// The observed cells (ix, iy) of the grid, in the order first observed.
+  const std::vector<Eigen::Vector2i>& cells() const { return cells_; }
+  const common::GridGeometry& geometry() const { return geometry_; }
+
+ private:
+  common::GridGeometry geometry_;
+  mapping::MapArea area_;
+  std::vector<bool> observed_;  // per cell, ix + iy * num_x
+  std::vector<Eigen::Vector2i> cells_;
+};
+
+/// `map`'s `layer` against the ground truth `truth_W` (on `observed`'s grid) over the observed
+/// cells: each observed cell whose centre lies in a known cell of the map counts once.
+LayerError CompareObserved(const common::GridLayers& map, const common::GridLayers& truth_W,
+                           const ObservedCells& observed, const std::string& layer);
+
+/// BARN Challenge score (since 2024): 1_success * OT / clip(AT, 2 OT, 8 OT), in [0, 0.5]; OT the
+/// optimal time, AT the actual time [s]. 0 if OT is not positive.
+double BarnScore(bool success, double actual_time_s, double optimal_time_s);
+
+/// Detects a robot that no longer moves: stuck when it has stayed within `distance_m` of one place
+/// for `window_s` seconds (wedged, high-centred, or waiting for a plan that never comes). A robot
+/// that wanders without reaching its goal is a timeout, not stuck.
+class ProgressMonitor {
+ public:
+  ProgressMonitor(double window_s, double distance_m)
+      : window_s_(window_s), distance_m_(distance_m) {}
+
+  /// Records the position at time t; true if stuck.
+  bool Update(double t_s, const Eigen::Vector2d& position_W);
+
+ private:
+  double window_s_;
+  double distance_m_;
+  Eigen::Vector2d anchor_W_{Eigen::Vector2d::Zero()};
+  double anchor_time_s_{0.0};
+  bool started_{false};
+};
+
+/// Wall time per module and per call [ms], for the summary's median and maximum.
+class ModuleTimes {
+ public:
+  void Add(const std::string& module, double ms) {
+    samples_[module].push_back(ms);
+    totals_ms_[module] += ms;
+  }
+
+  /// Total time of a module so far [ms].
+  double Total(const std::string& module) const;
+
+  /// {module: {calls, median_ms, max_ms, total_s}}.
+  nlohmann::json ToJson() const;
+
+ private:
+  std::map<std::string, std::vector<double>> samples_;
+  std::map<std::string, double> totals_ms_;
+};
+
+}  // namespace trav::scenarios

@@ -1,0 +1,144 @@
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "common/pose.h"
+#include "common/yaml_reader.h"
+#include "controller/mpc.h"
+#include "controller/skid_steer.h"
+#include "mapping/fsgp_config.h"
+#include "mapping/ground_truth.h"
+#include "planner/navigation/navigator.h"
+#include "planner/navigation_planner.h"
+#include "renders/camera.h"
+#include "renders/renderer.h"
+#include "scenarios/run/track_reference.h"
+#include "sim/actors/pose_noise.h"
+#include "sim/actors/traffic.h"
+#include "sim/lidar/lidar_config.h"
+#include "sim/moving_obstacles.h"
+#include "sim/terrain.h"
+
+namespace trav::scenarios {
+
+/// How a run ended.
+enum class Outcome {
+  kCompleted,   ///< ran for the whole duration (modes drive and track)
+  kSuccess,     ///< reached the goal (mode navigate)
+  kCollision,   ///< the robot touched an obstacle or a mover (wheels on the ground do not count)
+  kRolledOver,  ///< the robot tilted beyond the rollover limit
+  kStuck,       ///< no progress toward the goal for `navigation.stuck_time`
+  kTimeout,     ///< the duration ran out before the goal (mode navigate)
+  kPlanningFailure,  ///< no valid plan for `navigation.planning_failure_time`
+  kDiverged,         ///< the physics produced a bad state
+};
+
+/// Name as written in summaries and scenario files ("completed", "success", "collision",
+/// "rolled_over", "stuck", "timeout", "planning_failure", "diverged").
+const char* OutcomeName(Outcome outcome);
+
+/// Which traversability mapper runs on the LiDAR frames (scenario key `mapping.method`);
+/// kGroundTruth is the oracle: the ground-truth map of the whole world, no LiDAR needed.
+enum class MapperMethod { kFsgpBgk, kFsgp, kFsgpAccumulation, kSgp, kElevationMap, kGroundTruth };
+
+/// Name of a mapper as written in scenario files ("fsgp-bgk", ...).
+const char* MapperMethodName(MapperMethod method);
+
+/// A failure `trav run` fakes on purpose (scenario key test_fault).
+enum class TestFault { kNone, kCrash, kHang };
+
+/// What drives the robot.
+enum class RunMode {
+  kDrive,     ///< the open-loop `drive` script
+  kTrack,     ///< the MPC tracking the `track` reference (no mapping or planning)
+  kNavigate,  ///< the closed loop: map from scans, plan to the goal, track the plan
+};
+
+/// One segment of an open-loop drive script: a constant body twist held for a duration.
+struct DriveSegment {
+  double v_m_s{0.0};        ///< forward speed [m/s]
+  double omega_rad_s{0.0};  ///< yaw rate [rad/s]
+  double duration_s{1.0};   ///< [s], > 0
+};
+
+/// Video settings of a run.
+struct VideoSettings {
+  bool enabled{true};
+  renders::RenderConfig render{};
+  double fps{30.0};  ///< frames per second of simulation time, in (0, 120]
+  renders::CameraMode camera{renders::CameraMode::kChase};
+};
+
+/// A scenario file, schema version 1 (docs/scenario-format.md lists every key).
+struct Scenario {
+  std::string name{"default"};
+  sim::TerrainConfig terrain{};
+  std::string robot_model{"scout_mini.xml"};  ///< file in the models folder, or an absolute path
+  common::Pose2 start_W{};                    ///< robot.start: [x, y, yaw] [m, m, rad]
+  Eigen::Vector2d goal_W{10.0, 0.0};          ///< [m]; kept clear of obstacles
+  controller::SkidSteerConfig skid_steer{};   ///< robot.skid_steer
+  double physics_timestep_s{0.002};           ///< [s], in (0, 0.01]
+  double ground_friction{0.9};                ///< in (0, 5]
+  double duration_s{30.0};                    ///< [s], > 0
+  RunMode mode{RunMode::kDrive};
+  std::vector<DriveSegment> drive;  ///< open-loop script; zero twist after its end
+  TrackSettings track{};            ///< the reference of mode `track`
+  /// controller.mpc (its control period is 1 / controller.rate, 50 Hz by default)
+  controller::MpcConfig mpc{};
+  planner::NavigationPlannerConfig planner{};  ///< scenario key `planner` (mode navigate)
+  planner::NavigationSettings navigation{};    ///< scenario key `navigation` (mode navigate)
+  /// navigation.position_noise, yaw_noise, drift, localization_seed: the pose the stack believes
+  sim::PoseNoiseConfig pose_noise{};
+  double rollover_limit_deg{60.0};  ///< tilt that ends the run as rolled over [deg]
+  /// moving_obstacles: movers of the closed loop (MuJoCo mocap bodies the LiDAR sees)
+  std::vector<sim::MovingObstacle> movers;
+  /// traffic: movers generated from a count, speed and seed for the route and the world
+  /// (ScenarioMovers), after `movers`.
+  sim::TrafficSettings traffic{};
+  lidar::LidarConfig lidar{};
+  /// lidar.mount: pose of the sensor L in the base frame B as [x, y, z, roll, pitch, yaw]
+  /// [m, rad]; absent: the robot model's "lidar" site.
+  std::optional<Eigen::Matrix<double, 6, 1>> lidar_mount_B;
+  bool mapping_enabled{true};                   ///< mapping.enabled: map every LiDAR frame
+  MapperMethod mapper{MapperMethod::kFsgpBgk};  ///< mapping.method
+  mapping::FsgpConfig mapping{};                ///< the other keys of `mapping`
+  mapping::GroundTruthConfig ground_truth{};    ///< scenario key `ground_truth`
+  VideoSettings video{};
+  std::string output_dir{"out/default"};
+  /// Exit code 0 iff the run ends this way; default: success in mode navigate, else completed.
+  Outcome expected_outcome{Outcome::kCompleted};
+  /// test_fault: makes `trav run` crash (abort) or hang instead of running, to test what runs
+  /// many scenarios (`trav batch`) against failing runs.
+  TestFault test_fault{TestFault::kNone};
+};
+
+/// Loads a scenario strictly: unknown keys, wrong types and out-of-range values throw
+/// common::InputError naming the source, the key path and the value.
+Scenario LoadScenario(const common::YamlDocument& document);
+
+/// Applies `--set` overrides ("key.path=value", the value in YAML) to `document` in order.
+/// @throws common::InputError naming --set and the assignment if one has no '=' or no key.
+void ApplyOverrides(const std::vector<std::string>& assignments, common::YamlDocument* document);
+
+/// The YAML text of the built-in default scenario (hilly terrain, a 30 s drive with video).
+const std::string& DefaultScenarioYaml();
+
+/// The scenario as YAML text, every field resolved (written next to a run's outputs so it can be
+/// replayed).
+std::string ResolvedScenarioYaml(const Scenario& scenario);
+
+/// The bounds of every numeric scenario key, as a Markdown table ("| `key.path` | min | max |"),
+/// sorted by key; "[i]" stands for any item of a sequence. docs/scenario-format.md holds it.
+std::string ScenarioBoundsTable();
+
+/// The pose X_BL of a mount given as [x, y, z, roll, pitch, yaw].
+Eigen::Isometry3d MountPose(const Eigen::Matrix<double, 6, 1>& mount);
+
+/// The drive command at time t: the segment covering t, or zero after the script ends.
+common::Twist2 DriveCommandAt(const std::vector<DriveSegment>& drive, double t_s);
+
+}  // namespace trav::scenarios

@@ -1,0 +1,156 @@
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include "common/grid.h"
+#include "common/point_cloud.h"
+#include "common/pose.h"
+#include "scenarios/run/scenario.h"
+#include "sim/terrain.h"
+
+namespace trav::scenarios {
+
+/// A perceived mover farther than this from every true mover is a false mover [m].
+constexpr double kFalseMoverDistance_m = 1.0;
+
+/// What the closed loop (mode navigate) reports.
+struct NavigationMetrics {
+  bool goal_reached{false};
+  double time_to_goal_s{0.0};         ///< simulation time at success (0 otherwise)
+  double final_goal_distance_m{0.0};  ///< distance from the base to the goal at the end
+  double optimal_path_length_m{0.0};  ///< A* on the ground-truth map, simplified (0: no path)
+  double path_length_ratio{0.0};      ///< driven distance / optimal path length
+  double barn_score{0.0};             ///< BARN score with OT = optimal length / max speed
+  double rms_vertical_acceleration_m_s2{0.0};  ///< of the base, gravity removed
+  int plans{0};
+  int failed_plans{0};
+  int replans_on_events{0};
+  int safety_stops{0};
+  std::string last_planner_status;
+  /// Movers perceived from the scans (navigation.movers_from_ground_truth false), sampled every
+  /// physics step: the mean distance from each perceived mover to the nearest true one over those
+  /// within kFalseMoverDistance_m of one [m], how many such samples there were, and how many
+  /// perceived movers had no true one that close (false movers).
+  double mover_tracking_error_m{0.0};
+  int perceived_mover_samples{0};
+  int false_mover_samples{0};
+  /// Smallest gap between the robot's disc and a mover's footprint (infinite: no movers) [m].
+  double min_mover_clearance_m{std::numeric_limits<double>::infinity()};
+  /// Times a mover came closer than navigation.near_miss_clearance without a collision (each
+  /// approach counts once; it counts again after the gap has reopened by 0.1 m).
+  int near_misses{0};
+};
+
+/// The contact that ended a run as a collision.
+struct CollisionRecord {
+  std::string target;              ///< the obstacle's or mover's name
+  bool mover{false};               ///< a moving obstacle
+  double relative_speed_m_s{0.0};  ///< planar speed of the base relative to the mover
+  double time_s{0.0};
+  double robot_speed_m_s{0.0};  ///< planar speed of the base at contact
+  /// Who closed the gap: "robot" (a static obstacle, or the robot approached the mover at least
+  /// as fast as the mover approached it), or "mover" (a mover ran into a robot that was stopped
+  /// or slower to approach).
+  std::string caused_by{"robot"};
+};
+
+/// What `trav run` reports in summary.json.
+struct RunSummary {
+  Outcome outcome{Outcome::kCompleted};
+  double sim_time_s{0.0};
+  double wall_time_s{0.0};
+  double real_time_factor{0.0};  ///< simulated seconds per wall-clock second
+  double distance_m{0.0};        ///< horizontal path length of the base
+  double max_roll_deg{0.0};      ///< largest |roll|
+  double max_pitch_deg{0.0};     ///< largest |pitch|
+  double rms_roll_deg{0.0};
+  double rms_pitch_deg{0.0};
+  common::Pose2 final_pose_W{};
+  int physics_steps{0};
+  int mujoco_warning_count{0};
+  std::vector<std::string> mujoco_warnings;
+  int video_frames{0};                 ///< 0 when video is off
+  int lidar_frames{0};                 ///< complete LiDAR frames (0 when the LiDAR is off)
+  double lidar_points_per_frame{0.0};  ///< mean points per frame
+  double lidar_ms_per_frame{0.0};      ///< mean wall time spent casting one frame's rays [ms]
+  std::optional<controller::TrackingMetrics> tracking;  ///< mode track only
+  /// Mapping on the LiDAR frames (when both are enabled): updates, time per update, and the final
+  /// map's error against the ground truth over its known cells.
+  int mapping_updates{0};
+  double mapping_ms_median{0.0};
+  double mapping_ms_max{0.0};
+  /// Median time per mapper stage [ms] ({crop, features, fit, predict, fusion, smoothing}) and the
+  /// median number of training points per update.
+  nlohmann::json mapping_stage_ms_median = nlohmann::json::object();
+  int mapping_training_points_median{0};
+  int mapping_known_cells{0};
+  double mapping_mean_error{0.0};               ///< mean |traversability - ground truth|
+  double mapping_error_variance{0.0};           ///< variance of |traversability - ground truth|
+  std::optional<NavigationMetrics> navigation;  ///< mode navigate only
+  std::optional<CollisionRecord> collision;     ///< outcome collision only
+  /// Wall time per module: {module: {calls, median_ms, max_ms, total_s}}.
+  nlohmann::json compute = nlohmann::json::object();
+  /// Mode navigate: the PNG plots written (speed, roll and pitch, mapping error, compute), or null
+  /// when gnuplot is missing.
+  nlohmann::json plots;
+};
+
+/// Called with every complete LiDAR frame: its points in W (each placed with its own sensor
+/// pose, movers removed), the base pose X_WB and the simulation time at the frame's end [s].
+using LidarFrameCallback = std::function<void(const common::PointCloud& points_W,
+                                              const Eigen::Isometry3d& X_WB, double t_s)>;
+
+/// Options of a run that are not part of the scenario.
+struct RunOptions {
+  bool record_clouds{false};  ///< write every LiDAR frame as clouds/frame_NNNNNN.pcd
+  int max_lidar_frames{0};    ///< stop after this many frames (0: run the scenario's duration)
+  LidarFrameCallback on_lidar_frame;  ///< every frame, when set (the LiDAR must be enabled)
+};
+
+/// Progress reports: fraction of the scenario's duration simulated so far, in [0, 1].
+using ProgressCallback = std::function<void(double fraction)>;
+
+/// Runs a scenario: generates its terrain, builds the MuJoCo world, drives the robot (mode drive:
+/// by the scenario's script; mode track: by the MPC tracking the reference, which starts at the
+/// robot's start pose or, for a file, places the robot at its first point) through the skid-steer
+/// mapping while the LiDAR scans (each physics step
+/// casts the rays of that step from the sensor pose of that step), and writes into `output_dir`
+/// (which must exist) `trajectory.csv` (50 Hz), with video on `video.mp4` (the latest LiDAR frame's
+/// points drawn coloured by height) and with `options.record_clouds` the frames as PCD under
+/// `clouds/`. Stops early on rollover or divergence (recorded as the outcome).
+/// @throws common::InputError on bad input (an unreadable robot model); std::runtime_error if
+/// video was asked for and GL or ffmpeg is missing.
+RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_path,
+                       const std::string& output_dir, const RunOptions& options = {},
+                       const ProgressCallback& progress = {});
+
+/// The ground-truth traversability of the whole world at the scenario's mapping resolution, from
+/// the world's obstacle heights (sim::ObstacleHeightGrid).
+common::GridLayers WorldGroundTruth(const Scenario& scenario, const sim::TerrainWorld& world,
+                                    const Eigen::MatrixXf& obstacle_heights);
+
+/// Length of the simplified A* path (the scenario's search settings) from the scenario's start to
+/// its goal on the ground truth `truth_W` [m]; 0 if there is none.
+double OptimalPathLength(const Scenario& scenario, const common::GridLayers& truth_W);
+
+/// The moving obstacles of a run: the scenario's `moving_obstacles`, then its `traffic` spawned for
+/// its route clear of the world's static obstacles (`obstacle_heights`, sim::ObstacleHeightGrid;
+/// sim::SpawnTraffic).
+std::vector<sim::MovingObstacle> ScenarioMovers(const Scenario& scenario,
+                                                const sim::TerrainWorld& world,
+                                                const Eigen::MatrixXf& obstacle_heights);
+
+/// Absolute path of the robot model of `scenario` (robot.model in `models_dir` unless absolute).
+std::string RobotModelPath(const Scenario& scenario, const std::string& models_dir);
+
+/// summary.json text of a run.
+std::string SummaryJson(const Scenario& scenario, const RunSummary& summary);
+
+}  // namespace trav::scenarios

@@ -1,0 +1,26 @@
+#pragma once
+
+#include "mapping/fsgp_config.h"
+#include "mapping/ground_truth.h"
+#include "scenarios/run/output_folder.h"
+#include "sim/terrain.h"
+
+namespace trav::scenarios {
+
+/// Writes a generated world into `folder` (what `trav terrain` produces):
+/// - `heightmap.png`: 16-bit grayscale, white = high, top row = largest y (MuJoCo's PNG
+/// height-field
+///   convention), heights mapped linearly from height_min_m to height_max_m of terrain.json;
+/// - `heightmap.raw`: float32 heights [m], little-endian, row-major with rows along +y starting at
+///   the smallest y (num_y rows of num_x values);
+/// - `cloud.pcd`: the dense noise-free point cloud (PCL binary PCD, frame W);
+/// - `preview.png`: a shaded top view with obstacles in their colours (+y up);
+/// - `ground_truth.png` and `ground_truth.raw`: the ground-truth traversability
+/// (docs/ground-truth.md)
+///   on the mapper's grid (`score.area.resolution_m`), colours green (0) to red (1), and float32
+///   values with rows along +y (its grid in terrain.json);
+/// - `terrain.json`: grid geometry, height range, statistics and the obstacle list.
+void ExportTerrain(const sim::TerrainWorld& world, const mapping::FsgpConfig& score,
+                   const mapping::GroundTruthConfig& ground_truth, const OutputFolder& folder);
+
+}  // namespace trav::scenarios

@@ -1,0 +1,99 @@
+// The navigator on its own (no simulator): synthetic maps and states.
+#include "planner/navigation/navigator.h"
+
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace trav::planner {
+namespace {
+
+// 20 x 10 m at 0.2 m, cost 0.1 everywhere.
+common::GridLayers OpenMap() {
+  common::GridLayers map(
+      common::GridGeometry::Centered(Eigen::Vector2d(5, 0), Eigen::Vector2d(20, 10), 0.2),
+      {"traversability"});
+  map.Layer("traversability").setConstant(0.1f);
+  return map;
+}
+
+common::RobotState At(double t_s, double x) {
+  common::RobotState state;
+  state.time_s = t_s;
+  state.X_WB.translation() = Eigen::Vector3d(x, 0, 0.1);
+  return state;
+}
+
+planner::Navigator MakeNavigator() {
+  return planner::Navigator(planner::NavigationSettings{}, planner::NavigationPlannerConfig{},
+                            controller::MpcConfig{}, Eigen::Vector2d(8, 0));
+}
+
+TEST(NavigatorTest, WaitsForAMapThenPlansAndDrives) {
+  planner::Navigator dut = MakeNavigator();
+  const planner::NavigatorTick waiting = dut.Update(At(0.0, 0.0), nullptr, false, {});
+  EXPECT_EQ(waiting.command.v, 0.0);
+  EXPECT_EQ(waiting.replan, planner::ReplanReason::kNone);
+  EXPECT_FALSE(waiting.solved);
+  EXPECT_EQ(dut.statistics().plans, 0);
+  EXPECT_TRUE(dut.trajectory().empty());
+  const common::GridLayers map = OpenMap();
+  common::Twist2 command;
+  std::vector<planner::ReplanReason> replans;
+  int solves = 0;
+  for (int k = 0; k < 25; ++k) {
+    const planner::NavigatorTick tick = dut.Update(At(0.02 * k, 0.0), &map, k == 0, {});
+    command = tick.command;
+    if (tick.replan != planner::ReplanReason::kNone) replans.push_back(tick.replan);
+    solves += tick.solved;
+  }
+  // the tick says what was done: the first plan, then the periodic ones; an MPC solve each tick
+  // at the default 50 Hz control rate
+  EXPECT_EQ(replans, (std::vector<planner::ReplanReason>{planner::ReplanReason::kFirst,
+                                                           planner::ReplanReason::kPeriodic,
+                                                           planner::ReplanReason::kPeriodic}));
+  EXPECT_EQ(solves, 25);
+  EXPECT_EQ(dut.statistics().plans, 3);  // at 5 Hz: t = 0, 0.2 and 0.4 s
+  EXPECT_EQ(dut.statistics().replans_on_events, 0);
+  EXPECT_GT(command.v, 0.0);  // accelerating along the plan toward the goal
+  EXPECT_NEAR(dut.trajectory().points().back().position_W.x(), 8.0, 0.05);
+  EXPECT_EQ(dut.statistics().last_status, "planned");
+}
+
+TEST(NavigatorTest, LethalCellsAheadReplanAtOnceAndAMoverOnThePlanStopsTheRobot) {
+  planner::Navigator dut = MakeNavigator();
+  common::GridLayers map = OpenMap();
+  dut.Update(At(0.0, 0.0), &map, true, {});
+  ASSERT_EQ(dut.statistics().plans, 1);
+  // a wall appears across the plan, with a way round at y > 2
+  const common::GridGeometry& g = map.geometry();
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const Eigen::Vector2d p = g.CellCenter(ix, iy);
+      if (std::abs(p.x() - 4.0) < 0.15 && p.y() < 2.0) map.Layer("traversability")(ix, iy) = 1.0f;
+    }
+  }
+  dut.Update(At(0.06, 0.0), &map, true, {});  // inside the 0.1 s event blackout: deferred
+  EXPECT_EQ(dut.statistics().plans, 1);
+  // the pending map check replans now
+  EXPECT_EQ(dut.Update(At(0.12, 0.0), &map, false, {}).replan,
+            planner::ReplanReason::kNewLethalCells);
+  EXPECT_EQ(dut.statistics().plans, 2);
+  EXPECT_EQ(dut.statistics().replans_on_events, 1);
+  double highest_y = -1.0;
+  for (const common::TrajectoryPoint& p : dut.trajectory().points()) {
+    if (std::abs(p.position_W.x() - 4.0) < 0.3) highest_y = std::max(highest_y, p.position_W.y());
+  }
+  EXPECT_GT(highest_y, 2.0);
+  // a mover standing on the plan 0.5 s ahead: brake
+  const common::TrajectoryPoint ahead = dut.trajectory().Sample(0.64);
+  const planner::MovingObstacle mover{ahead.position_W, Eigen::Vector2d::Zero(), 0.3, 0.16};
+  const planner::NavigatorTick stop = dut.Update(At(0.16, 0.0), &map, false, {mover});
+  EXPECT_TRUE(stop.safety_stop);
+  EXPECT_EQ(stop.command.v, 0.0);
+  EXPECT_EQ(stop.command.omega, 0.0);
+  EXPECT_EQ(dut.statistics().safety_stops, 1);
+}
+
+}  // namespace
+}  // namespace trav::planner
