@@ -86,7 +86,7 @@ Navigator::Navigator(const NavigationSettings& settings, const NavigationPlanner
 double Navigator::time_without_plan_s(double now_s) const { return now_s - last_valid_plan_s_; }
 
 NavigatorTick Navigator::Update(const common::RobotState& state, const common::GridLayers* map,
-                               bool map_updated, const std::vector<MovingObstacle>& movers) {
+                                bool map_updated, const std::vector<MovingObstacle>& movers) {
   NavigatorTick tick;
   const ReplanReason reason = ReasonToReplan(state, map, map_updated);
   if (reason != ReplanReason::kNone && map != nullptr) {

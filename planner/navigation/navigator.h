@@ -49,10 +49,10 @@ enum class ReplanReason {
 
 /// What the navigator did in one control tick.
 struct NavigatorTick {
-  common::Twist2 command;                      ///< the body twist to apply
-  ReplanReason replan{ReplanReason::kNone};    ///< why it planned (kNone: it did not plan)
-  bool solved{false};                          ///< the MPC solved for a new command
-  bool safety_stop{false};                     ///< it braked: the plan ahead is unsafe
+  common::Twist2 command;                    ///< the body twist to apply
+  ReplanReason replan{ReplanReason::kNone};  ///< why it planned (kNone: it did not plan)
+  bool solved{false};                        ///< the MPC solved for a new command
+  bool safety_stop{false};                   ///< it braked: the plan ahead is unsafe
 };
 
 /// The autonomy stack of one robot: plans on the latest traversability map at a fixed rate and on
@@ -66,9 +66,9 @@ class Navigator {
   Navigator(const NavigationSettings& settings, const NavigationPlannerConfig& planner,
             const controller::MpcConfig& mpc, const Eigen::Vector2d& goal_W);
 
-  /// The tick at the state's time: the body twist command and what was done for it. `map` is the latest traversability map (null
-  /// before the first one: the robot waits); `map_updated` says it changed since the last call;
-  /// `movers` are the predicted moving obstacles.
+  /// The tick at the state's time: the body twist command and what was done for it. `map` is the
+  /// latest traversability map (null before the first one: the robot waits); `map_updated` says it
+  /// changed since the last call; `movers` are the predicted moving obstacles.
   NavigatorTick Update(const common::RobotState& state, const common::GridLayers* map,
                        bool map_updated, const std::vector<MovingObstacle>& movers);
 

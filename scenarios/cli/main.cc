@@ -26,8 +26,6 @@
 #include "scenarios/run/scenario.h"
 #include "scenarios/run/scenario_run.h"
 #include "scenarios/run/terrain_export.h"
-#include "sim/simulation.h"
-#include "sim/terrain.h"
 
 namespace trav::scenarios {
 namespace {
@@ -79,11 +77,9 @@ Scenario ResolveScenario(const ScenarioOptions& options, std::optional<bool> vid
 }
 
 // The robot model file of a scenario, checked before anything is written.
-// @throws common::InputError if it is not a robot model trav can drive (sim::ValidateRobotModel).
+// @throws common::InputError if it is not a robot model trav can drive.
 std::string ExistingRobotModel(const Scenario& scenario) {
-  const std::string model = RobotModelPath(scenario, ModelsDirectory());
-  sim::ValidateRobotModel(model);
-  return model;
+  return CheckedRobotModelPath(scenario, ModelsDirectory());
 }
 
 // A progress bar on a terminal; nothing when stderr is a file or pipe.
@@ -173,14 +169,11 @@ int Terrain(const ScenarioOptions& options) {
   if (!terrain_options.out) throw common::InputError("--out", "", "trav terrain needs --out DIR");
   const Scenario scenario = ResolveScenario(terrain_options, std::nullopt);
   OutputFolder folder(scenario.output_dir, "terrain", options.overwrite);
-  const sim::TerrainWorld world =
-      sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W});
-  ExportTerrain(world, scenario.mapping, scenario.ground_truth, folder);
+  const TerrainExportSummary written = ExportScenarioTerrain(scenario, folder);
   folder.Commit();
   std::printf("terrain %s (seed %llu): %d x %d samples, %zu obstacles\n",
-              sim::TerrainTypeName(scenario.terrain.type),
-              static_cast<unsigned long long>(scenario.terrain.seed), world.geometry.num_x,
-              world.geometry.num_y, world.obstacles.size());
+              written.terrain_type.c_str(), static_cast<unsigned long long>(scenario.terrain.seed),
+              written.num_x, written.num_y, written.obstacles);
   std::printf(
       "written to %s (heightmap.png, heightmap.raw, cloud.pcd, preview.png, ground_truth.png, "
       "ground_truth.raw, terrain.json)\n",

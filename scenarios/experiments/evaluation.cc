@@ -1,7 +1,6 @@
 #include "scenarios/experiments/evaluation.h"
 
 #include <malloc.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -21,14 +20,13 @@
 #include "mapping/traversability_mapper.h"
 #include "scenarios/experiments/eval_report.h"
 #include "scenarios/experiments/job_array.h"
+#include "scenarios/run/closed_loop.h"
 #include "scenarios/run/mappers.h"
 #include "scenarios/run/output_folder.h"
 #include "scenarios/run/process_pool.h"
 #include "scenarios/run/run_metrics.h"
 #include "scenarios/run/scenario.h"
 #include "scenarios/run/scenario_run.h"
-#include "sim/terrain.h"
-#include "sim/terrain_geometry.h"
 
 namespace trav::scenarios {
 namespace {
@@ -164,6 +162,20 @@ struct RecordedFrame {
   double t_s;
 };
 
+// Records every LiDAR frame as the mapper gets it (movers removed).
+class FrameRecorder : public LoopObserver {
+ public:
+  explicit FrameRecorder(std::vector<RecordedFrame>* frames) : frames_(frames) {}
+  bool WantsPoints() const override { return true; }
+  void OnMapInput(const ClosedLoop& /*loop*/, const common::PointCloud& cloud_W,
+                  const Eigen::Isometry3d& X_WB, double t_s) override {
+    frames_->push_back({cloud_W, X_WB, t_s});
+  }
+
+ private:
+  std::vector<RecordedFrame>* frames_;
+};
+
 // Feeds the frames to one method, scoring its map after every frame.
 nlohmann::json EvaluateMethod(const std::string& method, const Scenario& scene,
                               const common::GridLayers& truth_W,
@@ -239,9 +251,7 @@ common::GridLayers DrawRoute(Scenario* scene, double length_m, std::uint64_t see
     scene->start_W.position = -half;
     scene->start_W.yaw = heading;
     scene->goal_W = half;
-    const sim::TerrainWorld world =
-        sim::GenerateTerrain(scene->terrain, {scene->start_W.position, scene->goal_W});
-    common::GridLayers truth_W = WorldGroundTruth(*scene, world, sim::ObstacleHeightGrid(world));
+    common::GridLayers truth_W = ScenarioGroundTruth(*scene);
     if (OptimalPathLength(*scene, truth_W) > 0.0) return truth_W;
   }
   throw std::runtime_error("no route of " + std::to_string(length_m) + " m with a path on the " +
@@ -368,25 +378,11 @@ nlohmann::json RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   Scenario scenario = SceneScenario(options, scene);
   const common::GridLayers truth_W = DrawRoute(&scenario, options.route_length_m, scene.seed);
 
-  // the drive: the closed loop on the oracle, every frame recorded
+  // the drive: the closed loop on the oracle, every frame recorded as the mapper would get it
   std::vector<RecordedFrame> frames;
-  RunOptions run_options;
-  run_options.max_lidar_frames = options.max_frames;
-  run_options.on_lidar_frame = [&frames](const common::PointCloud& points_W,
-                                         const Eigen::Isometry3d& X_WB, double t_s) {
-    frames.push_back({points_W, X_WB, t_s});
-  };
-  const fs::path drive_dir =
-      fs::temp_directory_path() / ("trav-eval-" + scene.Id() + "-" + std::to_string(getpid()));
-  fs::create_directories(drive_dir);
-  RunSummary drive;
-  try {
-    drive = RunScenario(scenario, robot_model_path, drive_dir.string(), run_options);
-  } catch (...) {
-    fs::remove_all(drive_dir);
-    throw;
-  }
-  fs::remove_all(drive_dir);
+  FrameRecorder recorder(&frames);
+  ClosedLoop loop(scenario, {robot_model_path, options.max_frames});
+  const RunSummary drive = RunLoop(&loop, {&recorder});
 
   nlohmann::json methods = nlohmann::json::object();
   for (const std::string& method : EvalMethods(options)) {

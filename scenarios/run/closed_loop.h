@@ -1,5 +1,6 @@
 #pragma once
 
+#include <chrono>
 #include <deque>
 #include <functional>
 #include <memory>
@@ -31,12 +32,12 @@ class ClosedLoop;
 
 /// One physics step as observers and end conditions see it.
 struct LoopStep {
-  int index{0};                        ///< 0 for the first physics step
-  common::RobotState state;            ///< the robot after the step (true state)
-  common::RollPitchYaw rpy;            ///< of `state`
-  common::Twist2 command;              ///< the body twist commanded during the step
-  double vertical_acceleration_m_s2;   ///< of the base over the step, gravity removed
-  bool last{false};                    ///< the scenario's duration ends with this step
+  int index{0};                       ///< 0 for the first physics step
+  common::RobotState state;           ///< the robot after the step (true state)
+  common::RollPitchYaw rpy;           ///< of `state`
+  common::Twist2 command;             ///< the body twist commanded during the step
+  double vertical_acceleration_m_s2;  ///< of the base over the step, gravity removed
+  bool last{false};                   ///< the scenario's duration ends with this step
 };
 
 /// Watches a run without changing it: recorders of files, metrics and video attach as observers.
@@ -112,6 +113,8 @@ class ClosedLoop {
   /// ended the run early).
   Outcome Run(const std::function<void(double fraction)>& progress = {});
 
+  /// When construction began (wall clock): a run's wall time includes building its world.
+  std::chrono::steady_clock::time_point created_at() const { return created_at_; }
   const Scenario& scenario() const { return scenario_; }
   const sim::TerrainWorld& world() const { return world_; }
   const sim::Simulation& simulation() const { return *simulation_; }
@@ -142,9 +145,7 @@ class ClosedLoop {
   const common::GridLayers* truth() const { return truth_W_ ? &*truth_W_ : nullptr; }
   /// The movers as discs at their true state, and as the navigator predicts them, this step.
   const std::vector<planner::MovingObstacle>& true_movers() const { return true_movers_; }
-  const std::vector<planner::MovingObstacle>& predicted_movers() const {
-    return predicted_movers_;
-  }
+  const std::vector<planner::MovingObstacle>& predicted_movers() const { return predicted_movers_; }
   /// The navigator's tick of this step (mode navigate).
   const planner::NavigatorTick& navigator_tick() const { return navigator_tick_; }
 
@@ -173,6 +174,7 @@ class ClosedLoop {
   void MapPendingFrames();
   std::optional<Outcome> CheckEnd(EndCondition::Stage stage, const LoopStep& step);
 
+  const std::chrono::steady_clock::time_point created_at_;
   const Scenario scenario_;
   const sim::TerrainWorld world_;
   mutable std::optional<Eigen::MatrixXf> obstacle_heights_;

@@ -12,13 +12,12 @@
 #include "common/grid.h"
 #include "common/point_cloud.h"
 #include "common/pose.h"
+#include "scenarios/run/closed_loop.h"
+#include "scenarios/run/end_conditions.h"
 #include "scenarios/run/scenario.h"
 #include "sim/terrain.h"
 
 namespace trav::scenarios {
-
-/// A perceived mover farther than this from every true mover is a false mover [m].
-constexpr double kFalseMoverDistance_m = 1.0;
 
 /// What the closed loop (mode navigate) reports.
 struct NavigationMetrics {
@@ -36,8 +35,8 @@ struct NavigationMetrics {
   std::string last_planner_status;
   /// Movers perceived from the scans (navigation.movers_from_ground_truth false), sampled every
   /// physics step: the mean distance from each perceived mover to the nearest true one over those
-  /// within kFalseMoverDistance_m of one [m], how many such samples there were, and how many
-  /// perceived movers had no true one that close (false movers).
+  /// within kFalseMoverDistance_m (scenarios/run/recorders.h) of one [m], how many such samples
+  /// there were, and how many perceived movers had no true one that close (false movers).
   double mover_tracking_error_m{0.0};
   int perceived_mover_samples{0};
   int false_mover_samples{0};
@@ -46,19 +45,6 @@ struct NavigationMetrics {
   /// Times a mover came closer than navigation.near_miss_clearance without a collision (each
   /// approach counts once; it counts again after the gap has reopened by 0.1 m).
   int near_misses{0};
-};
-
-/// The contact that ended a run as a collision.
-struct CollisionRecord {
-  std::string target;              ///< the obstacle's or mover's name
-  bool mover{false};               ///< a moving obstacle
-  double relative_speed_m_s{0.0};  ///< planar speed of the base relative to the mover
-  double time_s{0.0};
-  double robot_speed_m_s{0.0};  ///< planar speed of the base at contact
-  /// Who closed the gap: "robot" (a static obstacle, or the robot approached the mover at least
-  /// as fast as the mover approached it), or "mover" (a mover ran into a robot that was stopped
-  /// or slower to approach).
-  std::string caused_by{"robot"};
 };
 
 /// What `trav run` reports in summary.json.
@@ -80,7 +66,7 @@ struct RunSummary {
   int lidar_frames{0};                 ///< complete LiDAR frames (0 when the LiDAR is off)
   double lidar_points_per_frame{0.0};  ///< mean points per frame
   double lidar_ms_per_frame{0.0};      ///< mean wall time spent casting one frame's rays [ms]
-  std::optional<controller::TrackingMetrics> tracking;  ///< mode track only
+  std::optional<controller::TrackingMetrics> tracking;  ///< modes track and navigate
   /// Mapping on the LiDAR frames (when both are enabled): updates, time per update, and the final
   /// map's error against the ground truth over its known cells.
   int mapping_updates{0};
@@ -102,20 +88,23 @@ struct RunSummary {
   nlohmann::json plots;
 };
 
-/// Called with every complete LiDAR frame: its points in W (each placed with its own sensor
-/// pose, movers removed), the base pose X_WB and the simulation time at the frame's end [s].
-using LidarFrameCallback = std::function<void(const common::PointCloud& points_W,
-                                              const Eigen::Isometry3d& X_WB, double t_s)>;
-
 /// Options of a run that are not part of the scenario.
 struct RunOptions {
   bool record_clouds{false};  ///< write every LiDAR frame as clouds/frame_NNNNNN.pcd
   int max_lidar_frames{0};    ///< stop after this many frames (0: run the scenario's duration)
-  LidarFrameCallback on_lidar_frame;  ///< every frame, when set (the LiDAR must be enabled)
 };
 
 /// Progress reports: fraction of the scenario's duration simulated so far, in [0, 1].
 using ProgressCallback = std::function<void(double fraction)>;
+
+/// Runs `loop` to its end under the scenario's end conditions (rollover and collision always; in
+/// mode navigate goal, stuck, planning failure and timeout) with `observers` attached after the
+/// run's own statistics, and returns its summary (writing no file). `video_frames` and `plots`
+/// are left for the caller; `final_map_truth`, when given, receives the ground truth on the
+/// final map's cells (when a mapper ran).
+RunSummary RunLoop(ClosedLoop* loop, const std::vector<LoopObserver*>& observers,
+                   const ProgressCallback& progress = {},
+                   std::optional<common::GridLayers>* final_map_truth = nullptr);
 
 /// Runs a scenario: generates its terrain, builds the MuJoCo world, drives the robot (mode drive:
 /// by the scenario's script; mode track: by the MPC tracking the reference, which starts at the
@@ -136,6 +125,9 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
 common::GridLayers WorldGroundTruth(const Scenario& scenario, const sim::TerrainWorld& world,
                                     const Eigen::MatrixXf& obstacle_heights);
 
+/// The ground truth of the scenario's world, generated from its terrain for its start and goal.
+common::GridLayers ScenarioGroundTruth(const Scenario& scenario);
+
 /// Length of the simplified A* path (the scenario's search settings) from the scenario's start to
 /// its goal on the ground truth `truth_W` [m]; 0 if there is none.
 double OptimalPathLength(const Scenario& scenario, const common::GridLayers& truth_W);
@@ -149,6 +141,10 @@ std::vector<sim::MovingObstacle> ScenarioMovers(const Scenario& scenario,
 
 /// Absolute path of the robot model of `scenario` (robot.model in `models_dir` unless absolute).
 std::string RobotModelPath(const Scenario& scenario, const std::string& models_dir);
+
+/// RobotModelPath, checked to be a robot model trav can drive (sim::ValidateRobotModel).
+/// @throws common::InputError if it is not.
+std::string CheckedRobotModelPath(const Scenario& scenario, const std::string& models_dir);
 
 /// summary.json text of a run.
 std::string SummaryJson(const Scenario& scenario, const RunSummary& summary);

@@ -165,4 +165,12 @@ void ExportTerrain(const sim::TerrainWorld& world, const mapping::FsgpConfig& sc
   WriteMetadata(world, WriteGroundTruth(world, score, ground_truth, folder), folder);
 }
 
+TerrainExportSummary ExportScenarioTerrain(const Scenario& scenario, const OutputFolder& folder) {
+  const sim::TerrainWorld world =
+      sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W});
+  ExportTerrain(world, scenario.mapping, scenario.ground_truth, folder);
+  return {sim::TerrainTypeName(scenario.terrain.type), world.geometry.num_x, world.geometry.num_y,
+          world.obstacles.size()};
+}
+
 }  // namespace trav::scenarios

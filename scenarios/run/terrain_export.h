@@ -1,8 +1,12 @@
 #pragma once
 
+#include <cstddef>
+#include <string>
+
 #include "mapping/fsgp_config.h"
 #include "mapping/ground_truth.h"
 #include "scenarios/run/output_folder.h"
+#include "scenarios/run/scenario.h"
 #include "sim/terrain.h"
 
 namespace trav::scenarios {
@@ -22,5 +26,17 @@ namespace trav::scenarios {
 /// - `terrain.json`: grid geometry, height range, statistics and the obstacle list.
 void ExportTerrain(const sim::TerrainWorld& world, const mapping::FsgpConfig& score,
                    const mapping::GroundTruthConfig& ground_truth, const OutputFolder& folder);
+
+/// What ExportScenarioTerrain wrote.
+struct TerrainExportSummary {
+  std::string terrain_type;  ///< as named in scenario files
+  int num_x{0};              ///< height samples along x
+  int num_y{0};              ///< and along y
+  std::size_t obstacles{0};
+};
+
+/// Generates the scenario's world for its start and goal and exports it into `folder`
+/// (ExportTerrain with the scenario's mapping and ground-truth settings).
+TerrainExportSummary ExportScenarioTerrain(const Scenario& scenario, const OutputFolder& folder);
 
 }  // namespace trav::scenarios

@@ -50,8 +50,8 @@ TEST(NavigatorTest, WaitsForAMapThenPlansAndDrives) {
   // the tick says what was done: the first plan, then the periodic ones; an MPC solve each tick
   // at the default 50 Hz control rate
   EXPECT_EQ(replans, (std::vector<planner::ReplanReason>{planner::ReplanReason::kFirst,
-                                                           planner::ReplanReason::kPeriodic,
-                                                           planner::ReplanReason::kPeriodic}));
+                                                         planner::ReplanReason::kPeriodic,
+                                                         planner::ReplanReason::kPeriodic}));
   EXPECT_EQ(solves, 25);
   EXPECT_EQ(dut.statistics().plans, 3);  // at 5 Hz: t = 0, 0.2 and 0.4 s
   EXPECT_EQ(dut.statistics().replans_on_events, 0);

@@ -1,0 +1,359 @@
+#include "scenarios/run/closed_loop.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "controller/skid_steer.h"
+#include "mapping/ground_truth.h"
+#include "scenarios/run/mappers.h"
+#include "scenarios/run/scenario_run.h"
+#include "scenarios/run/track_reference.h"
+#include "sim/terrain_geometry.h"
+
+namespace trav::scenarios {
+namespace {
+
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// Every mover as a disc at constant velocity from its true state at t.
+std::vector<planner::MovingObstacle> TrueMovers(const std::vector<sim::MovingObstacle>& all,
+                                                const sim::Simulation& simulation, double t_s) {
+  std::vector<planner::MovingObstacle> movers;
+  for (int i = 0; i < simulation.num_movers(); ++i) {
+    planner::MovingObstacle mover;
+    mover.position_W = simulation.MoverPose(i).translation().head<2>();
+    mover.velocity_W = simulation.MoverVelocity(i);
+    mover.radius_m = sim::MoverFootprintRadius(all[static_cast<std::size_t>(i)]);
+    mover.t_s = t_s;
+    movers.push_back(mover);
+  }
+  return movers;
+}
+
+// The movers the planner perceives: the tracker's moving tracks, at constant velocity from their
+// last update.
+std::vector<planner::MovingObstacle> PerceivedMovers(const mapping::MoverTracker& tracker) {
+  std::vector<planner::MovingObstacle> movers;
+  for (const mapping::TrackedMover& track : tracker.Movers()) {
+    movers.push_back({track.position_W, track.velocity_W, track.radius_m, track.t_s});
+  }
+  return movers;
+}
+
+// A disc in W: where a mover stands.
+struct Disc {
+  Eigen::Vector2d centre_W;
+  double radius_m;
+};
+
+// The movers' footprints from their true poses.
+std::vector<Disc> TrueMoverDiscs(const std::vector<sim::MovingObstacle>& movers,
+                                 const sim::Simulation& simulation) {
+  std::vector<Disc> discs;
+  for (int k = 0; k < simulation.num_movers(); ++k) {
+    discs.push_back({simulation.MoverPose(k).translation().head<2>(),
+                     sim::MoverFootprintRadius(movers[static_cast<std::size_t>(k)])});
+  }
+  return discs;
+}
+
+// The footprints of the movers the tracker perceives at t.
+std::vector<Disc> PerceivedMoverDiscs(const mapping::MoverTracker& tracker, double t_s) {
+  std::vector<Disc> discs;
+  for (const mapping::TrackedMover& track : tracker.Movers()) {
+    discs.push_back({track.position_W + (t_s - track.t_s) * track.velocity_W, track.radius_m});
+  }
+  return discs;
+}
+
+// Drops the points within a margin of the discs before mapping: a mover mapped as terrain leaves
+// a trail of ghost obstacles (what the mapper misses is cleared when the cells are seen free
+// again).
+void RemovePointsInDiscs(const std::vector<Disc>& discs, common::PointCloud* cloud_W) {
+  constexpr double kMargin_m = 0.3;
+  if (discs.empty()) return;
+  Eigen::Index kept = 0;
+  for (Eigen::Index i = 0; i < cloud_W->size(); ++i) {
+    const Eigen::Vector2d p = cloud_W->points.col(i).head<2>().cast<double>();
+    const bool on_mover = std::any_of(discs.begin(), discs.end(), [&](const Disc& disc) {
+      const double reach = disc.radius_m + kMargin_m;
+      return (p - disc.centre_W).squaredNorm() < reach * reach;
+    });
+    if (!on_mover) cloud_W->points.col(kept++) = cloud_W->points.col(i);
+  }
+  cloud_W->points.conservativeResize(3, kept);
+  cloud_W->time_offsets.resize(0);
+  cloud_W->line_ids.resize(0);
+}
+
+// The robot's start: the scenario's, or the first point of the reference it tracks.
+common::Pose2 StartPose(const Scenario& scenario, const controller::MpcTracker* tracker) {
+  common::Pose2 start_W = scenario.start_W;
+  if (tracker != nullptr) {
+    const common::TrajectoryPoint first =
+        tracker->reference().Sample(tracker->reference().start_time());
+    start_W.position = first.position_W;
+    start_W.yaw = first.yaw;
+  }
+  return start_W;
+}
+
+// What drives the robot in mode track: the MPC tracking the scenario's reference.
+std::optional<controller::MpcTracker> MakeTracker(const Scenario& scenario) {
+  if (scenario.mode != RunMode::kTrack) return std::nullopt;
+  return std::optional<controller::MpcTracker>(
+      std::in_place, scenario.mpc, BuildReference(scenario.track, scenario.start_W));
+}
+
+sim::WorldOptions WorldOptionsOf(const Scenario& scenario, const ClosedLoopOptions& options) {
+  sim::WorldOptions world_options;
+  world_options.robot_model_path = options.robot_model_path;
+  world_options.timestep_s = scenario.physics_timestep_s;
+  world_options.ground_friction = scenario.ground_friction;
+  return world_options;
+}
+
+}  // namespace
+
+// A LiDAR frame on its way to the mapper (mapping latency).
+struct ClosedLoop::PendingFrame {
+  double ready_s;  // simulation time at which the mapper gets it
+  common::PointCloud cloud_W;
+  Eigen::Isometry3d X_WB;
+  double scan_time_s;
+};
+
+ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& options)
+    : created_at_(std::chrono::steady_clock::now()),
+      scenario_(scenario),
+      world_(sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W})),
+      tracker_(MakeTracker(scenario)),
+      movers_(scenario.traffic.count > 0 ? ScenarioMovers(scenario, world_, obstacle_heights())
+                                         : scenario.movers),
+      simulation_(std::make_unique<sim::Simulation>(world_, StartPose(scenario, tracker()),
+                                                    WorldOptionsOf(scenario, options), movers_)),
+      crowd_(movers_),
+      max_lidar_frames_(options.max_lidar_frames),
+      last_mapping_error_(std::nan("")) {
+  // LiDAR: an Embree scene of the same world, scanned every physics step
+  if (scenario.lidar_mount_B) X_BL_ = MountPose(*scenario.lidar_mount_B);
+  if (scenario.lidar.enabled) {
+    ray_scene_ = std::make_unique<lidar::RayScene>(sim::RaySceneOf(world_, movers_));
+    lidar_ = std::make_unique<lidar::LidarEmulator>(scenario.lidar);
+  }
+  // mapping: every LiDAR frame, in W with each point's own sensor pose
+  const bool oracle = scenario.mapper == MapperMethod::kGroundTruth;
+  if (lidar_ && scenario.mapping_enabled && !oracle) mapper_ = MakeMapper(scenario);
+
+  // the closed loop: the ground truth for the oracle and the metrics, the navigator on the map
+  if (scenario.mode == RunMode::kNavigate) {
+    truth_W_ = WorldGroundTruth(scenario, world_, obstacle_heights());
+    navigator_.emplace(scenario.navigation, scenario.planner, scenario.mpc, scenario.goal_W);
+    if (oracle) navigation_map_ = &*truth_W_;
+    pose_noise_.emplace(scenario.pose_noise);
+    // movers perceived from the scans, when the scenario does not give the planner their state
+    if (lidar_ && !scenario.navigation.movers_from_ground_truth) {
+      mapping::MoverTrackerConfig tracker_config;
+      tracker_config.range_m = scenario.navigation.mover_sensing_range_m;
+      mover_tracker_.emplace(tracker_config);
+    }
+  }
+  total_steps_ = static_cast<int>(std::ceil(scenario.duration_s / simulation_->timestep() - 1e-9));
+  state_ = simulation_->State();
+}
+
+ClosedLoop::~ClosedLoop() = default;
+
+const Eigen::MatrixXf& ClosedLoop::obstacle_heights() const {
+  if (!obstacle_heights_) obstacle_heights_ = sim::ObstacleHeightGrid(world_);
+  return *obstacle_heights_;
+}
+
+void ClosedLoop::AddObserver(LoopObserver* observer) {
+  observers_.push_back(observer);
+  observers_want_points_ = observers_want_points_ || observer->WantsPoints();
+}
+
+void ClosedLoop::AddEndCondition(std::unique_ptr<EndCondition> condition) {
+  end_conditions_.push_back(std::move(condition));
+}
+
+void ClosedLoop::PlaceMovers() {
+  sim::Simulation& simulation = *simulation_;
+  if (simulation.num_movers() == 0) return;
+  const double dt = simulation.timestep();
+  simulation.SetMoverPoses(simulation.time());
+  if (!crowd_.empty()) {
+    // reactive walkers: the social force from the movers and the robot where they are now
+    std::vector<Eigen::Vector2d> positions_W;
+    for (int i = 0; i < simulation.num_movers(); ++i) {
+      positions_W.push_back(simulation.MoverPose(i).translation().head<2>());
+    }
+    crowd_.Step(simulation.time(), dt, positions_W, state_.X_WB.translation().head<2>(),
+                scenario_.planner.optimizer.robot_radius_m);
+    for (const sim::SocialForceCrowd::Walker& walker : crowd_.walkers()) {
+      const sim::MoverPlanarState planar{walker.p_W, walker.v_W, walker.yaw};
+      simulation.SetMoverPose(static_cast<int>(walker.index),
+                              sim::MoverPose(movers_[walker.index], planar, world_), walker.v_W);
+    }
+  }
+  for (int i = 0; i < simulation.num_movers(); ++i) {
+    if (ray_scene_) ray_scene_->SetMovingPose(i, simulation.MoverPose(i));
+  }
+}
+
+void ClosedLoop::DecideCommand() {
+  const double now_s = simulation_->time();
+  if (!navigator_) {
+    command_ = tracker_ ? tracker_->Command(state_) : DriveCommandAt(scenario_.drive, now_s);
+    return;
+  }
+  // the planner's predictions: the true movers, or those perceived in the scans (false
+  // positives included: they reach the planner whether or not true movers exist)
+  true_movers_ = TrueMovers(movers_, *simulation_, now_s);
+  predicted_movers_ = mover_tracker_ ? PerceivedMovers(*mover_tracker_) : true_movers_;
+  // the navigator's wall time goes to planning when it planned, else to control when the MPC
+  // solved (the other ticks hold the command)
+  const auto navigation_start = std::chrono::steady_clock::now();
+  navigator_tick_ = navigator_->Update(pose_noise_->Estimate(state_), navigation_map_, map_changed_,
+                                       predicted_movers_);
+  const double navigation_ms = MillisecondsSince(navigation_start);
+  if (navigator_tick_.replan != planner::ReplanReason::kNone) {
+    times_.Add("planning", navigation_ms);
+  } else if (navigator_tick_.solved) {
+    times_.Add("control", navigation_ms);
+  }
+  map_changed_ = false;
+  command_ = navigator_tick_.command;
+}
+
+bool ClosedLoop::Scan() {
+  const sim::Simulation& simulation = *simulation_;
+  const double dt = simulation.timestep();
+  const Eigen::Isometry3d X_WL =
+      X_BL_ ? Eigen::Isometry3d(state_.X_WB * *X_BL_) : simulation.LidarPose();
+  const auto cast_start = std::chrono::steady_clock::now();
+  lidar_->Scan(*ray_scene_, simulation.time(), simulation.time() + dt, X_WL);
+  const double cast_ms = MillisecondsSince(cast_start);
+  lidar_cast_s_ += 1e-3 * cast_ms;
+  times_.Add("lidar", cast_ms);
+  if (!lidar_->frame_ready()) return true;
+  lidar_->TakeFrame(&lidar_frame_);
+  ++lidar_frames_;
+  lidar_points_ += static_cast<double>(lidar_frame_.points_L.size());
+  // the frame in W, each point placed with its own sensor pose: once for everything that wants it
+  common::PointCloud cloud_W;
+  if (observers_want_points_ || mapper_ || mover_tracker_) {
+    cloud_W.points = lidar::PointsInWorld(lidar_frame_);
+    cloud_W.stamp_s = lidar_frame_.points_L.stamp_s;
+  }
+  for (LoopObserver* observer : observers_) {
+    observer->OnLidarFrame(*this, lidar_frame_, cloud_W.points);
+  }
+  if (mover_tracker_) {
+    mover_tracker_->Update(cloud_W, state_.X_WB.translation(), simulation.time());
+  }
+  // movers are removed at scan time: where the tracker perceives them, or with their true poses
+  // when the planner gets those
+  if (mapper_ || observers_want_points_) {
+    RemovePointsInDiscs(mover_tracker_ ? PerceivedMoverDiscs(*mover_tracker_, simulation.time())
+                                       : TrueMoverDiscs(movers_, simulation),
+                        &cloud_W);
+    for (LoopObserver* observer : observers_) {
+      observer->OnMapInput(*this, cloud_W, state_.X_WB, simulation.time());
+    }
+  }
+  if (mapper_) {
+    // the frame reaches the mapper after the modelled latency
+    pending_frames_.push_back({simulation.time() + scenario_.navigation.mapping_latency_s,
+                               std::move(cloud_W), state_.X_WB, simulation.time()});
+  }
+  return max_lidar_frames_ <= 0 || lidar_frames_ < max_lidar_frames_;
+}
+
+void ClosedLoop::MapPendingFrames() {
+  while (mapper_ && !pending_frames_.empty() &&
+         pending_frames_.front().ready_s <= simulation_->time() + 1e-9) {
+    const PendingFrame& pending = pending_frames_.front();
+    const auto map_start = std::chrono::steady_clock::now();
+    map_updates_.push_back(mapper_->Update(pending.cloud_W, pending.X_WB, pending.scan_time_s));
+    mapping_ms_.push_back(MillisecondsSince(map_start));
+    times_.Add("mapping", mapping_ms_.back());
+    pending_frames_.pop_front();
+    navigation_map_ = &mapper_->map();
+    map_changed_ = true;
+    if (truth_W_) {
+      last_mapping_error_ =
+          CompareWithTruth(mapper_->map(), *truth_W_, mapping::layers::kTraversability).mean;
+    }
+    for (LoopObserver* observer : observers_) observer->OnMapUpdate(*this);
+  }
+}
+
+std::optional<Outcome> ClosedLoop::CheckEnd(EndCondition::Stage stage, const LoopStep& step) {
+  for (const std::unique_ptr<EndCondition>& condition : end_conditions_) {
+    if (condition->stage() != stage) continue;
+    if (const std::optional<Outcome> outcome = condition->Check(*this, step)) return outcome;
+  }
+  return std::nullopt;
+}
+
+Outcome ClosedLoop::Run(const std::function<void(double fraction)>& progress) {
+  sim::Simulation& simulation = *simulation_;
+  const double dt = simulation.timestep();
+  Outcome outcome = Outcome::kCompleted;
+  int progress_step = 0;
+  for (int index = 0; index < total_steps_; ++index) {
+    PlaceMovers();
+    DecideCommand();
+    for (LoopObserver* observer : observers_) observer->OnCommand(*this);
+    simulation.SetWheelSpeedCommands(controller::ToWheelSpeeds(command_, scenario_.skid_steer));
+    if (lidar_ && !Scan()) break;
+    MapPendingFrames();
+    for (LoopObserver* observer : observers_) observer->BeforePhysics(*this);
+
+    const auto physics_start = std::chrono::steady_clock::now();
+    const sim::StepStatus status = simulation.Step();
+    times_.Add("physics", MillisecondsSince(physics_start));
+    ++physics_steps_;
+    if (status == sim::StepStatus::kDiverged) {
+      outcome = Outcome::kDiverged;
+      break;
+    }
+    state_ = simulation.State();
+    LoopStep step;
+    step.index = index;
+    step.state = state_;
+    step.rpy = common::ToRollPitchYaw(state_.X_WB.linear());
+    step.command = command_;
+    const double vertical_speed = (state_.X_WB.linear() * state_.v_WB_B).z();
+    step.vertical_acceleration_m_s2 = (vertical_speed - previous_vertical_speed_m_s_) / dt;
+    previous_vertical_speed_m_s_ = vertical_speed;
+    step.last = index + 1 == total_steps_;
+    for (LoopObserver* observer : observers_) observer->OnPhysicsStep(*this, step);
+    std::optional<Outcome> end = CheckEnd(EndCondition::Stage::kPhysical, step);
+    if (!end) {
+      for (LoopObserver* observer : observers_) observer->OnStepChecked(*this, step);
+      end = CheckEnd(EndCondition::Stage::kMission, step);
+    }
+    if (end) {
+      outcome = *end;
+      break;
+    }
+    if (progress && (index - progress_step) * dt >= 0.5) {
+      progress_step = index;
+      progress(static_cast<double>(index + 1) / total_steps_);
+    }
+  }
+  if (progress) progress(1.0);
+  for (LoopObserver* observer : observers_) observer->OnEnd(*this, outcome);
+  return outcome;
+}
+
+}  // namespace trav::scenarios

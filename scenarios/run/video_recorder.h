@@ -1,0 +1,75 @@
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "renders/image.h"
+#include "renders/overlay.h"
+#include "scenarios/run/closed_loop.h"
+#include "scenarios/run/recorders.h"
+
+namespace trav::renders {
+class Renderer;
+class VideoWriter;
+}  // namespace trav::renders
+
+namespace trav::scenarios {
+
+class VideoCamera;
+
+/// Records video.mp4 at the scenario's frame rate: the camera's view with the latest LiDAR frame's
+/// points (coloured by height) and, by mode, the tracked reference, the mapped layer, or in mode
+/// navigate the plan, a status line and the map panel beside the view (the driven path from
+/// `driven`), ending on a frame with the outcome.
+class VideoRecorder : public LoopObserver {
+ public:
+  /// Opens `<output_dir>/video.mp4`; its render time goes to `loop->times()` as "render".
+  /// @throws std::runtime_error if GL or ffmpeg is missing.
+  VideoRecorder(ClosedLoop* loop, const std::string& output_dir, const DrivenPath* driven);
+  ~VideoRecorder() override;
+
+  bool WantsPoints() const override { return true; }
+  void OnLidarFrame(const ClosedLoop& loop, const lidar::LidarFrame& frame,
+                    const Eigen::Matrix3Xf& points_W) override;
+  void OnMapUpdate(const ClosedLoop& loop) override;
+  void BeforePhysics(const ClosedLoop& loop) override;
+  void OnStepChecked(const ClosedLoop& loop, const LoopStep& step) override;
+  void OnEnd(const ClosedLoop& loop, Outcome outcome) override;
+
+  int frames_written() const { return frames_written_; }
+
+ private:
+  void WriteNavigationFrame(const ClosedLoop& loop, const std::string& status);
+
+  ModuleTimes* times_;
+  const DrivenPath* driven_;
+  std::unique_ptr<renders::Renderer> renderer_;
+  std::unique_ptr<renders::VideoWriter> video_;
+  std::unique_ptr<VideoCamera> camera_;
+  renders::Overlay overlay_;
+  renders::Image frame_;
+  Eigen::Matrix3Xf latest_points_W_;
+  Eigen::MatrixXf no_map_;  // the panel's layer before the first map: all unknown
+  double frame_period_s_;
+  double next_frame_s_{0.0};
+  int frames_written_{0};
+};
+
+/// Writes map_paths.png at the end of a run in mode navigate: the navigation map of the whole
+/// world with the plan, the driven path (from `driven`), the goal, the movers and the robot.
+class MapPathsWriter : public LoopObserver {
+ public:
+  MapPathsWriter(const std::string& output_dir, const DrivenPath* driven)
+      : path_(output_dir + "/map_paths.png"), driven_(driven) {}
+
+  void OnEnd(const ClosedLoop& loop, Outcome outcome) override;
+
+ private:
+  std::string path_;
+  const DrivenPath* driven_;
+};
+
+}  // namespace trav::scenarios
