@@ -19,7 +19,7 @@ set(rules
   "renders|common sim renders|mujoco GL EGL png.h"
   "scenarios/run|common controller mapping planner sim renders scenarios/run|pcl"
   "scenarios/experiments|common controller mapping planner scenarios/run scenarios/experiments|nlopt.hpp"
-  "scenarios/cli|common scenarios/run scenarios/experiments|CLI")
+  "scenarios/cli|common scenarios/run scenarios/experiments scenarios/cli|CLI")
 # System headers owned by one folder: nobody else includes them.
 set(owned_system_headers mujoco embree3 ompl ceres pcl nlopt.hpp GL EGL png.h CLI lbfgs.h)
 

@@ -62,24 +62,24 @@ Search Run(const SearchCostMap& costs, const Eigen::Vector2i& start, const Eigen
 }  // namespace
 
 GridPlanner::GridPlanner(const common::GridLayers& map, const AStarConfig& config)
-    : costs_(map, config) {}
+    : owned_costs_(std::in_place, map, config), costs_(&*owned_costs_) {}
 
 GridPath GridPlanner::Plan(const Eigen::Vector2d& start_W, const Eigen::Vector2d& goal_W) const {
   GridPath path;
-  const common::GridGeometry& g = costs_.geometry();
+  const common::GridGeometry& g = costs_->geometry();
   const std::optional<Eigen::Vector2i> start = g.CellIndex(start_W);
-  if (!start || !std::isfinite(costs_.cost(start->x(), start->y()))) {
+  if (!start || !std::isfinite(costs_->cost(start->x(), start->y()))) {
     path.status = PlanStatus::kStartBlocked;
     return path;
   }
   std::optional<Eigen::Vector2i> goal = g.CellIndex(goal_W);
   Search search;
-  if (goal && std::isfinite(costs_.cost(goal->x(), goal->y()))) {
-    search = Run(costs_, *start, &*goal);
+  if (goal && std::isfinite(costs_->cost(goal->x(), goal->y()))) {
+    search = Run(*costs_, *start, &*goal);
     path.status = PlanStatus::kFound;
   } else {
     // a blocked, unknown-and-blocked or outside goal: the reachable cell nearest to it
-    search = Run(costs_, *start, nullptr);
+    search = Run(*costs_, *start, nullptr);
     double best = kInfinity;
     for (int iy = 0; iy < g.num_y; ++iy) {
       for (int ix = 0; ix < g.num_x; ++ix) {
@@ -111,12 +111,12 @@ GridPath GridPlanner::Plan(const Eigen::Vector2d& start_W, const Eigen::Vector2d
 std::vector<Eigen::Vector2d> GridPlanner::Simplify(const std::vector<Eigen::Vector2d>& path,
                                                    double cost_tolerance) const {
   if (path.size() <= 2) return path;
-  const common::GridGeometry& g = costs_.geometry();
+  const common::GridGeometry& g = costs_->geometry();
   // the straight segment a-b stays on free cells no costlier than `limit`
   auto visible = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b, double limit) {
     const int samples = static_cast<int>(std::ceil((b - a).norm() / (0.5 * g.resolution_m))) + 1;
     for (int k = 0; k <= samples; ++k) {
-      if (costs_.CostAt(a + (b - a) * (static_cast<double>(k) / samples)) > limit) return false;
+      if (costs_->CostAt(a + (b - a) * (static_cast<double>(k) / samples)) > limit) return false;
     }
     return true;
   };
@@ -125,9 +125,9 @@ std::vector<Eigen::Vector2d> GridPlanner::Simplify(const std::vector<Eigen::Vect
   while (anchor + 1 < path.size()) {
     // the farthest point visible from the anchor within the cost of the skipped stretch
     std::size_t next = anchor + 1;
-    double stretch_cost = std::max(costs_.CostAt(path[anchor]), costs_.CostAt(path[next]));
+    double stretch_cost = std::max(costs_->CostAt(path[anchor]), costs_->CostAt(path[next]));
     for (std::size_t j = anchor + 2; j < path.size(); ++j) {
-      stretch_cost = std::max(stretch_cost, costs_.CostAt(path[j]));
+      stretch_cost = std::max(stretch_cost, costs_->CostAt(path[j]));
       if (!visible(path[anchor], path[j], stretch_cost + cost_tolerance)) break;
       next = j;
     }

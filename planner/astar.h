@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -41,6 +42,12 @@ class GridPlanner {
   /// @throws std::out_of_range if the map lacks `config.cost_layer`.
   GridPlanner(const common::GridLayers& map, const AStarConfig& config);
 
+  /// On search costs built before (a CostMap's), which must outlive the planner.
+  explicit GridPlanner(const SearchCostMap& costs) : costs_(&costs) {}
+
+  GridPlanner(const GridPlanner&) = delete;
+  GridPlanner& operator=(const GridPlanner&) = delete;
+
   /// A path from start_W to goal_W.
   GridPath Plan(const Eigen::Vector2d& start_W, const Eigen::Vector2d& goal_W) const;
 
@@ -52,10 +59,11 @@ class GridPlanner {
                                         double cost_tolerance = 0.1) const;
 
   /// The search costs built from the map.
-  const SearchCostMap& costs() const { return costs_; }
+  const SearchCostMap& costs() const { return *costs_; }
 
  private:
-  SearchCostMap costs_;
+  std::optional<SearchCostMap> owned_costs_;  // built from a map by the planner itself
+  const SearchCostMap* costs_;
 };
 
 }  // namespace trav::planner

@@ -73,21 +73,20 @@ Eigen::MatrixXd DistanceTransform(const Mask& mask) {
 }
 
 CostField::CostField(const common::GridLayers& map, const CostMapConfig& config)
-    : geometry_(map.geometry()) {
-  const Eigen::MatrixXf& layer = map.Layer(config.cost_layer);
+    : CostField(map.geometry(), map.Layer(config.cost_layer), config) {}
+
+CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
+                     const CostMapConfig& config)
+    : geometry_(geometry) {
   const int nx = geometry_.num_x, ny = geometry_.num_y;
   cost_.resize(nx, ny);
   Mask lethal(nx, ny);
   for (int iy = 0; iy < ny; ++iy) {
     for (int ix = 0; ix < nx; ++ix) {
       const float c = layer(ix, iy);
-      if (std::isnan(c)) {
-        cost_(ix, iy) = config.unknown_cost;
-        lethal(ix, iy) = config.unknown_policy == UnknownPolicy::kBlocked;
-      } else {
-        cost_(ix, iy) = std::clamp(static_cast<double>(c), 0.0, 1.0);
-        lethal(ix, iy) = c >= config.lethal_threshold;
-      }
+      cost_(ix, iy) =
+          std::isnan(c) ? config.unknown_cost : std::clamp(static_cast<double>(c), 0.0, 1.0);
+      lethal(ix, iy) = IsLethal(c, config);
     }
   }
   // signed distance between cell boundaries: half a cell less than between centres on both sides,

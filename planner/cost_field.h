@@ -16,14 +16,18 @@ struct FieldSample {
 /// The traversability map as smooth fields for trajectory optimisation: the cost c in [0, 1] and
 /// the signed distance to the nearest lethal cell [m] (positive outside, negative inside), both
 /// interpolated bilinearly with their gradients, as uneven_planner and DDR-opt do (a nearest-cell
-/// lookup would have zero gradient almost everywhere). Cells are read as A* reads them: lethal at
-/// or above `lethal_threshold`, unknown cells lethal under UnknownPolicy::kBlocked and of cost
-/// `unknown_cost` otherwise; A*'s inflation does not apply (clearance is the optimiser's own term).
-/// Points outside the grid take the border's values with zero gradient.
+/// lookup would have zero gradient almost everywhere). Cells are read as A* reads them: lethal by
+/// IsLethal, unknown cells of cost `unknown_cost` when not lethal; A*'s inflation does not apply
+/// (clearance is the optimiser's own term). Points outside the grid take the border's values with
+/// zero gradient.
 class CostField {
  public:
   /// @throws std::out_of_range if the map lacks `config.cost_layer`.
   CostField(const common::GridLayers& map, const CostMapConfig& config);
+
+  /// From the cost layer itself (`layer` on `geometry`).
+  CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
+            const CostMapConfig& config);
 
   /// Cost at p_W.
   FieldSample Cost(const Eigen::Vector2d& p_W) const { return Interpolate(cost_, p_W); }

@@ -7,28 +7,27 @@
 #include <utility>
 #include <vector>
 
+#include "planner/cost_field.h"
+
 namespace trav::planner {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-// Per-cell cost for the search (infinity = blocked), with the inflation applied.
-Eigen::MatrixXd SearchCosts(const common::GridLayers& map, const CostMapConfig& config) {
-  const common::GridGeometry& g = map.geometry();
-  const Eigen::MatrixXf& layer = map.Layer(config.cost_layer);
+// Per-cell cost for the search (infinity = blocked), with the inflation applied to the known
+// lethal cells (unknown cells blocked by the policy are not grown).
+Eigen::MatrixXd SearchCosts(const common::GridGeometry& g, const Eigen::MatrixXf& layer,
+                            const CostMapConfig& config) {
   Eigen::MatrixXd costs(g.num_x, g.num_y);
   std::vector<Eigen::Vector2i> lethal;
   for (int ix = 0; ix < g.num_x; ++ix) {
     for (int iy = 0; iy < g.num_y; ++iy) {
       const float c = layer(ix, iy);
-      if (std::isnan(c)) {
-        costs(ix, iy) =
-            config.unknown_policy == UnknownPolicy::kBlocked ? kInfinity : config.unknown_cost;
-      } else if (c >= config.lethal_threshold) {
+      if (IsLethal(c, config)) {
         costs(ix, iy) = kInfinity;
-        lethal.emplace_back(ix, iy);
+        if (!std::isnan(c)) lethal.emplace_back(ix, iy);
       } else {
-        costs(ix, iy) = std::max(0.0f, c);
+        costs(ix, iy) = std::isnan(c) ? config.unknown_cost : std::max(0.0f, c);
       }
     }
   }
@@ -53,10 +52,19 @@ double MinFiniteCost(const Eigen::MatrixXd& costs) {
 
 }  // namespace
 
+bool IsLethal(float cost, const CostMapConfig& config) {
+  if (std::isnan(cost)) return config.unknown_policy == UnknownPolicy::kBlocked;
+  return cost >= config.lethal_threshold;
+}
+
 SearchCostMap::SearchCostMap(const common::GridLayers& map, const CostMapConfig& config)
-    : geometry_(map.geometry()),
+    : SearchCostMap(map.geometry(), map.Layer(config.cost_layer), config) {}
+
+SearchCostMap::SearchCostMap(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
+                             const CostMapConfig& config)
+    : geometry_(geometry),
       config_(config),
-      costs_(SearchCosts(map, config)),
+      costs_(SearchCosts(geometry, layer, config)),
       min_cost_(MinFiniteCost(costs_)) {}
 
 double SearchCostMap::CostAt(const Eigen::Vector2d& p_W) const {
@@ -83,6 +91,28 @@ double SearchCostMap::SegmentCost(const Eigen::Vector2d& a_W, const Eigen::Vecto
     sum += c;
   }
   return length * (1.0 + config_.cost_weight * sum / (intervals + 1));
+}
+
+CostMap::CostMap(const common::GridLayers& map, const CostMapConfig& config)
+    : geometry_(map.geometry()), config_(config), layer_(map.Layer(config.cost_layer)) {}
+
+CostMap::~CostMap() = default;
+CostMap::CostMap(CostMap&&) noexcept = default;
+CostMap& CostMap::operator=(CostMap&&) noexcept = default;
+
+bool CostMap::LethalAt(const Eigen::Vector2d& p_W) const {
+  const std::optional<Eigen::Vector2i> cell = geometry_.CellIndex(p_W);
+  return cell && IsLethal(layer_(cell->x(), cell->y()), config_);
+}
+
+const SearchCostMap& CostMap::search() const {
+  if (!search_) search_ = std::make_unique<SearchCostMap>(geometry_, layer_, config_);
+  return *search_;
+}
+
+const CostField& CostMap::field() const {
+  if (!field_) field_ = std::make_unique<CostField>(geometry_, layer_, config_);
+  return *field_;
 }
 
 }  // namespace trav::planner

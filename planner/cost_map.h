@@ -1,5 +1,6 @@
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include <Eigen/Core>
@@ -25,6 +26,10 @@ struct CostMapConfig {
   double unknown_cost{0.5};  ///< cost of an unknown cell under kCost
 };
 
+/// The lethal rule, the one every planner and safety check applies: a cell is lethal when its cost
+/// is at or above `lethal_threshold`, or unknown (NaN) under UnknownPolicy::kBlocked.
+bool IsLethal(float cost, const CostMapConfig& config);
+
 /// The per-cell cost c that every planner of this module pays, built once from a map: cells at or
 /// above the lethal threshold are blocked (infinite cost) and grow by the inflation radius (a disc
 /// of floor(radius / resolution) cells), unknown cells follow the unknown policy, other costs are
@@ -34,6 +39,10 @@ class SearchCostMap {
  public:
   /// @throws std::out_of_range if the map lacks `config.cost_layer`.
   SearchCostMap(const common::GridLayers& map, const CostMapConfig& config);
+
+  /// From the cost layer itself (`layer` on `geometry`).
+  SearchCostMap(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
+                const CostMapConfig& config);
 
   const common::GridGeometry& geometry() const { return geometry_; }
   const CostMapConfig& config() const { return config_; }
@@ -62,6 +71,41 @@ class SearchCostMap {
   CostMapConfig config_;
   Eigen::MatrixXd costs_;  // per cell; infinity = blocked
   double min_cost_{0.0};
+};
+
+class CostField;
+
+/// One traversability map as every part of the planning stack reads it, built once per map
+/// update: the search costs of A* (SearchCostMap), the smooth cost and distance fields of the
+/// trajectory optimiser (CostField) and the lethal test of the navigator's safety checks, all
+/// from one copy of the cost layer and one lethal rule (IsLethal). The search costs and the fields
+/// are built on first use. Not thread-safe (the lazy parts).
+class CostMap {
+ public:
+  /// @throws std::out_of_range if the map lacks `config.cost_layer`.
+  CostMap(const common::GridLayers& map, const CostMapConfig& config);
+  ~CostMap();
+  CostMap(CostMap&&) noexcept;
+  CostMap& operator=(CostMap&&) noexcept;
+
+  const common::GridGeometry& geometry() const { return geometry_; }
+  const CostMapConfig& config() const { return config_; }
+
+  /// True if p_W lies in a lethal cell (IsLethal); false outside the grid.
+  bool LethalAt(const Eigen::Vector2d& p_W) const;
+
+  /// The search costs (lethal cells grown by the inflation radius).
+  const SearchCostMap& search() const;
+
+  /// The cost and signed-distance fields.
+  const CostField& field() const;
+
+ private:
+  common::GridGeometry geometry_;
+  CostMapConfig config_;
+  Eigen::MatrixXf layer_;
+  mutable std::unique_ptr<SearchCostMap> search_;
+  mutable std::unique_ptr<CostField> field_;
 };
 
 }  // namespace trav::planner

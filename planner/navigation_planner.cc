@@ -81,9 +81,15 @@ NavigationPlan NavigationPlanner::Plan(const common::GridLayers& map,
                                        const common::TrajectoryPoint& start,
                                        const Eigen::Vector2d& goal_W,
                                        const std::vector<MovingObstacle>& obstacles) {
+  return Plan(CostMap(map, config_.search), start, goal_W, obstacles);
+}
+
+NavigationPlan NavigationPlanner::Plan(const CostMap& costs, const common::TrajectoryPoint& start,
+                                       const Eigen::Vector2d& goal_W,
+                                       const std::vector<MovingObstacle>& obstacles) {
   NavigationPlan plan;
   const auto search_start = std::chrono::steady_clock::now();
-  const GridPlanner search(map, config_.search);
+  const GridPlanner search(costs.search());
   Eigen::Vector2d search_start_W = start.position_W;
   plan.path = search.Plan(search_start_W, goal_W);
   if (plan.path.status == PlanStatus::kStartBlocked) {
@@ -129,7 +135,7 @@ NavigationPlan NavigationPlanner::Plan(const common::GridLayers& map,
   if (plan.path.status == PlanStatus::kFound) plan.waypoints_W.back() = goal_W;
 
   const auto optimization_start = std::chrono::steady_clock::now();
-  const CostField field(map, config_.search);
+  const CostField& field = costs.field();
   TrajectoryRequest request;
   request.start = start;
   request.goal_W = plan.waypoints_W.back();

@@ -69,6 +69,11 @@ class NavigationPlanner {
   NavigationPlan Plan(const common::GridLayers& map, const common::TrajectoryPoint& start,
                       const Eigen::Vector2d& goal_W, const std::vector<MovingObstacle>& obstacles);
 
+  /// Plans on a map's costs built before (with this planner's `config().search`), so that plans
+  /// on one map share them.
+  NavigationPlan Plan(const CostMap& costs, const common::TrajectoryPoint& start,
+                      const Eigen::Vector2d& goal_W, const std::vector<MovingObstacle>& obstacles);
+
   /// Forgets the previous trajectory and substitute goal.
   void Reset() {
     optimizer_.Reset();

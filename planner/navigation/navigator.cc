@@ -23,18 +23,6 @@ double YawOf(const common::RobotState& state) {
   return std::atan2(forward.y(), forward.x());
 }
 
-// True if the map marks p_W lethal (at or above the threshold, or unknown when unknown cells are
-// blocked).
-bool Lethal(const common::GridLayers& map, const CostMapConfig& config,
-            const Eigen::Vector2d& p_W) {
-  const common::GridGeometry& g = map.geometry();
-  const std::optional<Eigen::Vector2i> cell = g.CellIndex(p_W);
-  if (!cell) return false;
-  const float c = map.Layer(config.cost_layer)(cell->x(), cell->y());
-  if (std::isnan(c)) return config.unknown_policy == UnknownPolicy::kBlocked;
-  return c >= config.lethal_threshold;
-}
-
 }  // namespace
 
 void ValidateNavigationSettings(const NavigationSettings& s) {
@@ -88,6 +76,8 @@ double Navigator::time_without_plan_s(double now_s) const { return now_s - last_
 NavigatorTick Navigator::Update(const common::RobotState& state, const common::GridLayers* map,
                                 bool map_updated, const std::vector<MovingObstacle>& movers) {
   NavigatorTick tick;
+  if (map_updated || map != cost_map_source_) cost_map_.reset();
+  cost_map_source_ = map;
   const ReplanReason reason = ReasonToReplan(state, map, map_updated);
   if (reason != ReplanReason::kNone && map != nullptr) {
     Replan(state, *map, movers, reason);
@@ -141,7 +131,7 @@ ReplanReason Navigator::ReasonToReplan(const common::RobotState& state,
   if (map_check_pending_) {
     map_check_pending_ = false;
     for (double t = now; t <= trajectory_.end_time(); t += kCheckStep_s) {
-      if (Lethal(*map, planner_.config().search, trajectory_.Sample(t).position_W)) {
+      if (CostMapOf(*map).LethalAt(trajectory_.Sample(t).position_W)) {
         return ReplanReason::kNewLethalCells;
       }
     }
@@ -178,7 +168,7 @@ void Navigator::Replan(const common::RobotState& state, const common::GridLayers
   start.omega = std::clamp(start.omega, -omega_max, omega_max);
   start.acceleration = std::clamp(start.acceleration, -a_max, a_max);
 
-  const NavigationPlan plan = planner_.Plan(map, start, goal_W_, movers);
+  const NavigationPlan plan = planner_.Plan(CostMapOf(map), start, goal_W_, movers);
   map_check_pending_ = false;  // the new plan saw the latest map
   ++statistics_.plans;
   if (reason != ReplanReason::kPeriodic && reason != ReplanReason::kFirst) {
@@ -213,8 +203,13 @@ void Navigator::Replan(const common::RobotState& state, const common::GridLayers
   next_plan_s_ = now + 1.0 / settings_.planning_rate_hz;
 }
 
+const CostMap& Navigator::CostMapOf(const common::GridLayers& map) {
+  if (!cost_map_) cost_map_.emplace(map, planner_.config().search);
+  return *cost_map_;
+}
+
 bool Navigator::AheadIsSafe(double now_s, const common::GridLayers* map,
-                            const std::vector<MovingObstacle>& movers) const {
+                            const std::vector<MovingObstacle>& movers) {
   const NavigationPlannerConfig& config = planner_.config();
   const double end = std::min(trajectory_.end_time(), now_s + settings_.safety_horizon_s);
   const Eigen::Vector2d here_W = trajectory_.Sample(now_s).position_W;
@@ -222,7 +217,7 @@ bool Navigator::AheadIsSafe(double now_s, const common::GridLayers* map,
     const Eigen::Vector2d p_W = trajectory_.Sample(t).position_W;
     // lethal cells under the robot itself (a mapping artefact) do not stop it: only those ahead
     const bool ahead = (p_W - here_W).norm() > config.optimizer.robot_radius_m;
-    if (map != nullptr && ahead && Lethal(*map, config.search, p_W)) return false;
+    if (map != nullptr && ahead && CostMapOf(*map).LethalAt(p_W)) return false;
     for (const MovingObstacle& mover : movers) {
       if ((p_W - mover.PositionAt(t)).norm() < config.optimizer.robot_radius_m + mover.radius_m) {
         return false;

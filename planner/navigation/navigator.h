@@ -104,7 +104,9 @@ class Navigator {
   void Replan(const common::RobotState& state, const common::GridLayers& map,
               const std::vector<MovingObstacle>& movers, ReplanReason reason);
   bool AheadIsSafe(double now_s, const common::GridLayers* map,
-                   const std::vector<MovingObstacle>& movers) const;
+                   const std::vector<MovingObstacle>& movers);
+  // The costs of the map, built on first use after each map update.
+  const CostMap& CostMapOf(const common::GridLayers& map);
 
   NavigationSettings settings_;
   NavigationPlanner planner_;
@@ -118,6 +120,8 @@ class Navigator {
   bool map_check_pending_{false};  // a map update not yet checked against the plan
   double last_moving_s_{0.0};      // last time the robot moved or was meant to stand still
   Statistics statistics_;
+  std::optional<CostMap> cost_map_;                     // of the map last seen, once needed
+  const common::GridLayers* cost_map_source_{nullptr};  // that map
 };
 
 }  // namespace trav::planner

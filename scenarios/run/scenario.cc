@@ -448,40 +448,238 @@ void VisitMover(Archive& a, sim::MovingObstacle& m) {
   }
 }
 
+// The keys under `terrain`.
+template <typename Archive>
+void VisitTerrain(Archive& t, Scenario& s) {
+  t.Enum("type", &s.terrain.type, kTerrainTypes);
+  t.Field("seed", &s.terrain.seed);
+  t.Field("size", &s.terrain.size_m, {2, 500});
+  t.Field("resolution", &s.terrain.resolution_m, {0.02, 1.0});
+  t.Map("parameters", [&](Archive& p) { VisitTerrainParameters(p, s.terrain); });
+  t.template Sequence<sim::PlacedBox>(
+      "boxes", &s.terrain.boxes, 10000, [](Archive& b, sim::PlacedBox& box) {
+        b.Field("name", &box.name);
+        b.Field("centre", &box.centre_W, {-1000.0, 1000.0});
+        b.Field("half_extents", &box.half_extents_m, {0.005, 500.0});
+        b.Field("height", &box.height_m, {0.005, 100.0});
+        b.Field("yaw", &box.yaw_rad, {-10.0, 10.0});
+      });
+}
+
+// The keys under `robot`.
+template <typename Archive>
+void VisitRobot(Archive& r, Scenario& s) {
+  r.Field("model", &s.robot_model);
+  r.Field("start", &s.start_W, {-1000.0, 1000.0});
+  r.Map("skid_steer", [&](Archive& k) {
+    k.Field("wheel_radius", &s.skid_steer.wheel_radius_m, {0.01, 2.0});
+    k.Field("track", &s.skid_steer.track_m, {0.05, 10.0});
+    k.Field("effective_track_factor", &s.skid_steer.effective_track_factor, {1.0, 20.0});
+    k.Field("max_speed", &s.skid_steer.max_speed_m_s, {0.01, 30.0});
+    k.Field("max_yaw_rate", &s.skid_steer.max_yaw_rate_rad_s, {0.01, 30.0});
+    k.Field("max_wheel_speed", &s.skid_steer.max_wheel_speed_rad_s, {0.1, 1000.0});
+  });
+  r.Field("rollover_limit_deg", &s.rollover_limit_deg, {1.0, 180.0});
+}
+
+// The keys under `track`.
+template <typename Archive>
+void VisitTrack(Archive& t, Scenario& s) {
+  t.Enum("reference", &s.track.reference, kReferences);
+  t.Field("size", &s.track.size_m, {0.5, 1000.0});
+  t.Field("amplitude", &s.track.amplitude_m, {0, 500});
+  t.Field("wavelength", &s.track.wavelength_m, {0.5, 1000.0});
+  t.Field("speed", &s.track.speed_m_s, {0.01, 10.0});
+  t.Field("acceleration", &s.track.acceleration_m_s2, {0.01, 50.0});
+  t.Field("file", &s.track.file);
+}
+
+// The keys under `controller`.
+template <typename Archive>
+void VisitController(Archive& c, Scenario& s) {
+  double rate_hz = 1.0 / s.mpc.control_period_s;
+  c.Field("rate", &rate_hz, {5.0, 1000.0});
+  s.mpc.control_period_s = 1.0 / rate_hz;
+  c.Map("mpc", [&](Archive& m) {
+    controller::MpcConfig& k = s.mpc;
+    m.Field("horizon", &k.horizon, {1, 200});
+    m.Field("step", &k.step_s, {0.005, 1});
+    m.Field("state_weights", &k.state_weights, {0, 1000000.0});
+    m.Field("input_weights", &k.input_weights, {0, 1000000.0});
+    m.Field("rate_weights", &k.rate_weights, {0, 1000000.0});
+    m.Field("max_speed", &k.max_speed_m_s, {0.01, 30});
+    m.Field("min_speed", &k.min_speed_m_s, {-30, 0});
+    m.Field("max_yaw_rate", &k.max_yaw_rate_rad_s, {0.01, 30});
+    m.Field("max_acceleration", &k.max_acceleration_m_s2, {0.01, 100});
+    m.Field("max_yaw_acceleration", &k.max_yaw_acceleration_rad_s2, {0.01, 100});
+    m.Field("actuator_time_constant", &k.actuator_time_constant_s, {0, 10});
+    m.Field("max_iterations", &k.max_iterations, {1, 1000});
+  });
+}
+
+// The keys under `planner`.
+template <typename Archive>
+void VisitPlanner(Archive& p, Scenario& s) {
+  planner::CostMapConfig& search = s.planner.search;
+  p.Map("search", [&](Archive& k) {
+    k.Field("cost_weight", &search.cost_weight, {0, 1000000.0});
+    k.Field("lethal_threshold", &search.lethal_threshold, {0, 1});
+    k.Field("inflation_radius", &search.inflation_radius_m, {0, 5});
+    k.Enum("unknown_policy", &search.unknown_policy, kUnknownPolicies);
+    k.Field("unknown_cost", &search.unknown_cost, {0, 1});
+    k.Field("simplify_tolerance", &s.planner.simplify_tolerance, {0, 10});
+    k.Field("substitute_goal_reach", &s.planner.substitute_goal_reach_m, {0, 100});
+  });
+  planner::TrajectoryOptimizerConfig& o = s.planner.optimizer;
+  p.Map("optimizer", [&](Archive& k) {
+    k.Field("max_speed", &o.limits.max_speed_m_s, {0.01, 30});
+    k.Field("max_yaw_rate", &o.limits.max_yaw_rate_rad_s, {0.01, 30});
+    k.Field("max_acceleration", &o.limits.max_acceleration_m_s2, {0.01, 100});
+    k.Field("max_yaw_acceleration", &o.limits.max_yaw_acceleration_rad_s2, {0.01, 100});
+    k.Field("max_centripetal_acceleration", &o.limits.max_centripetal_acceleration_m_s2,
+            {0.01, 100});
+    k.Field("yaw_jerk_weight", &o.weights.yaw_jerk, {0, 1000000000.0});
+    k.Field("arc_length_jerk_weight", &o.weights.arc_length_jerk, {0, 1000000000.0});
+    k.Field("time_weight", &o.weights.time, {0, 1000000000.0});
+    k.Field("traversability_weight", &o.weights.traversability, {0, 1000000000.0});
+    k.Field("limits_weight", &o.weights.limits, {0, 1000000000.0});
+    k.Field("clearance_weight", &o.weights.clearance, {0, 1000000000.0});
+    k.Field("moving_obstacles_weight", &o.weights.moving_obstacles, {0, 1000000000.0});
+    k.Field("clearance", &o.clearance_m, {0, 5});
+    k.Field("min_clearance", &o.min_clearance_m, {0, 5});
+    k.Field("robot_radius", &o.robot_radius_m, {0, 5});
+    k.Field("obstacle_clearance", &o.obstacle_clearance_m, {0, 10});
+    k.Field("clearance_growth", &o.clearance_growth_m_s, {0, 10});
+    k.Field("piece_length", &o.piece_length_m, {0.1, 100});
+    k.Field("samples_per_piece", &o.samples_per_piece, {1, 100});
+    k.Field("max_iterations", &o.max_iterations, {1, 100000});
+    k.Field("max_rounds", &o.max_rounds, {1, 100});
+    k.Field("warm_start", &o.warm_start);
+  });
+}
+
+// The keys under `traffic`.
+template <typename Archive>
+void VisitTraffic(Archive& t, Scenario& s) {
+  t.Field("count", &s.traffic.count, {0, 200});
+  t.Field("speed", &s.traffic.speed_m_s, {0, 5});
+  t.Enum("behaviour", &s.traffic.behaviour, kTrafficBehaviours);
+  t.Enum("shape", &s.traffic.shape, kTrafficShapes);
+  t.Field("seed", &s.traffic.seed);
+  t.Field("area_radius", &s.traffic.area_radius_m, {0, 500});
+  t.Field("keep_clear", &s.traffic.keep_clear_m, {0, 100});
+}
+
+// The keys under `navigation`.
+template <typename Archive>
+void VisitNavigation(Archive& n, Scenario& s) {
+  planner::NavigationSettings& k = s.navigation;
+  n.Field("movers_from_ground_truth", &k.movers_from_ground_truth);
+  n.Field("mover_sensing_range", &k.mover_sensing_range_m, {0, 500});
+  n.Field("position_noise", &s.pose_noise.position_noise_m, {0, 10});
+  n.Field("yaw_noise", &s.pose_noise.yaw_noise_rad, {0, 3.15});
+  n.Field("drift", &s.pose_noise.drift_m_per_sqrt_s, {0, 10});
+  n.Field("localization_seed", &s.pose_noise.seed);
+  n.Field("mapping_latency", &k.mapping_latency_s, {0, 10});
+  n.Field("goal_radius", &k.goal_radius_m, {0.01, 100});
+  n.Field("planning_rate", &k.planning_rate_hz, {0.1, 100});
+  n.Field("replan_deviation", &k.replan_deviation_m, {0.01, 100});
+  n.Field("safety_horizon", &k.safety_horizon_s, {0, 60});
+  n.Field("stuck_time", &k.stuck_time_s, {0.1, 86400});
+  n.Field("stuck_distance", &k.stuck_distance_m, {0, 100});
+  n.Field("planning_failure_time", &k.planning_failure_time_s, {0.1, 86400});
+  n.Field("near_miss_clearance", &k.near_miss_clearance_m, {0, 10});
+}
+
+// The keys under `lidar`.
+template <typename Archive>
+void VisitLidar(Archive& l, Scenario& s) {
+  lidar::LidarConfig& c = s.lidar;
+  l.Field("enabled", &c.enabled);
+  l.Field("table", &c.pattern_table);
+  l.Field("rate", &c.points_per_second, {1, 1000000.0});
+  l.Field("frame_period", &c.frame_period_s, {0.005, 1});
+  l.Field("range_min", &c.range_min_m, {0, 10});
+  l.Field("range_max", &c.range_max_m, {0.1, 500});
+  l.Field("range_noise", &c.range_noise_m, {0, 1});
+  l.Field("angular_noise_deg", &c.angular_noise_deg, {0, 10});
+  l.Field("dropout", &c.dropout, {0, 0.99});
+  l.Field("occlusion", &c.occlusion, {0, 0.99});
+  l.Field("occlusion_sectors", &c.occlusion_sectors, {1, 360});
+  l.Field("seed", &c.seed);
+  l.Field("threads", &c.threads, {1, 64});
+  l.Field("mount", &s.lidar_mount_B, {-10, 10});
+}
+
+// The keys under `mapping`.
+template <typename Archive>
+void VisitMapping(Archive& mp, Scenario& s) {
+  mapping::FsgpConfig& c = s.mapping;
+  mp.Field("enabled", &s.mapping_enabled);
+  mp.Enum("method", &s.mapper, kMappers);
+  mp.Field("window", &c.area.window_m, {1, 100});
+  mp.Field("resolution", &c.area.resolution_m, {0.02, 2});
+  mp.Field("map_size", &c.area.map_size_m, {1, 1000});
+  mp.Field("max_height_above_robot", &c.area.max_height_above_robot_m, {0, 100});
+  mp.Field("max_height_above_ground", &c.max_height_above_ground_m, {0, 100});
+  mp.Field("pre_voxel", &c.pre_voxel_m, {0, 1});
+  mp.Field("neighbours", &c.neighbours, {3, 200});
+  mp.Field("curvature_threshold", &c.curvature_threshold, {0, 10});
+  mp.Field("gradient_threshold", &c.gradient_threshold_m, {0, 10});
+  mp.Field("feature_voxel", &c.feature_voxel_m, {0, 2});
+  mp.Field("max_training_points", &c.max_training_points, {1, 3000});
+  mp.Field("seed", &c.seed);
+  mp.Field("pca", &c.pca);
+  mp.Map("gp", [&](Archive& gp) {
+    gp.Enum("kernel", &c.gp.kernel, kKernels);
+    Eigen::Vector4d& l = c.gp.length_scales;
+    Eigen::Vector2d xy(l[0], l[1]), features(l[2], l[3]);
+    gp.Field("length_scales_xy", &xy, {0.01, 100});
+    gp.Field("length_scales_features", &features, {0.0001, 10000.0});
+    l << xy, features;
+    gp.Field("signal_variance_ratio", &c.gp.signal_variance_ratio, {1e-06, 1000.0});
+    gp.Field("noise_std", &c.gp.noise_std_m, {1e-05, 10});
+    gp.Field("rq_alpha", &c.gp.rq_alpha, {0.01, 100});
+  });
+  mp.Field("lbfgs_iterations", &c.lbfgs_iterations, {0, 1000});
+  mp.Field("idw_neighbours", &c.idw_neighbours, {1, 100});
+  mp.Field("support_radius", &c.support_radius_m, {0.01, 20});
+  mp.Field("variance_stride", &c.variance_stride, {1, 100});
+  mp.Field("weight_curvature", &c.weight_curvature, {0, 100});
+  mp.Field("weight_gradient", &c.weight_gradient, {0, 100});
+  mp.Field("weight_slope", &c.weight_slope, {0, 100});
+  mp.Field("curvature_max", &c.curvature_max, {1e-06, 100});
+  mp.Field("gradient_max", &c.gradient_max_m, {1e-06, 100});
+  mp.Field("slope_max", &c.slope_max_rad, {0.001, 1.6});
+  mp.Field("fuse", &c.fuse);
+  mp.Field("decay_rate", &c.decay_rate, {0, 100});
+  mp.Field("variance_epsilon", &c.variance_epsilon, {1e-09, 10});
+  mp.Field("smoothing_sigma", &c.smoothing_sigma_m, {0, 5});
+  mp.Field("smoothing_radius", &c.smoothing_radius_m, {0, 10});
+  mp.Field("accumulate_frames", &c.accumulate_frames, {1, 100});
+}
+
+// The keys under `video`.
+template <typename Archive>
+void VisitVideo(Archive& v, Scenario& s) {
+  v.Field("enabled", &s.video.enabled);
+  v.Field("width", &s.video.render.width, {16, 4096});
+  v.Field("height", &s.video.render.height, {16, 4096});
+  v.Field("fps", &s.video.fps, {1.0, 120.0});
+  v.Enum("camera", &s.video.camera, kCameras);
+  v.Enum("backend", &s.video.render.backend, kBackends);
+  v.Field("shadows", &s.video.render.shadows);
+  v.Field("msaa", &s.video.render.msaa_samples, {0, 16});
+}
+
 template <typename Archive>
 void VisitScenario(Archive& a, Scenario& s) {
   int schema_version = 1;
   a.Field("schema_version", &schema_version, {1, 1});
   a.Field("name", &s.name);
   a.Enum("test_fault", &s.test_fault, kTestFaults);
-  a.Map("terrain", [&](Archive& t) {
-    t.Enum("type", &s.terrain.type, kTerrainTypes);
-    t.Field("seed", &s.terrain.seed);
-    t.Field("size", &s.terrain.size_m, {2, 500});
-    t.Field("resolution", &s.terrain.resolution_m, {0.02, 1.0});
-    t.Map("parameters", [&](Archive& p) { VisitTerrainParameters(p, s.terrain); });
-    t.template Sequence<sim::PlacedBox>(
-        "boxes", &s.terrain.boxes, 10000, [](Archive& b, sim::PlacedBox& box) {
-          b.Field("name", &box.name);
-          b.Field("centre", &box.centre_W, {-1000.0, 1000.0});
-          b.Field("half_extents", &box.half_extents_m, {0.005, 500.0});
-          b.Field("height", &box.height_m, {0.005, 100.0});
-          b.Field("yaw", &box.yaw_rad, {-10.0, 10.0});
-        });
-  });
-  a.Map("robot", [&](Archive& r) {
-    r.Field("model", &s.robot_model);
-    r.Field("start", &s.start_W, {-1000.0, 1000.0});
-    r.Map("skid_steer", [&](Archive& k) {
-      k.Field("wheel_radius", &s.skid_steer.wheel_radius_m, {0.01, 2.0});
-      k.Field("track", &s.skid_steer.track_m, {0.05, 10.0});
-      k.Field("effective_track_factor", &s.skid_steer.effective_track_factor, {1.0, 20.0});
-      k.Field("max_speed", &s.skid_steer.max_speed_m_s, {0.01, 30.0});
-      k.Field("max_yaw_rate", &s.skid_steer.max_yaw_rate_rad_s, {0.01, 30.0});
-      k.Field("max_wheel_speed", &s.skid_steer.max_wheel_speed_rad_s, {0.1, 1000.0});
-    });
-    r.Field("rollover_limit_deg", &s.rollover_limit_deg, {1.0, 180.0});
-  });
+  a.Map("terrain", [&](Archive& t) { VisitTerrain(t, s); });
+  a.Map("robot", [&](Archive& r) { VisitRobot(r, s); });
   a.Map("physics", [&](Archive& p) {
     p.Field("timestep", &s.physics_timestep_s, {1e-4, 0.01});
     p.Field("ground_friction", &s.ground_friction, {0.01, 5.0});
@@ -489,185 +687,27 @@ void VisitScenario(Archive& a, Scenario& s) {
   a.Field("goal", &s.goal_W, {-1000.0, 1000.0});
   a.Field("duration", &s.duration_s, {0.01, 86400.0});
   a.Enum("mode", &s.mode, kModes);
-  a.Map("track", [&](Archive& t) {
-    t.Enum("reference", &s.track.reference, kReferences);
-    t.Field("size", &s.track.size_m, {0.5, 1000.0});
-    t.Field("amplitude", &s.track.amplitude_m, {0, 500});
-    t.Field("wavelength", &s.track.wavelength_m, {0.5, 1000.0});
-    t.Field("speed", &s.track.speed_m_s, {0.01, 10.0});
-    t.Field("acceleration", &s.track.acceleration_m_s2, {0.01, 50.0});
-    t.Field("file", &s.track.file);
-  });
-  a.Map("controller", [&](Archive& c) {
-    double rate_hz = 1.0 / s.mpc.control_period_s;
-    c.Field("rate", &rate_hz, {5.0, 1000.0});
-    s.mpc.control_period_s = 1.0 / rate_hz;
-    c.Map("mpc", [&](Archive& m) {
-      controller::MpcConfig& k = s.mpc;
-      m.Field("horizon", &k.horizon, {1, 200});
-      m.Field("step", &k.step_s, {0.005, 1});
-      m.Field("state_weights", &k.state_weights, {0, 1000000.0});
-      m.Field("input_weights", &k.input_weights, {0, 1000000.0});
-      m.Field("rate_weights", &k.rate_weights, {0, 1000000.0});
-      m.Field("max_speed", &k.max_speed_m_s, {0.01, 30});
-      m.Field("min_speed", &k.min_speed_m_s, {-30, 0});
-      m.Field("max_yaw_rate", &k.max_yaw_rate_rad_s, {0.01, 30});
-      m.Field("max_acceleration", &k.max_acceleration_m_s2, {0.01, 100});
-      m.Field("max_yaw_acceleration", &k.max_yaw_acceleration_rad_s2, {0.01, 100});
-      m.Field("actuator_time_constant", &k.actuator_time_constant_s, {0, 10});
-      m.Field("max_iterations", &k.max_iterations, {1, 1000});
-    });
-  });
-  a.Map("planner", [&](Archive& p) {
-    planner::CostMapConfig& search = s.planner.search;
-    p.Map("search", [&](Archive& k) {
-      k.Field("cost_weight", &search.cost_weight, {0, 1000000.0});
-      k.Field("lethal_threshold", &search.lethal_threshold, {0, 1});
-      k.Field("inflation_radius", &search.inflation_radius_m, {0, 5});
-      k.Enum("unknown_policy", &search.unknown_policy, kUnknownPolicies);
-      k.Field("unknown_cost", &search.unknown_cost, {0, 1});
-      k.Field("simplify_tolerance", &s.planner.simplify_tolerance, {0, 10});
-      k.Field("substitute_goal_reach", &s.planner.substitute_goal_reach_m, {0, 100});
-    });
-    planner::TrajectoryOptimizerConfig& o = s.planner.optimizer;
-    p.Map("optimizer", [&](Archive& k) {
-      k.Field("max_speed", &o.limits.max_speed_m_s, {0.01, 30});
-      k.Field("max_yaw_rate", &o.limits.max_yaw_rate_rad_s, {0.01, 30});
-      k.Field("max_acceleration", &o.limits.max_acceleration_m_s2, {0.01, 100});
-      k.Field("max_yaw_acceleration", &o.limits.max_yaw_acceleration_rad_s2, {0.01, 100});
-      k.Field("max_centripetal_acceleration", &o.limits.max_centripetal_acceleration_m_s2,
-              {0.01, 100});
-      k.Field("yaw_jerk_weight", &o.weights.yaw_jerk, {0, 1000000000.0});
-      k.Field("arc_length_jerk_weight", &o.weights.arc_length_jerk, {0, 1000000000.0});
-      k.Field("time_weight", &o.weights.time, {0, 1000000000.0});
-      k.Field("traversability_weight", &o.weights.traversability, {0, 1000000000.0});
-      k.Field("limits_weight", &o.weights.limits, {0, 1000000000.0});
-      k.Field("clearance_weight", &o.weights.clearance, {0, 1000000000.0});
-      k.Field("moving_obstacles_weight", &o.weights.moving_obstacles, {0, 1000000000.0});
-      k.Field("clearance", &o.clearance_m, {0, 5});
-      k.Field("min_clearance", &o.min_clearance_m, {0, 5});
-      k.Field("robot_radius", &o.robot_radius_m, {0, 5});
-      k.Field("obstacle_clearance", &o.obstacle_clearance_m, {0, 10});
-      k.Field("clearance_growth", &o.clearance_growth_m_s, {0, 10});
-      k.Field("piece_length", &o.piece_length_m, {0.1, 100});
-      k.Field("samples_per_piece", &o.samples_per_piece, {1, 100});
-      k.Field("max_iterations", &o.max_iterations, {1, 100000});
-      k.Field("max_rounds", &o.max_rounds, {1, 100});
-      k.Field("warm_start", &o.warm_start);
-    });
-  });
+  a.Map("track", [&](Archive& t) { VisitTrack(t, s); });
+  a.Map("controller", [&](Archive& c) { VisitController(c, s); });
+  a.Map("planner", [&](Archive& p) { VisitPlanner(p, s); });
   a.template Sequence<sim::MovingObstacle>("moving_obstacles", &s.movers, 1000,
                                            VisitMover<Archive>);
-  a.Map("traffic", [&](Archive& t) {
-    t.Field("count", &s.traffic.count, {0, 200});
-    t.Field("speed", &s.traffic.speed_m_s, {0, 5});
-    t.Enum("behaviour", &s.traffic.behaviour, kTrafficBehaviours);
-    t.Enum("shape", &s.traffic.shape, kTrafficShapes);
-    t.Field("seed", &s.traffic.seed);
-    t.Field("area_radius", &s.traffic.area_radius_m, {0, 500});
-    t.Field("keep_clear", &s.traffic.keep_clear_m, {0, 100});
-  });
-  a.Map("navigation", [&](Archive& n) {
-    planner::NavigationSettings& k = s.navigation;
-    n.Field("movers_from_ground_truth", &k.movers_from_ground_truth);
-    n.Field("mover_sensing_range", &k.mover_sensing_range_m, {0, 500});
-    n.Field("position_noise", &s.pose_noise.position_noise_m, {0, 10});
-    n.Field("yaw_noise", &s.pose_noise.yaw_noise_rad, {0, 3.15});
-    n.Field("drift", &s.pose_noise.drift_m_per_sqrt_s, {0, 10});
-    n.Field("localization_seed", &s.pose_noise.seed);
-    n.Field("mapping_latency", &k.mapping_latency_s, {0, 10});
-    n.Field("goal_radius", &k.goal_radius_m, {0.01, 100});
-    n.Field("planning_rate", &k.planning_rate_hz, {0.1, 100});
-    n.Field("replan_deviation", &k.replan_deviation_m, {0.01, 100});
-    n.Field("safety_horizon", &k.safety_horizon_s, {0, 60});
-    n.Field("stuck_time", &k.stuck_time_s, {0.1, 86400});
-    n.Field("stuck_distance", &k.stuck_distance_m, {0, 100});
-    n.Field("planning_failure_time", &k.planning_failure_time_s, {0.1, 86400});
-    n.Field("near_miss_clearance", &k.near_miss_clearance_m, {0, 10});
-  });
+  a.Map("traffic", [&](Archive& t) { VisitTraffic(t, s); });
+  a.Map("navigation", [&](Archive& n) { VisitNavigation(n, s); });
   a.template Sequence<DriveSegment>("drive", &s.drive, 10000,
                                     [](Archive& d, DriveSegment& segment) {
                                       d.Field("v", &segment.v_m_s, {-30, 30});
                                       d.Field("omega", &segment.omega_rad_s, {-30, 30});
                                       d.Field("duration", &segment.duration_s, {0.001, 86400.0});
                                     });
-  a.Map("lidar", [&](Archive& l) {
-    lidar::LidarConfig& c = s.lidar;
-    l.Field("enabled", &c.enabled);
-    l.Field("table", &c.pattern_table);
-    l.Field("rate", &c.points_per_second, {1, 1000000.0});
-    l.Field("frame_period", &c.frame_period_s, {0.005, 1});
-    l.Field("range_min", &c.range_min_m, {0, 10});
-    l.Field("range_max", &c.range_max_m, {0.1, 500});
-    l.Field("range_noise", &c.range_noise_m, {0, 1});
-    l.Field("angular_noise_deg", &c.angular_noise_deg, {0, 10});
-    l.Field("dropout", &c.dropout, {0, 0.99});
-    l.Field("occlusion", &c.occlusion, {0, 0.99});
-    l.Field("occlusion_sectors", &c.occlusion_sectors, {1, 360});
-    l.Field("seed", &c.seed);
-    l.Field("threads", &c.threads, {1, 64});
-    l.Field("mount", &s.lidar_mount_B, {-10, 10});
-  });
-  a.Map("mapping", [&](Archive& mp) {
-    mapping::FsgpConfig& c = s.mapping;
-    mp.Field("enabled", &s.mapping_enabled);
-    mp.Enum("method", &s.mapper, kMappers);
-    mp.Field("window", &c.area.window_m, {1, 100});
-    mp.Field("resolution", &c.area.resolution_m, {0.02, 2});
-    mp.Field("map_size", &c.area.map_size_m, {1, 1000});
-    mp.Field("max_height_above_robot", &c.area.max_height_above_robot_m, {0, 100});
-    mp.Field("max_height_above_ground", &c.max_height_above_ground_m, {0, 100});
-    mp.Field("pre_voxel", &c.pre_voxel_m, {0, 1});
-    mp.Field("neighbours", &c.neighbours, {3, 200});
-    mp.Field("curvature_threshold", &c.curvature_threshold, {0, 10});
-    mp.Field("gradient_threshold", &c.gradient_threshold_m, {0, 10});
-    mp.Field("feature_voxel", &c.feature_voxel_m, {0, 2});
-    mp.Field("max_training_points", &c.max_training_points, {1, 3000});
-    mp.Field("seed", &c.seed);
-    mp.Field("pca", &c.pca);
-    mp.Map("gp", [&](Archive& gp) {
-      gp.Enum("kernel", &c.gp.kernel, kKernels);
-      Eigen::Vector4d& l = c.gp.length_scales;
-      Eigen::Vector2d xy(l[0], l[1]), features(l[2], l[3]);
-      gp.Field("length_scales_xy", &xy, {0.01, 100});
-      gp.Field("length_scales_features", &features, {0.0001, 10000.0});
-      l << xy, features;
-      gp.Field("signal_variance_ratio", &c.gp.signal_variance_ratio, {1e-06, 1000.0});
-      gp.Field("noise_std", &c.gp.noise_std_m, {1e-05, 10});
-      gp.Field("rq_alpha", &c.gp.rq_alpha, {0.01, 100});
-    });
-    mp.Field("lbfgs_iterations", &c.lbfgs_iterations, {0, 1000});
-    mp.Field("idw_neighbours", &c.idw_neighbours, {1, 100});
-    mp.Field("support_radius", &c.support_radius_m, {0.01, 20});
-    mp.Field("variance_stride", &c.variance_stride, {1, 100});
-    mp.Field("weight_curvature", &c.weight_curvature, {0, 100});
-    mp.Field("weight_gradient", &c.weight_gradient, {0, 100});
-    mp.Field("weight_slope", &c.weight_slope, {0, 100});
-    mp.Field("curvature_max", &c.curvature_max, {1e-06, 100});
-    mp.Field("gradient_max", &c.gradient_max_m, {1e-06, 100});
-    mp.Field("slope_max", &c.slope_max_rad, {0.001, 1.6});
-    mp.Field("fuse", &c.fuse);
-    mp.Field("decay_rate", &c.decay_rate, {0, 100});
-    mp.Field("variance_epsilon", &c.variance_epsilon, {1e-09, 10});
-    mp.Field("smoothing_sigma", &c.smoothing_sigma_m, {0, 5});
-    mp.Field("smoothing_radius", &c.smoothing_radius_m, {0, 10});
-    mp.Field("accumulate_frames", &c.accumulate_frames, {1, 100});
-  });
+  a.Map("lidar", [&](Archive& l) { VisitLidar(l, s); });
+  a.Map("mapping", [&](Archive& mp) { VisitMapping(mp, s); });
   a.Map("ground_truth", [&](Archive& gt) {
     gt.Field("neighbourhood_radius", &s.ground_truth.neighbourhood_radius_m, {0.01, 5.0});
     gt.Field("clearance", &s.ground_truth.clearance_m, {0.01, 5.0});
     gt.Field("footprint_radius", &s.ground_truth.footprint_radius_m, {0.01, 5.0});
   });
-  a.Map("video", [&](Archive& v) {
-    v.Field("enabled", &s.video.enabled);
-    v.Field("width", &s.video.render.width, {16, 4096});
-    v.Field("height", &s.video.render.height, {16, 4096});
-    v.Field("fps", &s.video.fps, {1.0, 120.0});
-    v.Enum("camera", &s.video.camera, kCameras);
-    v.Enum("backend", &s.video.render.backend, kBackends);
-    v.Field("shadows", &s.video.render.shadows);
-    v.Field("msaa", &s.video.render.msaa_samples, {0, 16});
-  });
+  a.Map("video", [&](Archive& v) { VisitVideo(v, s); });
   a.Map("output", [&](Archive& o) { o.Field("dir", &s.output_dir); });
   a.Enum("expect", &s.expected_outcome, kOutcomes);
 }
