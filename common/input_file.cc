@@ -1,11 +1,11 @@
 #include "common/input_file.h"
 
-#include <sys/stat.h>
-
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+
+#include <sys/stat.h>
 
 #include "common/input_error.h"
 

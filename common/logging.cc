@@ -35,4 +35,10 @@ void Log(LogLevel level, const std::string& message) {
   std::fprintf(stderr, "[trav %s] %s\n", LevelName(level), message.c_str());
 }
 
+void LogStatusLine(const std::string& text, bool final) {
+  if (static_cast<int>(LogLevel::kInfo) < g_level) return;
+  std::lock_guard<std::mutex> lock(g_write_mutex);
+  std::fprintf(stderr, "\r%s%s", text.c_str(), final ? "\n" : "");
+}
+
 }  // namespace trav::common

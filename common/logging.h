@@ -14,6 +14,10 @@ void SetLogLevel(LogLevel level);
 /// Writes one line "[trav level] message" to stderr if `level` is enabled. Thread-safe.
 void Log(LogLevel level, const std::string& message);
 
+/// Writes a status line that redraws itself on a terminal ("\r" + text, then a newline when
+/// `final`), at level info; for progress bars. Thread-safe.
+void LogStatusLine(const std::string& text, bool final);
+
 /// Streams its arguments into one log line: `LogStream(LogLevel::kInfo) << "x = " << x;`.
 class LogStream {
  public:

@@ -19,6 +19,7 @@ Trajectory::Trajectory(std::vector<TrajectoryPoint> points) : points_(std::move(
 }
 
 TrajectoryPoint Trajectory::Sample(double t_s) const {
+  TRAV_DEMAND(!points_.empty());
   if (t_s <= points_.front().t_s) return points_.front();
   if (t_s >= points_.back().t_s) return points_.back();
   const auto after = std::upper_bound(points_.begin(), points_.end(), t_s,

@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 
+#include "common/check.h"
+
 namespace trav::common {
 
 /// One state of a planar trajectory of the robot base in W.
@@ -26,11 +28,18 @@ class Trajectory {
   /// @throws std::invalid_argument if `points` is empty or times do not strictly increase.
   explicit Trajectory(std::vector<TrajectoryPoint> points);
 
-  /// The state at time t [s].
+  /// The state at time t [s]. Precondition (checked): not empty.
   TrajectoryPoint Sample(double t_s) const;
 
-  double start_time() const { return points_.front().t_s; }
-  double end_time() const { return points_.back().t_s; }
+  /// Times of the first and last samples [s]. Precondition (checked): not empty.
+  double start_time() const {
+    TRAV_DEMAND(!points_.empty());
+    return points_.front().t_s;
+  }
+  double end_time() const {
+    TRAV_DEMAND(!points_.empty());
+    return points_.back().t_s;
+  }
   bool empty() const { return points_.empty(); }
   const std::vector<TrajectoryPoint>& points() const { return points_; }
 

@@ -139,9 +139,9 @@ std::vector<PathStep> ParseKeyPath(const std::string& key_path) {
       const std::string digits = key.substr(open + 1, key.size() - open - 2);
       if (key.back() != ']' || digits.empty() || digits.size() > 6 ||
           digits.find_first_not_of("0123456789") != std::string::npos || open == 0) {
-        throw InputError("--set", Excerpt(key_path),
-                         "expected name[index] with an index below 1000000 in " +
-                             QuotedExcerpt(key));
+        throw InputError(
+            "--set", Excerpt(key_path),
+            "expected name[index] with an index below 1000000 in " + QuotedExcerpt(key));
       }
       step.key = key.substr(0, open);
       step.index = std::stoul(digits);
@@ -189,7 +189,8 @@ void YamlDocument::Assign(const std::string& key_path, const YAML::Node& value) 
       }
       YAML::Node item = sequence[*step.index];
       if (!item.IsMap())
-        throw InputError("--set", Excerpt(key_path), QuotedExcerpt(step.key) + " items are not maps");
+        throw InputError("--set", Excerpt(key_path),
+                         QuotedExcerpt(step.key) + " items are not maps");
       node.reset(item);
       continue;
     }
@@ -396,7 +397,8 @@ void YamlReader::Read(const std::string& key, std::vector<std::string>* value) {
 void YamlReader::ReadText(const std::string& key, std::string* value) {
   if (!Has(key)) return;
   *value = NodeText(Get(key));
-  if (!IsPrintableUtf8(*value)) Fail(key, "expected printable UTF-8 text, got " + QuotedExcerpt(*value));
+  if (!IsPrintableUtf8(*value))
+    Fail(key, "expected printable UTF-8 text, got " + QuotedExcerpt(*value));
 }
 
 std::vector<std::string> YamlReader::Keys() const {

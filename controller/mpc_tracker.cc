@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/check.h"
 #include "common/statistics.h"
 
 namespace trav::controller {
@@ -27,6 +28,7 @@ MpcTracker::MpcTracker(const MpcConfig& config, common::Trajectory reference)
     : mpc_(config), reference_(std::move(reference)) {}
 
 common::Twist2 MpcTracker::Command(const common::RobotState& state) {
+  TRAV_DEMAND(!reference_.empty());
   const double t = state.time_s;
   if (!SolveDue(t)) return command_;
   next_solve_s_ += mpc_.config().control_period_s;

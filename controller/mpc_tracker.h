@@ -40,7 +40,7 @@ class MpcTracker {
   void SetReference(common::Trajectory reference) { reference_ = std::move(reference); }
 
   /// The command in force at the state's time (a new solve when a control period has passed).
-  /// Precondition: the reference is not empty.
+  /// Precondition (checked): the reference is not empty.
   common::Twist2 Command(const common::RobotState& state);
 
   /// True if a call to Command at time t would solve (a control period has passed).

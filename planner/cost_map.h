@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include "common/check.h"
 #include "common/grid.h"
 
 namespace trav::planner {
@@ -47,8 +48,12 @@ class SearchCostMap {
   const common::GridGeometry& geometry() const { return geometry_; }
   const CostMapConfig& config() const { return config_; }
 
-  /// Cost of cell (ix, iy), infinity if blocked. Precondition: geometry().Contains(ix, iy).
-  double cost(int ix, int iy) const { return costs_(ix, iy); }
+  /// Cost of cell (ix, iy), infinity if blocked. Precondition (checked): geometry().Contains(ix,
+  /// iy).
+  double cost(int ix, int iy) const {
+    TRAV_DEMAND(geometry_.Contains(ix, iy));
+    return costs_(ix, iy);
+  }
 
   /// Cost of the cell containing p_W (its nearest cell centre); infinity if that cell is blocked or
   /// p_W lies outside the grid.

@@ -136,15 +136,15 @@ void ValidateRobotModel(const std::string& robot_model_path) {
   if (!missing.empty()) {
     std::string list;
     for (const std::string& name : missing) list += (list.empty() ? "" : ", ") + name;
-    throw common::InputError(robot_model_path, "robot.model",
-                             "lacks what trav drives and senses: " + list +
-                                 " (docs/scenario-format.md, robot.model)");
+    throw common::InputError(
+        robot_model_path, "robot.model",
+        "lacks what trav drives and senses: " + list + " (docs/scenario-format.md, robot.model)");
   }
   for (int w = 0; w < 4; ++w) {
     if (mj_name2id(model.get(), mjOBJ_ACTUATOR, kWheelActuators[w]) != w) {
-      throw common::InputError(robot_model_path, "robot.model",
-                               std::string("actuator ") + kWheelActuators[w] + " must be number " +
-                                   std::to_string(w));
+      throw common::InputError(
+          robot_model_path, "robot.model",
+          std::string("actuator ") + kWheelActuators[w] + " must be number " + std::to_string(w));
     }
   }
 }

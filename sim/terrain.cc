@@ -206,7 +206,8 @@ void ValidateTerrainConfig(const TerrainConfig& c) {
                        "must be at least one cell");
   // what one run may hold in memory: 2048^2 height samples (with the ray-casting mesh and the
   // MuJoCo height field about 0.5 GB), and 20,000 generated obstacles
-  const double samples = (c.size_m.x() / c.resolution_m + 1.0) * (c.size_m.y() / c.resolution_m + 1.0);
+  const double samples =
+      (c.size_m.x() / c.resolution_m + 1.0) * (c.size_m.y() / c.resolution_m + 1.0);
   common::RequireValue(samples <= 2048.0 * 2048.0, "terrain.resolution", c.resolution_m,
                        "gives more than 2048 x 2048 height samples for terrain.size");
   const double area_m2 = c.size_m.x() * c.size_m.y();

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/input_error.h"
+#include "common/logging.h"
 #include "common/yaml_reader.h"
 #include "scenarios/experiments/batch_report.h"
 #include "scenarios/run/output_folder.h"
@@ -221,8 +222,8 @@ BatchProgress RunBatchLocally(const BatchSpec& spec, const std::vector<BatchRun>
   const fs::path folder = fs::absolute(out_dir);
   const int resumed = static_cast<int>(runs.size() - pending.size());
   if (resumed > 0) {
-    std::fprintf(stderr, "%d of %zu runs already finished in %s: kept\n", resumed, runs.size(),
-                 out_dir.c_str());
+    common::LogStream(common::LogLevel::kInfo)
+        << resumed << " of " << runs.size() << " runs already finished in " << out_dir << ": kept";
   }
   ProgressLine progress(static_cast<int>(runs.size()), resumed, "run", options.progress_bar);
   const JobsProgress jobs =

@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "common/input_error.h"
+#include "common/logging.h"
 #include "common/random.h"
 #include "common/statistics.h"
 #include "common/yaml_reader.h"
@@ -460,8 +461,9 @@ EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_d
                     record.string()});
   }
   if (result.resumed > 0) {
-    std::fprintf(stderr, "%d of %d scenes already finished in %s: kept\n", result.resumed,
-                 result.scenes, out_dir.c_str());
+    common::LogStream(common::LogLevel::kInfo)
+        << result.resumed << " of " << result.scenes << " scenes already finished in " << out_dir
+        << ": kept";
   }
   if (slurm && !jobs.empty()) {
     result.slurm_job = SubmitJobArray(absolute.string(), jobs, options.scene_time_limit_s, *slurm);

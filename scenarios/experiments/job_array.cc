@@ -16,6 +16,7 @@
 
 #include "common/input_error.h"
 #include "common/input_file.h"
+#include "common/logging.h"
 #include "scenarios/run/output_folder.h"
 
 namespace trav::scenarios {
@@ -194,8 +195,9 @@ std::string SubmitJobArray(const std::string& folder_path, const std::vector<Job
   if (job_id.empty() || job_id.find_first_not_of("0123456789") != std::string::npos) {
     throw std::runtime_error("sbatch answered " + common::QuotedExcerpt(output) + ", not a job id");
   }
-  std::fprintf(stderr, "submitted Slurm job %s: %zu array tasks for %zu jobs (%s)\n",
-               job_id.c_str(), tasks.size(), jobs.size(), script_path.c_str());
+  common::LogStream(common::LogLevel::kInfo)
+      << "submitted Slurm job " << job_id << ": " << tasks.size() << " array tasks for "
+      << jobs.size() << " jobs (" << script_path << ")";
   if (!options.wait) return job_id;
 
   // wait until squeue no longer lists the job, reporting finished jobs as they appear
@@ -206,8 +208,8 @@ std::string SubmitJobArray(const std::string& folder_path, const std::vector<Job
     std::size_t finished = 0;
     for (const Job& job : jobs) finished += ResultExists(job.result_path) ? 1 : 0;
     if (finished != reported) {
-      std::fprintf(stderr, "Slurm job %s: %zu of %zu finished\n", job_id.c_str(), finished,
-                   jobs.size());
+      common::LogStream(common::LogLevel::kInfo)
+          << "Slurm job " << job_id << ": " << finished << " of " << jobs.size() << " finished";
       reported = finished;
     }
     const ProcessResult squeue =

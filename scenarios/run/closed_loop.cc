@@ -107,8 +107,8 @@ common::Pose2 StartPose(const Scenario& scenario, const controller::MpcTracker* 
 // What drives the robot in mode track: the MPC tracking the scenario's reference.
 std::optional<controller::MpcTracker> MakeTracker(const Scenario& scenario) {
   if (scenario.mode != RunMode::kTrack) return std::nullopt;
-  return std::optional<controller::MpcTracker>(
-      std::in_place, scenario.mpc, BuildReference(scenario.track, scenario.start_W));
+  return std::optional<controller::MpcTracker>(std::in_place, scenario.mpc,
+                                               BuildReference(scenario.track, scenario.start_W));
 }
 
 sim::WorldOptions WorldOptionsOf(const Scenario& scenario, const ClosedLoopOptions& options) {

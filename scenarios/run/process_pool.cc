@@ -16,6 +16,8 @@
 #include <sys/prctl.h>
 #include <sys/wait.h>
 
+#include "common/logging.h"
+
 namespace trav::scenarios {
 namespace {
 
@@ -195,14 +197,18 @@ void ProgressLine::Ended(const std::string& id, bool ok, double wall_s) {
   if (bar_) {
     constexpr int kWidth = 30;
     const int filled = total_ > 0 ? done * kWidth / total_ : kWidth;
-    std::fprintf(stderr, "\r[%s%s] %d/%d %s, %d failed, %s elapsed, ETA %s   ",
-                 std::string(filled, '#').c_str(), std::string(kWidth - filled, '.').c_str(), done,
-                 total_, noun_.c_str(), failed_, Duration(elapsed_s).c_str(),
-                 Duration(eta_s).c_str());
-    if (remaining == 0) std::fprintf(stderr, "\n");
+    char line[256];
+    std::snprintf(line, sizeof(line), "[%s%s] %d/%d %s, %d failed, %s elapsed, ETA %s   ",
+                  std::string(filled, '#').c_str(), std::string(kWidth - filled, '.').c_str(), done,
+                  total_, noun_.c_str(), failed_, Duration(elapsed_s).c_str(),
+                  Duration(eta_s).c_str());
+    common::LogStatusLine(line, remaining == 0);
   } else {
-    std::fprintf(stderr, "%s %s %s in %.0f s [%d/%d, ETA %s]\n", noun_.c_str(), id.c_str(),
-                 ok ? "finished" : "FAILED", wall_s, done, total_, Duration(eta_s).c_str());
+    char line[256];
+    std::snprintf(line, sizeof(line), "%s %s %s in %.0f s [%d/%d, ETA %s]", noun_.c_str(),
+                  id.c_str(), ok ? "finished" : "FAILED", wall_s, done, total_,
+                  Duration(eta_s).c_str());
+    common::Log(common::LogLevel::kInfo, line);
   }
 }
 

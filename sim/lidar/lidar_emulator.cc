@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/check.h"
+
 namespace trav::lidar {
 namespace {
 
@@ -96,6 +98,7 @@ bool LidarEmulator::Occluded(float azimuth_rad) const {
 }
 
 void LidarEmulator::TakeFrame(LidarFrame* frame) {
+  TRAV_DEMAND(ready_);
   std::swap(*frame, complete_);
   ready_ = false;
 }

@@ -62,7 +62,7 @@ class LidarEmulator {
   bool frame_ready() const { return ready_; }
 
   /// Moves the complete frame into `frame` (swapping buffers: no allocation in steady use).
-  /// @pre frame_ready()
+  /// Precondition (checked): frame_ready().
   void TakeFrame(LidarFrame* frame);
 
   const LidarConfig& config() const { return config_; }

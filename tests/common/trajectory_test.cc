@@ -1,11 +1,25 @@
 #include "common/trajectory.h"
 
 #include <cmath>
+#include <string>
 
 #include <gtest/gtest.h>
 
 namespace trav::common {
 namespace {
+
+TEST(TrajectoryTest, AnEmptyTrajectoryRefusesToBeSampled) {
+  const Trajectory empty;
+  EXPECT_THROW(empty.Sample(0.0), PreconditionError);
+  EXPECT_THROW(empty.start_time(), PreconditionError);
+  EXPECT_THROW(empty.end_time(), PreconditionError);
+  try {
+    empty.Sample(1.0);
+  } catch (const PreconditionError& e) {
+    EXPECT_NE(std::string(e.what()).find("!points_.empty() does not hold"), std::string::npos)
+        << e.what();
+  }
+}
 
 TEST(TrajectoryTest, SamplesInterpolateAndHoldTheEnds) {
   const Trajectory dut({{0.0, {0, 0}, 0.0, 1.0, 0.0, 0.0}, {1.0, {1, 2}, 1.0, 2.0, 0.5, 1.0}});

@@ -151,7 +151,8 @@ TEST(YamlDocumentTest, SetReachesIntoSequencesByIndex) {
 
 TEST(YamlDocumentTest, MissingFileAndBadSyntaxAreInputErrors) {
   EXPECT_THAT([] { YamlDocument::Load("/nonexistent/scenario.yaml"); },
-              ThrowsMessage<InputError>(HasSubstr("/nonexistent/scenario.yaml: cannot open YAML file: No such file or directory")));
+              ThrowsMessage<InputError>(HasSubstr(
+                  "/nonexistent/scenario.yaml: cannot open YAML file: No such file or directory")));
   EXPECT_THAT([] { YamlDocument::Parse("a: [1, 2", "bad.yaml"); },
               ThrowsMessage<InputError>(HasSubstr("bad.yaml: invalid YAML")));
   EXPECT_THAT(

@@ -24,9 +24,9 @@ inline const std::filesystem::path& ScratchFolder() {
     std::filesystem::create_directories(path);
     std::atexit([] {
       std::error_code error;
-      std::filesystem::remove_all(std::filesystem::temp_directory_path() /
-                                      ("trav-fuzz-" + std::to_string(getpid())),
-                                  error);
+      std::filesystem::remove_all(
+          std::filesystem::temp_directory_path() / ("trav-fuzz-" + std::to_string(getpid())),
+          error);
     });
     return path;
   }();
@@ -36,8 +36,8 @@ inline const std::filesystem::path& ScratchFolder() {
 /// Writes the input to `name` in the scratch folder and returns its path.
 inline std::string InputFile(const std::uint8_t* data, std::size_t size, const std::string& name) {
   const std::string path = (ScratchFolder() / name).string();
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(data),
-                                              static_cast<std::streamsize>(size));
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return path;
 }
 

@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "common/check.h"
 #include "common/input_error.h"
 #include "tests/lidar/lidar_test_util.h"
 
@@ -55,6 +56,16 @@ TEST(LidarEmulatorTest, AFrameHasTwentyThousandPointsWithTimesAndLines) {
   EXPECT_FLOAT_EQ(frame.points_L.time_offsets[19999], 19999 * 5e-6f);
   EXPECT_EQ(frame.points_L.line_ids[6], 2);
   EXPECT_EQ(frame.batch_poses_W.size(), 50u);
+}
+
+TEST(LidarEmulatorTest, TakingAFrameBeforeOneIsCompleteIsAPreconditionError) {
+  const RayScene scene = Enclosure();
+  LidarEmulator dut(Noiseless());
+  LidarFrame frame;
+  EXPECT_THROW(dut.TakeFrame(&frame), common::PreconditionError);
+  dut.Scan(scene, 0.0, 0.05, Eigen::Isometry3d::Identity());  // half a frame
+  EXPECT_FALSE(dut.frame_ready());
+  EXPECT_THROW(dut.TakeFrame(&frame), common::PreconditionError);
 }
 
 TEST(LidarEmulatorTest, RangeNoiseHasTheConfiguredStandardDeviation) {

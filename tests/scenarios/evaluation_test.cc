@@ -16,7 +16,8 @@
 
 #include "tests/cli_test_util.h"
 
-// Clang says whether AddressSanitizer is on through __has_feature, GCC through __SANITIZE_ADDRESS__.
+// Clang says whether AddressSanitizer is on through __has_feature, GCC through
+// __SANITIZE_ADDRESS__.
 #if defined(__has_feature)
 #define TRAV_HAS_ADDRESS_SANITIZER __has_feature(address_sanitizer)
 #else

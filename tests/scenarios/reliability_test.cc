@@ -3,7 +3,6 @@
 // user's is ever replaced, bad input exits 2 without leaving anything behind.
 #include <fcntl.h>
 #include <signal.h>
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -19,6 +18,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <sys/resource.h>
 #include <sys/wait.h>
 
 #include "tests/cli_test_util.h"
@@ -83,7 +83,8 @@ class ReliabilityTest : public ::testing::Test {
     close(output[1]);
     CommandResult result;
     char buffer[4096];
-    for (ssize_t n; (n = read(output[0], buffer, sizeof(buffer))) > 0;) result.output.append(buffer, n);
+    for (ssize_t n; (n = read(output[0], buffer, sizeof(buffer))) > 0;)
+      result.output.append(buffer, n);
     close(output[0]);
     result.exit_code = Wait(pid);
     return result;
@@ -226,9 +227,20 @@ TEST_F(ReliabilityTest, ABatchKilledAtRandomMomentsResumesWithEveryRunOnce) {
 
 TEST_F(ReliabilityTest, AnEvaluationKilledAtRandomMomentsResumesWithEverySceneOnce) {
   const std::string out = (root_ / "eval").string();
-  const std::vector<std::string> args = {
-      "eval",    "--out",   out,      "--terrains", "flat", "--scenes",      "3", "--frames",
-      "4",       "--jobs",  "2",      "--methods",  "ground-truth,constant=0.25", "--no-ablation"};
+  const std::vector<std::string> args = {"eval",
+                                         "--out",
+                                         out,
+                                         "--terrains",
+                                         "flat",
+                                         "--scenes",
+                                         "3",
+                                         "--frames",
+                                         "4",
+                                         "--jobs",
+                                         "2",
+                                         "--methods",
+                                         "ground-truth,constant=0.25",
+                                         "--no-ablation"};
   std::mt19937 random(7);
   std::uniform_int_distribution<int> delay_ms(50, 1500);
   for (int kill_round = 0; kill_round < 6; ++kill_round) {
@@ -258,8 +270,9 @@ TEST_F(ReliabilityTest, AnEvaluationKilledAtRandomMomentsResumesWithEverySceneOn
 }
 
 TEST_F(ReliabilityTest, AFullDiskLeavesEveryEarlierResultAndSaysSo) {
-  Write("r.yaml", "schema_version: 1\nname: r\nmode: drive\nterrain: {type: flat, size: [10, "
-                  "10]}\nduration: 0.2\nlidar: {enabled: false}\nvideo: {enabled: false}\n");
+  Write("r.yaml",
+        "schema_version: 1\nname: r\nmode: drive\nterrain: {type: flat, size: [10, "
+        "10]}\nduration: 0.2\nlidar: {enabled: false}\nvideo: {enabled: false}\n");
   const std::string batch = Write("batch.yaml", "scenarios: [r.yaml]\nsweep: {seed: [1, 2]}\n");
   const std::string out = (root_ / "out").string();
   ASSERT_EQ(RunTrav("batch " + batch + " --out " + out).exit_code, 0);
@@ -283,13 +296,14 @@ TEST_F(ReliabilityTest, AFullDiskLeavesEveryEarlierResultAndSaysSo) {
 }
 
 TEST_F(ReliabilityTest, TwoBatchesInOneFolderDoNotRunTogether) {
-  Write("long.yaml", "schema_version: 1\nname: long\nmode: track\nterrain: {type: flat, size: "
-                     "[20, 20]}\nrobot: {start: [-6, 0, 0]}\ntrack: {reference: line, size: 12.0, "
-                     "speed: 1.0}\nduration: 6\nlidar: {enabled: false}\nvideo: {enabled: false}\n");
+  Write("long.yaml",
+        "schema_version: 1\nname: long\nmode: track\nterrain: {type: flat, size: "
+        "[20, 20]}\nrobot: {start: [-6, 0, 0]}\ntrack: {reference: line, size: 12.0, "
+        "speed: 1.0}\nduration: 6\nlidar: {enabled: false}\nvideo: {enabled: false}\n");
   const std::string batch = Write("batch.yaml", "scenarios: [long.yaml]\n").string();
   const std::string out = (root_ / "out").string();
-  const pid_t first = Spawn({"batch", batch, "--out", out, "--jobs", "1"},
-                            (root_ / "first.log").string());
+  const pid_t first =
+      Spawn({"batch", batch, "--out", out, "--jobs", "1"}, (root_ / "first.log").string());
   for (int i = 0; i < 500 && !fs::exists(root_ / "out" / "batch.json"); ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
@@ -324,9 +338,10 @@ TEST_F(ReliabilityTest, AnOutputFolderOfTheUsersIsNeverTouched) {
   const fs::path mine = root_ / "mine";
   fs::create_directories(mine);
   std::ofstream(mine / "data.csv") << "1,2,3\n";
-  const std::string scenario = Write("s.yaml", "schema_version: 1\nmode: drive\nterrain: {type: "
-                                               "flat, size: [10, 10]}\nduration: 0.2\nlidar: "
-                                               "{enabled: false}\nvideo: {enabled: false}\n")
+  const std::string scenario = Write("s.yaml",
+                                     "schema_version: 1\nmode: drive\nterrain: {type: "
+                                     "flat, size: [10, 10]}\nduration: 0.2\nlidar: "
+                                     "{enabled: false}\nvideo: {enabled: false}\n")
                                    .string();
   for (const char* flags : {"", " --overwrite"}) {
     const CommandResult run = RunTrav("run " + scenario + " --out " + mine.string() + flags);

@@ -134,7 +134,8 @@ TEST_F(TravCliTest, NegativeResolutionIsBadInput) {
   const CommandResult result = RunTrav("run " + scenario + " --set terrain.resolution=-0.2 --out " +
                                        (root_ / "run").string());
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_THAT(result.output, HasSubstr("terrain.resolution: value '-0.2' is outside its bounds [0.02, 1]"));
+  EXPECT_THAT(result.output,
+              HasSubstr("terrain.resolution: value '-0.2' is outside its bounds [0.02, 1]"));
   ExpectNoOutputFolder();
 }
 
@@ -142,12 +143,14 @@ TEST_F(TravCliTest, MissingFilesAreBadInput) {
   CommandResult result =
       RunTrav("run " + (root_ / "missing.yaml").string() + " --out " + (root_ / "run").string());
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_THAT(result.output, HasSubstr("missing.yaml: cannot open YAML file: No such file or directory"));
+  EXPECT_THAT(result.output,
+              HasSubstr("missing.yaml: cannot open YAML file: No such file or directory"));
   const std::string scenario = WriteScenario("short.yaml", std::string(kShortRun) + "");
   result = RunTrav("run " + scenario + " --set robot.model=nothere.xml --out " +
                    (root_ / "run").string());
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_THAT(result.output, HasSubstr("nothere.xml: cannot open robot model: No such file or directory"));
+  EXPECT_THAT(result.output,
+              HasSubstr("nothere.xml: cannot open robot model: No such file or directory"));
   ExpectNoOutputFolder();
 }
 
