@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "common/enum_names.h"
 #include "common/input_error.h"
 
 namespace YAML {
@@ -100,22 +101,18 @@ class YamlReader {
   /// The keys of the map, in document order.
   std::vector<std::string> Keys() const;
 
-  /// Reads an enum by name from `names`; an unknown name is an error listing the valid ones.
+  /// Reads an enum by the names of its table (common/enum_names.h); an unknown name is an error
+  /// listing the valid ones.
   template <typename Enum>
-  void ReadEnum(const std::string& key, Enum* value,
-                const std::vector<std::pair<std::string, Enum>>& names) {
+  void ReadEnum(const std::string& key, Enum* value) {
     if (!Has(key)) return;
     std::string text;
     Read(key, &text);
-    std::string valid;
-    for (const auto& [name, option] : names) {
-      if (name == text) {
-        *value = option;
-        return;
-      }
-      valid += (valid.empty() ? "" : ", ") + name;
+    const std::optional<Enum> named = EnumFromName<Enum>(text);
+    if (!named) {
+      Fail(key, "unknown value '" + text + "' (expected one of: " + EnumNameList<Enum>() + ")");
     }
-    Fail(key, "unknown value '" + text + "' (expected one of: " + valid + ")");
+    *value = *named;
   }
 
   /// Like Read(), but the key must be present.

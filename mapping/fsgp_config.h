@@ -1,8 +1,11 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include <Eigen/Core>
+
+#include "common/enum_names.h"
 
 namespace trav::mapping {
 
@@ -11,6 +14,12 @@ enum class KernelType {
   kSquaredExponential,  ///< s^2 exp(-r^2 / 2)
   kRationalQuadratic,   ///< s^2 (1 + r^2 / (2 alpha))^-alpha
 };
+
+/// The names of KernelType's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<KernelType>, 2> kKernelTypeNames{
+    {{KernelType::kSquaredExponential, "squared_exponential"},
+     {KernelType::kRationalQuadratic, "rational_quadratic"}}};
+constexpr const auto& EnumNames(KernelType) { return kKernelTypeNames; }
 
 /// Hyperparameters of the sparse GP (inputs standardised per dimension: x, y, kappa, g).
 struct GpHyperparameters {

@@ -1,11 +1,13 @@
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 
 #include <Eigen/Core>
 
 #include "common/check.h"
+#include "common/enum_names.h"
 #include "common/grid.h"
 
 namespace trav::planner {
@@ -15,6 +17,11 @@ enum class UnknownPolicy {
   kCost,     ///< traversable at `unknown_cost`
   kBlocked,  ///< never entered
 };
+
+/// The names of UnknownPolicy's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<UnknownPolicy>, 2> kUnknownPolicyNames{
+    {{UnknownPolicy::kCost, "cost"}, {UnknownPolicy::kBlocked, "blocked"}}};
+constexpr const auto& EnumNames(UnknownPolicy) { return kUnknownPolicyNames; }
 
 /// How a traversability layer becomes search costs; the settings of A* (`AStarConfig`) and of the
 /// sampling planners.

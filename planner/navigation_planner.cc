@@ -58,20 +58,6 @@ void ValidateNavigationPlannerConfig(const NavigationPlannerConfig& c) {
   ValidateTrajectoryOptimizerConfig(c.optimizer);
 }
 
-std::string ToString(NavigationStatus status) {
-  switch (status) {
-    case NavigationStatus::kPlanned:
-      return "planned";
-    case NavigationStatus::kPlannedToNearest:
-      return "planned-to-nearest";
-    case NavigationStatus::kOptimizerFailed:
-      return "optimizer-failed";
-    case NavigationStatus::kNoPath:
-      return "no-path";
-  }
-  return "unknown";
-}
-
 NavigationPlanner::NavigationPlanner(const NavigationPlannerConfig& config)
     : config_(config), optimizer_(config.optimizer) {
   ValidateNavigationPlannerConfig(config_);

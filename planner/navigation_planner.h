@@ -1,11 +1,13 @@
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "common/enum_names.h"
 #include "common/grid.h"
 #include "common/trajectory.h"
 #include "planner/astar.h"
@@ -36,8 +38,13 @@ enum class NavigationStatus {
   kNoPath,            ///< the search found no path (or the start is blocked)
 };
 
-/// Name of a status ("planned", "planned-to-nearest", "optimizer-failed", "no-path").
-std::string ToString(NavigationStatus status);
+/// The names of NavigationStatus's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<NavigationStatus>, 4> kNavigationStatusNames{
+    {{NavigationStatus::kPlanned, "planned"},
+     {NavigationStatus::kPlannedToNearest, "planned-to-nearest"},
+     {NavigationStatus::kOptimizerFailed, "optimizer-failed"},
+     {NavigationStatus::kNoPath, "no-path"}}};
+constexpr const auto& EnumNames(NavigationStatus) { return kNavigationStatusNames; }
 
 /// Result of one planning call.
 struct NavigationPlan {

@@ -402,18 +402,6 @@ void ValidateTrajectoryOptimizerConfig(const TrajectoryOptimizerConfig& c) {
                c.warm_start_goal_tolerance_m, "must be >= 0");
 }
 
-std::string ToString(OptimizationStatus status) {
-  switch (status) {
-    case OptimizationStatus::kConverged:
-      return "converged";
-    case OptimizationStatus::kIterationLimit:
-      return "iteration-limit";
-    case OptimizationStatus::kInfeasible:
-      return "infeasible";
-  }
-  return "unknown";
-}
-
 TrajectoryOptimizer::TrajectoryOptimizer(const TrajectoryOptimizerConfig& config)
     : config_(config) {
   ValidateTrajectoryOptimizerConfig(config_);

@@ -1,11 +1,13 @@
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "common/enum_names.h"
 #include "common/trajectory.h"
 #include "planner/cost_field.h"
 #include "planner/trajectory_cost.h"
@@ -63,8 +65,12 @@ enum class OptimizationStatus {
   kInfeasible,      ///< a constraint violated beyond tolerance, or the goal far from reached
 };
 
-/// Name of a status ("converged", "iteration-limit", "infeasible").
-std::string ToString(OptimizationStatus status);
+/// The names of OptimizationStatus's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<OptimizationStatus>, 3> kOptimizationStatusNames{
+    {{OptimizationStatus::kConverged, "converged"},
+     {OptimizationStatus::kIterationLimit, "iteration-limit"},
+     {OptimizationStatus::kInfeasible, "infeasible"}}};
+constexpr const auto& EnumNames(OptimizationStatus) { return kOptimizationStatusNames; }
 
 /// What the solve did, for logs and summaries.
 struct OptimizationDiagnostics {

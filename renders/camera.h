@@ -1,6 +1,10 @@
 #pragma once
 
+#include <array>
+
 #include <Eigen/Geometry>
+
+#include "common/enum_names.h"
 
 namespace trav::renders {
 
@@ -18,6 +22,13 @@ enum class CameraMode {
   kOverview,  ///< the whole world from high above at an angle
   kTopDown,   ///< straight down onto the robot
 };
+
+/// The names of CameraMode's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<CameraMode>, 3> kCameraModeNames{
+    {{CameraMode::kChase, "chase"},
+     {CameraMode::kOverview, "overview"},
+     {CameraMode::kTopDown, "top_down"}}};
+constexpr const auto& EnumNames(CameraMode) { return kCameraModeNames; }
 
 /// Parameters of the chase camera.
 struct ChaseCameraParams {

@@ -11,6 +11,8 @@
 #include <EGL/eglext.h>
 #include <GL/osmesa.h>
 
+#include "common/enum_names.h"
+
 namespace trav::renders {
 namespace {
 
@@ -21,9 +23,9 @@ void ClaimBackend(GlBackend backend) {
   int expected = -1;
   const int wanted = static_cast<int>(backend);
   if (!g_loaded_backend.compare_exchange_strong(expected, wanted) && expected != wanted) {
-    throw std::runtime_error(std::string("cannot use the ") + GlBackendName(backend) +
+    throw std::runtime_error(std::string("cannot use the ") + common::NameOf(backend) +
                              " GL backend: this process already uses " +
-                             GlBackendName(static_cast<GlBackend>(expected)));
+                             common::NameOf(static_cast<GlBackend>(expected)));
   }
 }
 
@@ -155,10 +157,6 @@ class EglContext final : public GlContext {
 };
 
 }  // namespace
-
-const char* GlBackendName(GlBackend backend) {
-  return backend == GlBackend::kOsmesa ? "osmesa" : "egl";
-}
 
 std::unique_ptr<GlContext> GlContext::Create(GlBackend backend, int width, int height) {
   ClaimBackend(backend);

@@ -1,7 +1,10 @@
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
+
+#include "common/enum_names.h"
 
 namespace trav::renders {
 
@@ -11,8 +14,10 @@ enum class GlBackend {
   kEgl,     ///< EGL; headless through Mesa's surfaceless platform, or a GPU driver where present
 };
 
-/// Name as used in scenario files and flags ("osmesa", "egl").
-const char* GlBackendName(GlBackend backend);
+/// The names of GlBackend's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<GlBackend>, 2> kGlBackendNames{
+    {{GlBackend::kOsmesa, "osmesa"}, {GlBackend::kEgl, "egl"}}};
+constexpr const auto& EnumNames(GlBackend) { return kGlBackendNames; }
 
 /// A current off-screen OpenGL context. The platform library is loaded at run time (dlopen), so a
 /// process that never renders needs no GL library at all. MuJoCo's GL loader picks the first

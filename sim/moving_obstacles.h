@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include "common/enum_names.h"
 #include "common/mesh.h"
 #include "common/random.h"
 #include "sim/terrain.h"
@@ -18,12 +19,26 @@ namespace trav::sim {
 /// Shapes of moving obstacles. Every shape stands upright on the ground.
 enum class MoverShape { kBox, kCylinder, kCapsule };
 
+/// The names of MoverShape's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<MoverShape>, 3> kMoverShapeNames{
+    {{MoverShape::kBox, "box"},
+     {MoverShape::kCylinder, "cylinder"},
+     {MoverShape::kCapsule, "capsule"}}};
+constexpr const auto& EnumNames(MoverShape) { return kMoverShapeNames; }
+
 /// How a scripted mover continues after its last waypoint.
 enum class WaypointLoop {
   kNone,      ///< stops at the last waypoint and stays there
   kCycle,     ///< walks from the last waypoint straight back to the first and starts again
   kPingPong,  ///< turns back at each end: first to last, last to first, and so on
 };
+
+/// The names of WaypointLoop's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<WaypointLoop>, 3> kWaypointLoopNames{
+    {{WaypointLoop::kNone, "none"},
+     {WaypointLoop::kCycle, "cycle"},
+     {WaypointLoop::kPingPong, "ping_pong"}}};
+constexpr const auto& EnumNames(WaypointLoop) { return kWaypointLoopNames; }
 
 /// Scripted waypoints: the mover stands at the first waypoint until `start_delay_s`, then walks the
 /// waypoints in order along straight lines at constant speed. Repeated consecutive waypoints are

@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 
+#include "common/enum_names.h"
+
 namespace trav::sim {
 
 /// Value and gradient of a 2-D noise field.
@@ -36,6 +38,14 @@ enum class FractalFamily {
   kBillowy,  ///< sum of |n|: rounded hills and creases
   kSwiss,    ///< ridged noise warped by the running sum of derivatives (erosion-like valleys)
 };
+
+/// The names of FractalFamily's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<FractalFamily>, 4> kFractalFamilyNames{
+    {{FractalFamily::kFbm, "fbm"},
+     {FractalFamily::kRidged, "ridged"},
+     {FractalFamily::kBillowy, "billowy"},
+     {FractalFamily::kSwiss, "swiss"}}};
+constexpr const auto& EnumNames(FractalFamily) { return kFractalFamilyNames; }
 
 /// Parameters of a fractal noise field; lengths in lattice units of the base octave.
 struct FractalParams {

@@ -90,30 +90,6 @@ void FillProfile(const TerrainConfig& config, internal::ObstaclePlacer* placer) 
 
 }  // namespace
 
-const char* TerrainTypeName(TerrainType type) {
-  switch (type) {
-    case TerrainType::kFlat:
-      return "flat";
-    case TerrainType::kSlope:
-      return "slope";
-    case TerrainType::kStep:
-      return "step";
-    case TerrainType::kStairs:
-      return "stairs";
-    case TerrainType::kHilly:
-      return "hilly";
-    case TerrainType::kForest:
-      return "forest";
-    case TerrainType::kRuin:
-      return "ruin";
-    case TerrainType::kRoad:
-      return "road";
-    case TerrainType::kIndoor:
-      return "indoor";
-  }
-  return "?";
-}
-
 double TerrainWorld::GroundHeight(const Eigen::Vector2d& p_W) const {
   return common::InterpolateBilinear(geometry, height_m, p_W);
 }

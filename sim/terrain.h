@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "common/enum_names.h"
 #include "common/grid.h"
 #include "common/mesh.h"
 #include "common/point_cloud.h"
@@ -17,8 +18,18 @@ namespace trav::sim {
 /// Terrain families: the paper's five scene types plus test terrains.
 enum class TerrainType { kFlat, kSlope, kStep, kStairs, kHilly, kForest, kRuin, kRoad, kIndoor };
 
-/// Name of a terrain type as written in scenario files ("hilly", ...).
-const char* TerrainTypeName(TerrainType type);
+/// The names of TerrainType's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<TerrainType>, 9> kTerrainTypeNames{
+    {{TerrainType::kFlat, "flat"},
+     {TerrainType::kSlope, "slope"},
+     {TerrainType::kStep, "step"},
+     {TerrainType::kStairs, "stairs"},
+     {TerrainType::kHilly, "hilly"},
+     {TerrainType::kForest, "forest"},
+     {TerrainType::kRuin, "ruin"},
+     {TerrainType::kRoad, "road"},
+     {TerrainType::kIndoor, "indoor"}}};
+constexpr const auto& EnumNames(TerrainType) { return kTerrainTypeNames; }
 
 /// Hilly ground (also the base of forest and ruin): fractal noise rescaled so that a chosen
 /// percentile of the slope reaches a target angle.

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "common/enum_names.h"
 #include "common/input_error.h"
 
 namespace trav::planner {
@@ -175,7 +176,7 @@ void Navigator::Replan(const common::RobotState& state, const common::GridLayers
     ++statistics_.replans_on_events;
   }
   statistics_.planning_ms.push_back(1e3 * (plan.search_time_s + plan.optimization_time_s));
-  statistics_.last_status = ToString(plan.status);
+  statistics_.last_status = common::NameOf(plan.status);
   if (plan.status == NavigationStatus::kOptimizerFailed) {
     const OptimizationDiagnostics& d = plan.optimized.diagnostics;
     statistics_.last_status += " (" + d.worst_constraint + " violated by " +

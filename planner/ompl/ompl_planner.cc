@@ -26,6 +26,7 @@
 #include <ompl/geometric/planners/rrt/RRTstar.h>
 #include <ompl/util/Console.h>
 
+#include "common/enum_names.h"
 #include "common/random.h"
 
 namespace trav::planner {
@@ -33,9 +34,6 @@ namespace {
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
-
-constexpr SamplingAlgorithm kAlgorithms[] = {
-    SamplingAlgorithm::kRrtStar, SamplingAlgorithm::kBitStar, SamplingAlgorithm::kRrtConnect};
 
 // Draws per informed sample for BIT*. OMPL lets its own rejection sampler try 2^32 times, which
 // spins once the informed set is (numerically) empty, i.e. when a path meets the heuristic's bound;
@@ -173,8 +171,7 @@ void Validate(const SamplingPlannerConfig& config) {
     message << "SamplingPlannerConfig." << field << " must be " << requirement << ", got " << value;
     throw std::invalid_argument(message.str());
   };
-  if (std::find(std::begin(kAlgorithms), std::end(kAlgorithms), config.algorithm) ==
-      std::end(kAlgorithms)) {
+  if (std::string(common::NameOf(config.algorithm)) == "?") {
     fail("algorithm", static_cast<int>(config.algorithm), "a SamplingAlgorithm");
   }
   if (!(config.time_limit_s > 0.0) || !std::isfinite(config.time_limit_s)) {
@@ -188,23 +185,12 @@ void Validate(const SamplingPlannerConfig& config) {
 }  // namespace
 
 SamplingAlgorithm ParseSamplingAlgorithm(const std::string& name) {
-  for (const SamplingAlgorithm algorithm : kAlgorithms) {
-    if (name == SamplingAlgorithmName(algorithm)) return algorithm;
+  const std::optional<SamplingAlgorithm> algorithm = common::EnumFromName<SamplingAlgorithm>(name);
+  if (!algorithm) {
+    throw std::invalid_argument("unknown sampling algorithm '" + name + "' (" +
+                                common::EnumNameList<SamplingAlgorithm>() + ")");
   }
-  throw std::invalid_argument("unknown sampling algorithm '" + name +
-                              "' (rrt-star, bit-star or rrt-connect)");
-}
-
-const char* SamplingAlgorithmName(SamplingAlgorithm algorithm) {
-  switch (algorithm) {
-    case SamplingAlgorithm::kRrtStar:
-      return "rrt-star";
-    case SamplingAlgorithm::kBitStar:
-      return "bit-star";
-    case SamplingAlgorithm::kRrtConnect:
-      return "rrt-connect";
-  }
-  return "?";
+  return *algorithm;
 }
 
 SamplingResult PlanSampling(const SearchCostMap& costs, const SamplingPlannerConfig& config,

@@ -1,10 +1,12 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 
 #include <Eigen/Core>
 
+#include "common/enum_names.h"
 #include "planner/astar.h"
 #include "planner/cost_map.h"
 
@@ -24,12 +26,16 @@ enum class SamplingAlgorithm {
   kRrtConnect,
 };
 
+/// The names of SamplingAlgorithm's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<SamplingAlgorithm>, 3> kSamplingAlgorithmNames{
+    {{SamplingAlgorithm::kRrtStar, "rrt-star"},
+     {SamplingAlgorithm::kBitStar, "bit-star"},
+     {SamplingAlgorithm::kRrtConnect, "rrt-connect"}}};
+constexpr const auto& EnumNames(SamplingAlgorithm) { return kSamplingAlgorithmNames; }
+
 /// The algorithm named "rrt-star", "bit-star" or "rrt-connect".
 /// @throws std::invalid_argument naming the value if the name is none of these.
 SamplingAlgorithm ParseSamplingAlgorithm(const std::string& name);
-
-/// The name of `algorithm` as ParseSamplingAlgorithm reads it ("rrt-star", ...).
-const char* SamplingAlgorithmName(SamplingAlgorithm algorithm);
 
 /// Settings of one sampling-based query.
 struct SamplingPlannerConfig {

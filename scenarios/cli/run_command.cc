@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "common/enum_names.h"
 #include "common/input_error.h"
 #include "scenarios/cli/cli.h"
 
@@ -41,8 +42,8 @@ int Run(const RunFlags& flags) {
   const RunSummary summary = RunInFolder(scenario, run_options, flags.scenario.overwrite);
   const std::string& out = scenario.output_dir;
 
-  std::printf("outcome: %s (expected %s)\n", OutcomeName(summary.outcome),
-              OutcomeName(scenario.expected_outcome));
+  std::printf("outcome: %s (expected %s)\n", common::NameOf(summary.outcome),
+              common::NameOf(scenario.expected_outcome));
   std::printf("simulated %.1f s in %.1f s wall time (%.1fx real time), drove %.1f m\n",
               summary.sim_time_s, summary.wall_time_s, summary.real_time_factor,
               summary.distance_m);

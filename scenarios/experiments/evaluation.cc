@@ -13,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/enum_names.h"
 #include "common/input_error.h"
 #include "common/logging.h"
 #include "common/random.h"
@@ -90,7 +91,7 @@ std::optional<MapperMethod> StandardMethod(const std::string& name) {
   for (const MapperMethod method :
        {MapperMethod::kSgp, MapperMethod::kFsgp, MapperMethod::kFsgpBgk,
         MapperMethod::kFsgpAccumulation, MapperMethod::kElevationMap, MapperMethod::kGroundTruth}) {
-    if (name == MapperMethodName(method)) return method;
+    if (name == common::NameOf(method)) return method;
   }
   return std::nullopt;
 }
@@ -399,7 +400,7 @@ nlohmann::json RunEvalScene(const EvalOptions& options, const EvalScene& scene,
         {"goal", {scenario.goal_W.x(), scenario.goal_W.y()}},
         {"optimal_length_m", drive.navigation ? drive.navigation->optimal_path_length_m : 0.0}}},
       {"drive",
-       {{"outcome", OutcomeName(drive.outcome)},
+       {{"outcome", common::NameOf(drive.outcome)},
         {"sim_time_s", drive.sim_time_s},
         {"distance_m", drive.distance_m},
         {"frames", frames.size()},

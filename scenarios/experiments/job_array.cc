@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/enum_names.h"
 #include "common/input_error.h"
 #include "common/input_file.h"
 #include "common/logging.h"
@@ -88,7 +89,7 @@ bool RecordJobEnd(const std::string& folder, const Job& job, const ProcessResult
   const nlohmann::json failure = {
       {"id", job.id},
       {"outcome", FailureOutcome(end)},
-      {"end", ProcessEndName(end.end)},
+      {"end", common::NameOf(end.end)},
       {"exit_code", end.exit_code},
       {"signal", end.signal},
       {"wall_s", end.wall_s},
@@ -187,7 +188,7 @@ std::string SubmitJobArray(const std::string& folder_path, const std::vector<Job
   const std::string output = Trimmed(ReadTextFile(sbatch_log.string()));
   if (!sbatch.succeeded()) {
     throw std::runtime_error(
-        "sbatch failed (" + std::string(ProcessEndName(sbatch.end)) + " " +
+        "sbatch failed (" + std::string(common::NameOf(sbatch.end)) + " " +
         std::to_string(sbatch.exit_code) +
         "): " + common::Excerpt(sbatch.message.empty() ? output : sbatch.message, 400));
   }

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <nlopt.hpp>
 
+#include "common/enum_names.h"
 #include "common/input_error.h"
 #include "common/yaml_reader.h"
 #include "scenarios/experiments/batch.h"
@@ -26,12 +27,6 @@ namespace trav::scenarios {
 namespace {
 
 namespace fs = std::filesystem;
-
-const std::vector<std::pair<std::string, TuneAlgorithm>> kAlgorithms = {
-    {"bobyqa", TuneAlgorithm::kBobyqa},
-    {"neldermead", TuneAlgorithm::kNelderMead},
-    {"crs", TuneAlgorithm::kCrs},
-    {"esch", TuneAlgorithm::kEsch}};
 
 nlopt::algorithm NloptAlgorithm(TuneAlgorithm algorithm) {
   switch (algorithm) {
@@ -219,10 +214,12 @@ std::string TunedYaml(const TuneSpec& spec, const std::vector<double>& values) {
 }  // namespace
 
 TuneAlgorithm ParseTuneAlgorithm(const std::string& name) {
-  for (const auto& [known, algorithm] : kAlgorithms) {
-    if (known == name) return algorithm;
+  const std::optional<TuneAlgorithm> algorithm = common::EnumFromName<TuneAlgorithm>(name);
+  if (!algorithm) {
+    throw common::InputError("--algorithm", name,
+                             "expected one of: " + common::EnumNameList<TuneAlgorithm>());
   }
-  throw common::InputError("--algorithm", name, "expected bobyqa, neldermead, crs or esch");
+  return *algorithm;
 }
 
 TuneSpec LoadTuneFile(const std::string& path) {
@@ -280,7 +277,7 @@ TuneSpec LoadTuneFile(const std::string& path) {
   objective.Finish();
   root.Check("objective", !spec.objective.empty(), "must have at least one metric");
   root.Read("failure_penalty", &spec.failure_penalty);
-  root.ReadEnum("algorithm", &spec.algorithm, kAlgorithms);
+  root.ReadEnum("algorithm", &spec.algorithm);
   root.Read("budget", &spec.budget);
   root.Check("budget", spec.budget >= 2 && spec.budget <= 100000, "must be in [2, 100000]");
   root.Read("seed", &spec.seed);
@@ -422,10 +419,7 @@ TuneResult RunTuning(const TuneSpec& spec, const std::string& out_dir,
       WriteLinePlots((folder / "evaluations.csv").string(), plots, folder.string());
 
   // report.md
-  const char* algorithm_name = "bobyqa";
-  for (const auto& [name, algorithm] : kAlgorithms) {
-    if (algorithm == spec.algorithm) algorithm_name = name.c_str();
-  }
+  const char* algorithm_name = common::NameOf(spec.algorithm);
   auto join = [](const std::vector<std::string>& items) {
     std::string text;
     for (const std::string& item : items) text += (text.empty() ? "" : ", ") + item;

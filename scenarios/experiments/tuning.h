@@ -1,10 +1,12 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "common/enum_names.h"
 #include "scenarios/experiments/job_array.h"
 
 namespace trav::scenarios {
@@ -33,6 +35,14 @@ enum class TuneAlgorithm {
   kCrs,         ///< GN_CRS2_LM: global, controlled random search
   kEsch,        ///< GN_ESCH: global, evolutionary
 };
+
+/// The names of TuneAlgorithm's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<TuneAlgorithm>, 4> kTuneAlgorithmNames{
+    {{TuneAlgorithm::kBobyqa, "bobyqa"},
+     {TuneAlgorithm::kNelderMead, "neldermead"},
+     {TuneAlgorithm::kCrs, "crs"},
+     {TuneAlgorithm::kEsch, "esch"}}};
+constexpr const auto& EnumNames(TuneAlgorithm) { return kTuneAlgorithmNames; }
 
 /// The algorithm of a name (bobyqa, neldermead, crs, esch).
 /// @throws common::InputError naming --algorithm and the value otherwise.

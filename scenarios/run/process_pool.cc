@@ -212,22 +212,6 @@ void ProgressLine::Ended(const std::string& id, bool ok, double wall_s) {
   }
 }
 
-const char* ProcessEndName(ProcessEnd end) {
-  switch (end) {
-    case ProcessEnd::kExited:
-      return "exited";
-    case ProcessEnd::kSignaled:
-      return "signaled";
-    case ProcessEnd::kTimedOut:
-      return "timed_out";
-    case ProcessEnd::kNotStarted:
-      return "not_started";
-    case ProcessEnd::kCancelled:
-      return "cancelled";
-  }
-  return "exited";
-}
-
 std::vector<ProcessResult> RunProcessPool(const std::vector<ProcessTask>& tasks,
                                           const ProcessPoolOptions& options,
                                           const ProcessDoneCallback& on_done) {

@@ -1,9 +1,12 @@
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
+
+#include "common/enum_names.h"
 
 namespace trav::scenarios {
 
@@ -25,8 +28,14 @@ enum class ProcessEnd {
   kCancelled,   ///< the pool was interrupted (SIGINT or SIGTERM) before the task finished
 };
 
-/// Name of an end as written in reports ("exited", "signaled", ...).
-const char* ProcessEndName(ProcessEnd end);
+/// The names of ProcessEnd's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<ProcessEnd>, 5> kProcessEndNames{
+    {{ProcessEnd::kExited, "exited"},
+     {ProcessEnd::kSignaled, "signaled"},
+     {ProcessEnd::kTimedOut, "timed_out"},
+     {ProcessEnd::kNotStarted, "not_started"},
+     {ProcessEnd::kCancelled, "cancelled"}}};
+constexpr const auto& EnumNames(ProcessEnd) { return kProcessEndNames; }
 
 /// The end of one task.
 struct ProcessResult {

@@ -12,86 +12,19 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "common/enum_names.h"
 #include "common/input_error.h"
 
 namespace trav::scenarios {
 namespace {
 
-template <typename Enum>
-using Names = std::vector<std::pair<std::string, Enum>>;
-
-const Names<sim::TerrainType> kTerrainTypes = {
-    {"flat", sim::TerrainType::kFlat},    {"slope", sim::TerrainType::kSlope},
-    {"step", sim::TerrainType::kStep},    {"stairs", sim::TerrainType::kStairs},
-    {"hilly", sim::TerrainType::kHilly},  {"forest", sim::TerrainType::kForest},
-    {"ruin", sim::TerrainType::kRuin},    {"road", sim::TerrainType::kRoad},
-    {"indoor", sim::TerrainType::kIndoor}};
-const Names<sim::FractalFamily> kFamilies = {{"fbm", sim::FractalFamily::kFbm},
-                                             {"ridged", sim::FractalFamily::kRidged},
-                                             {"billowy", sim::FractalFamily::kBillowy},
-                                             {"swiss", sim::FractalFamily::kSwiss}};
-const Names<renders::CameraMode> kCameras = {{"chase", renders::CameraMode::kChase},
-                                             {"overview", renders::CameraMode::kOverview},
-                                             {"top_down", renders::CameraMode::kTopDown}};
-const Names<renders::GlBackend> kBackends = {{"osmesa", renders::GlBackend::kOsmesa},
-                                             {"egl", renders::GlBackend::kEgl}};
-const Names<RunMode> kModes = {
-    {"drive", RunMode::kDrive}, {"track", RunMode::kTrack}, {"navigate", RunMode::kNavigate}};
-const Names<ReferenceShape> kReferences = {{"line", ReferenceShape::kLine},
-                                           {"circle", ReferenceShape::kCircle},
-                                           {"figure_eight", ReferenceShape::kFigureEight},
-                                           {"slalom", ReferenceShape::kSlalom},
-                                           {"file", ReferenceShape::kFile}};
-const Names<mapping::KernelType> kKernels = {
-    {"squared_exponential", mapping::KernelType::kSquaredExponential},
-    {"rational_quadratic", mapping::KernelType::kRationalQuadratic}};
-const Names<MapperMethod> kMappers = {{"fsgp-bgk", MapperMethod::kFsgpBgk},
-                                      {"fsgp", MapperMethod::kFsgp},
-                                      {"fsgp-accumulation", MapperMethod::kFsgpAccumulation},
-                                      {"sgp", MapperMethod::kSgp},
-                                      {"em", MapperMethod::kElevationMap},
-                                      {"ground-truth", MapperMethod::kGroundTruth}};
-const Names<sim::TrafficBehaviour> kTrafficBehaviours = {
-    {"random_walk", sim::TrafficBehaviour::kRandomWalk},
-    {"crossing", sim::TrafficBehaviour::kCrossing},
-    {"flow", sim::TrafficBehaviour::kFlow},
-    {"head_on", sim::TrafficBehaviour::kHeadOn},
-    {"overtaking", sim::TrafficBehaviour::kOvertaking},
-    {"reactive", sim::TrafficBehaviour::kReactive}};
-const Names<sim::TrafficShape> kTrafficShapes = {{"pedestrian", sim::TrafficShape::kPedestrian},
-                                                 {"cart", sim::TrafficShape::kCart},
-                                                 {"box", sim::TrafficShape::kBox}};
-const Names<TestFault> kTestFaults = {
-    {"none", TestFault::kNone}, {"crash", TestFault::kCrash}, {"hang", TestFault::kHang}};
-const Names<Outcome> kOutcomes = {{"completed", Outcome::kCompleted},
-                                  {"success", Outcome::kSuccess},
-                                  {"collision", Outcome::kCollision},
-                                  {"rolled_over", Outcome::kRolledOver},
-                                  {"stuck", Outcome::kStuck},
-                                  {"timeout", Outcome::kTimeout},
-                                  {"planning_failure", Outcome::kPlanningFailure},
-                                  {"diverged", Outcome::kDiverged}};
-const Names<sim::MoverShape> kMoverShapes = {{"box", sim::MoverShape::kBox},
-                                             {"cylinder", sim::MoverShape::kCylinder},
-                                             {"capsule", sim::MoverShape::kCapsule}};
-const Names<sim::WaypointLoop> kLoops = {{"none", sim::WaypointLoop::kNone},
-                                         {"cycle", sim::WaypointLoop::kCycle},
-                                         {"ping_pong", sim::WaypointLoop::kPingPong}};
+// How a mover moves, as the scenario file names it (the motion variant's alternative).
 enum class MotionKind { kWaypoints, kConstantVelocity, kRandomWalk };
-const Names<MotionKind> kMotions = {{"waypoints", MotionKind::kWaypoints},
-                                    {"constant_velocity", MotionKind::kConstantVelocity},
-                                    {"random_walk", MotionKind::kRandomWalk}};
-const Names<planner::UnknownPolicy> kUnknownPolicies = {
-    {"cost", planner::UnknownPolicy::kCost}, {"blocked", planner::UnknownPolicy::kBlocked}};
-
-template <typename Enum>
-const std::string& NameOf(const Names<Enum>& names, Enum value) {
-  for (const auto& [name, option] : names) {
-    if (option == value) return name;
-  }
-  static const std::string kUnknown = "?";
-  return kUnknown;
-}
+inline constexpr std::array<common::EnumName<MotionKind>, 3> kMotionKindNames{
+    {{MotionKind::kWaypoints, "waypoints"},
+     {MotionKind::kConstantVelocity, "constant_velocity"},
+     {MotionKind::kRandomWalk, "random_walk"}}};
+constexpr const auto& EnumNames(MotionKind) { return kMotionKindNames; }
 
 // One list of keys drives both loading and writing a scenario (as Drake's Serialize visitors), so
 // the loader and the resolved file cannot drift apart.
@@ -163,8 +96,8 @@ class ReadArchive {
                   "is outside its bounds " + BoundsText(bounds));
   }
   template <typename E>
-  void Enum(const std::string& key, E* value, const Names<E>& names) {
-    reader_.ReadEnum(key, value, names);
+  void Enum(const std::string& key, E* value) {
+    reader_.ReadEnum(key, value);
   }
   void Map(const std::string& key, const std::function<void(ReadArchive&)>& visit) {
     if (!reader_.Has(key)) return;
@@ -261,8 +194,8 @@ class WriteArchive {
     }
   }
   template <typename E>
-  void Enum(const std::string& key, E* value, const Names<E>& names) {
-    node_[key] = NameOf(names, *value);
+  void Enum(const std::string& key, E* value) {
+    node_[key] = std::string(common::NameOf(*value));
   }
   void Map(const std::string& key, const std::function<void(WriteArchive&)>& visit) {
     WriteArchive child;
@@ -306,7 +239,7 @@ class BoundsArchive {
     (*bounds_)[prefix_ + key] = bounds;
   }
   template <typename E>
-  void Enum(const std::string&, E*, const Names<E>&) {}
+  void Enum(const std::string&, E*) {}
   void Map(const std::string& key, const std::function<void(BoundsArchive&)>& visit) {
     BoundsArchive child(prefix_ + key + ".", bounds_);
     visit(child);
@@ -374,7 +307,7 @@ void VisitTerrainParameters(Archive& a, sim::TerrainConfig& t) {
     case sim::TerrainType::kHilly:
     case sim::TerrainType::kForest:
     case sim::TerrainType::kRuin:
-      a.Enum("family", &t.hilly.fractal.family, kFamilies);
+      a.Enum("family", &t.hilly.fractal.family);
       a.Field("octaves", &t.hilly.fractal.octaves, {1, 16});
       a.Field("lacunarity", &t.hilly.fractal.lacunarity, {1, 8});
       a.Field("gain", &t.hilly.fractal.gain, {0, 1});
@@ -404,7 +337,7 @@ void VisitTerrainParameters(Archive& a, sim::TerrainConfig& t) {
 template <typename Archive>
 void VisitMover(Archive& a, sim::MovingObstacle& m) {
   a.Field("name", &m.name);
-  a.Enum("shape", &m.shape, kMoverShapes);
+  a.Enum("shape", &m.shape);
   a.Field("radius", &m.radius_m, {0.01, 10});
   a.Field("half_height", &m.half_height_m, {0.01, 10});
   a.Field("box_half_extents", &m.box_half_extents_m, {0.01, 10});
@@ -412,14 +345,14 @@ void VisitMover(Archive& a, sim::MovingObstacle& m) {
                     : std::holds_alternative<sim::RandomWalkMotion>(m.motion)
                         ? MotionKind::kRandomWalk
                         : MotionKind::kConstantVelocity;
-  a.Enum("motion", &kind, kMotions);
+  a.Enum("motion", &kind);
   switch (kind) {
     case MotionKind::kWaypoints: {
       if (!std::holds_alternative<sim::WaypointMotion>(m.motion)) m.motion = sim::WaypointMotion{};
       auto& w = std::get<sim::WaypointMotion>(m.motion);
       a.Field("waypoints", &w.waypoints_W, {-1000.0, 1000.0});
       a.Field("speed", &w.speed_m_s, {0, 20});
-      a.Enum("loop", &w.loop, kLoops);
+      a.Enum("loop", &w.loop);
       a.Field("start_delay", &w.start_delay_s, {0, 86400});
       a.Field("personal_distance", &m.personal_distance_m, {0, 20});
       break;
@@ -451,7 +384,7 @@ void VisitMover(Archive& a, sim::MovingObstacle& m) {
 // The keys under `terrain`.
 template <typename Archive>
 void VisitTerrain(Archive& t, Scenario& s) {
-  t.Enum("type", &s.terrain.type, kTerrainTypes);
+  t.Enum("type", &s.terrain.type);
   t.Field("seed", &s.terrain.seed);
   t.Field("size", &s.terrain.size_m, {2, 500});
   t.Field("resolution", &s.terrain.resolution_m, {0.02, 1.0});
@@ -485,7 +418,7 @@ void VisitRobot(Archive& r, Scenario& s) {
 // The keys under `track`.
 template <typename Archive>
 void VisitTrack(Archive& t, Scenario& s) {
-  t.Enum("reference", &s.track.reference, kReferences);
+  t.Enum("reference", &s.track.reference);
   t.Field("size", &s.track.size_m, {0.5, 1000.0});
   t.Field("amplitude", &s.track.amplitude_m, {0, 500});
   t.Field("wavelength", &s.track.wavelength_m, {0.5, 1000.0});
@@ -525,7 +458,7 @@ void VisitPlanner(Archive& p, Scenario& s) {
     k.Field("cost_weight", &search.cost_weight, {0, 1000000.0});
     k.Field("lethal_threshold", &search.lethal_threshold, {0, 1});
     k.Field("inflation_radius", &search.inflation_radius_m, {0, 5});
-    k.Enum("unknown_policy", &search.unknown_policy, kUnknownPolicies);
+    k.Enum("unknown_policy", &search.unknown_policy);
     k.Field("unknown_cost", &search.unknown_cost, {0, 1});
     k.Field("simplify_tolerance", &s.planner.simplify_tolerance, {0, 10});
     k.Field("substitute_goal_reach", &s.planner.substitute_goal_reach_m, {0, 100});
@@ -563,8 +496,8 @@ template <typename Archive>
 void VisitTraffic(Archive& t, Scenario& s) {
   t.Field("count", &s.traffic.count, {0, 200});
   t.Field("speed", &s.traffic.speed_m_s, {0, 5});
-  t.Enum("behaviour", &s.traffic.behaviour, kTrafficBehaviours);
-  t.Enum("shape", &s.traffic.shape, kTrafficShapes);
+  t.Enum("behaviour", &s.traffic.behaviour);
+  t.Enum("shape", &s.traffic.shape);
   t.Field("seed", &s.traffic.seed);
   t.Field("area_radius", &s.traffic.area_radius_m, {0, 500});
   t.Field("keep_clear", &s.traffic.keep_clear_m, {0, 100});
@@ -616,7 +549,7 @@ template <typename Archive>
 void VisitMapping(Archive& mp, Scenario& s) {
   mapping::FsgpConfig& c = s.mapping;
   mp.Field("enabled", &s.mapping_enabled);
-  mp.Enum("method", &s.mapper, kMappers);
+  mp.Enum("method", &s.mapper);
   mp.Field("window", &c.area.window_m, {1, 100});
   mp.Field("resolution", &c.area.resolution_m, {0.02, 2});
   mp.Field("map_size", &c.area.map_size_m, {1, 1000});
@@ -631,7 +564,7 @@ void VisitMapping(Archive& mp, Scenario& s) {
   mp.Field("seed", &c.seed);
   mp.Field("pca", &c.pca);
   mp.Map("gp", [&](Archive& gp) {
-    gp.Enum("kernel", &c.gp.kernel, kKernels);
+    gp.Enum("kernel", &c.gp.kernel);
     Eigen::Vector4d& l = c.gp.length_scales;
     Eigen::Vector2d xy(l[0], l[1]), features(l[2], l[3]);
     gp.Field("length_scales_xy", &xy, {0.01, 100});
@@ -666,8 +599,8 @@ void VisitVideo(Archive& v, Scenario& s) {
   v.Field("width", &s.video.render.width, {16, 4096});
   v.Field("height", &s.video.render.height, {16, 4096});
   v.Field("fps", &s.video.fps, {1.0, 120.0});
-  v.Enum("camera", &s.video.camera, kCameras);
-  v.Enum("backend", &s.video.render.backend, kBackends);
+  v.Enum("camera", &s.video.camera);
+  v.Enum("backend", &s.video.render.backend);
   v.Field("shadows", &s.video.render.shadows);
   v.Field("msaa", &s.video.render.msaa_samples, {0, 16});
 }
@@ -677,7 +610,7 @@ void VisitScenario(Archive& a, Scenario& s) {
   int schema_version = 1;
   a.Field("schema_version", &schema_version, {1, 1});
   a.Field("name", &s.name);
-  a.Enum("test_fault", &s.test_fault, kTestFaults);
+  a.Enum("test_fault", &s.test_fault);
   a.Map("terrain", [&](Archive& t) { VisitTerrain(t, s); });
   a.Map("robot", [&](Archive& r) { VisitRobot(r, s); });
   a.Map("physics", [&](Archive& p) {
@@ -686,7 +619,7 @@ void VisitScenario(Archive& a, Scenario& s) {
   });
   a.Field("goal", &s.goal_W, {-1000.0, 1000.0});
   a.Field("duration", &s.duration_s, {0.01, 86400.0});
-  a.Enum("mode", &s.mode, kModes);
+  a.Enum("mode", &s.mode);
   a.Map("track", [&](Archive& t) { VisitTrack(t, s); });
   a.Map("controller", [&](Archive& c) { VisitController(c, s); });
   a.Map("planner", [&](Archive& p) { VisitPlanner(p, s); });
@@ -709,14 +642,10 @@ void VisitScenario(Archive& a, Scenario& s) {
   });
   a.Map("video", [&](Archive& v) { VisitVideo(v, s); });
   a.Map("output", [&](Archive& o) { o.Field("dir", &s.output_dir); });
-  a.Enum("expect", &s.expected_outcome, kOutcomes);
+  a.Enum("expect", &s.expected_outcome);
 }
 
 }  // namespace
-
-const char* OutcomeName(Outcome outcome) { return NameOf(kOutcomes, outcome).c_str(); }
-
-const char* MapperMethodName(MapperMethod method) { return NameOf(kMappers, method).c_str(); }
 
 Scenario LoadScenario(const common::YamlDocument& document) {
   Scenario scenario;
@@ -757,9 +686,9 @@ Scenario LoadScenario(const common::YamlDocument& document) {
 
 std::string ScenarioBoundsTable() {
   std::map<std::string, Bounds> bounds;
-  for (const auto& [name, type] : kTerrainTypes) {
+  for (const auto& terrain_type : sim::kTerrainTypeNames) {
     Scenario scenario;
-    scenario.terrain.type = type;
+    scenario.terrain.type = terrain_type.value;
     BoundsArchive archive("", &bounds);
     VisitScenario(archive, scenario);
   }

@@ -1,11 +1,13 @@
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "common/enum_names.h"
 #include "common/pose.h"
 #include "common/yaml_reader.h"
 #include "controller/mpc.h"
@@ -37,19 +39,39 @@ enum class Outcome {
   kDiverged,         ///< the physics produced a bad state
 };
 
-/// Name as written in summaries and scenario files ("completed", "success", "collision",
-/// "rolled_over", "stuck", "timeout", "planning_failure", "diverged").
-const char* OutcomeName(Outcome outcome);
+/// The names of Outcome's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<Outcome>, 8> kOutcomeNames{
+    {{Outcome::kCompleted, "completed"},
+     {Outcome::kSuccess, "success"},
+     {Outcome::kCollision, "collision"},
+     {Outcome::kRolledOver, "rolled_over"},
+     {Outcome::kStuck, "stuck"},
+     {Outcome::kTimeout, "timeout"},
+     {Outcome::kPlanningFailure, "planning_failure"},
+     {Outcome::kDiverged, "diverged"}}};
+constexpr const auto& EnumNames(Outcome) { return kOutcomeNames; }
 
 /// Which traversability mapper runs on the LiDAR frames (scenario key `mapping.method`);
 /// kGroundTruth is the oracle: the ground-truth map of the whole world, no LiDAR needed.
 enum class MapperMethod { kFsgpBgk, kFsgp, kFsgpAccumulation, kSgp, kElevationMap, kGroundTruth };
 
-/// Name of a mapper as written in scenario files ("fsgp-bgk", ...).
-const char* MapperMethodName(MapperMethod method);
+/// The names of MapperMethod's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<MapperMethod>, 6> kMapperMethodNames{
+    {{MapperMethod::kFsgpBgk, "fsgp-bgk"},
+     {MapperMethod::kFsgp, "fsgp"},
+     {MapperMethod::kFsgpAccumulation, "fsgp-accumulation"},
+     {MapperMethod::kSgp, "sgp"},
+     {MapperMethod::kElevationMap, "em"},
+     {MapperMethod::kGroundTruth, "ground-truth"}}};
+constexpr const auto& EnumNames(MapperMethod) { return kMapperMethodNames; }
 
 /// A failure `trav run` fakes on purpose (scenario key test_fault).
 enum class TestFault { kNone, kCrash, kHang };
+
+/// The names of TestFault's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<TestFault>, 3> kTestFaultNames{
+    {{TestFault::kNone, "none"}, {TestFault::kCrash, "crash"}, {TestFault::kHang, "hang"}}};
+constexpr const auto& EnumNames(TestFault) { return kTestFaultNames; }
 
 /// What drives the robot.
 enum class RunMode {
@@ -57,6 +79,11 @@ enum class RunMode {
   kTrack,     ///< the MPC tracking the `track` reference (no mapping or planning)
   kNavigate,  ///< the closed loop: map from scans, plan to the goal, track the plan
 };
+
+/// The names of RunMode's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<RunMode>, 3> kRunModeNames{
+    {{RunMode::kDrive, "drive"}, {RunMode::kTrack, "track"}, {RunMode::kNavigate, "navigate"}}};
+constexpr const auto& EnumNames(RunMode) { return kRunModeNames; }
 
 /// One segment of an open-loop drive script: a constant body twist held for a duration.
 struct DriveSegment {

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/enum_names.h"
 #include "common/statistics.h"
 #include "mapping/ground_truth.h"
 #include "planner/astar.h"
@@ -268,9 +269,9 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
 std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
   nlohmann::json json;
   json["scenario"] = scenario.name;
-  json["outcome"] = OutcomeName(summary.outcome);
-  json["expected_outcome"] = OutcomeName(scenario.expected_outcome);
-  json["terrain"] = {{"type", sim::TerrainTypeName(scenario.terrain.type)},
+  json["outcome"] = common::NameOf(summary.outcome);
+  json["expected_outcome"] = common::NameOf(scenario.expected_outcome);
+  json["terrain"] = {{"type", common::NameOf(scenario.terrain.type)},
                      {"seed", scenario.terrain.seed}};
   json["provenance"] = Provenance(ResolvedScenarioYaml(scenario));
   json["sim_time_s"] = summary.sim_time_s;
@@ -293,7 +294,7 @@ std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
   json["lidar_points_per_frame"] = summary.lidar_points_per_frame;
   json["lidar_ms_per_frame"] = summary.lidar_ms_per_frame;
   if (summary.mapping_updates > 0) {
-    json["mapping"] = {{"method", MapperMethodName(scenario.mapper)},
+    json["mapping"] = {{"method", common::NameOf(scenario.mapper)},
                        {"updates", summary.mapping_updates},
                        {"update_ms_median", summary.mapping_ms_median},
                        {"update_ms_max", summary.mapping_ms_max},

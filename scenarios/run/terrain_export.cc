@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/enum_names.h"
 #include "mapping/traversability_mapper.h"
 #include "renders/image.h"
 #include "renders/overlay.h"
@@ -125,7 +126,7 @@ void WriteMetadata(const sim::TerrainWorld& world, const common::GridGeometry& t
   const sim::TerrainStatistics stats = sim::ComputeStatistics(world);
   const common::GridGeometry& g = world.geometry;
   nlohmann::json json;
-  json["type"] = sim::TerrainTypeName(world.config.type);
+  json["type"] = common::NameOf(world.config.type);
   json["seed"] = world.config.seed;
   json["grid"] = {{"origin", {g.origin_W.x(), g.origin_W.y()}},
                   {"resolution_m", g.resolution_m},
@@ -169,7 +170,7 @@ TerrainExportSummary ExportScenarioTerrain(const Scenario& scenario, const Outpu
   const sim::TerrainWorld world =
       sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W});
   ExportTerrain(world, scenario.mapping, scenario.ground_truth, folder);
-  return {sim::TerrainTypeName(scenario.terrain.type), world.geometry.num_x, world.geometry.num_y,
+  return {common::NameOf(scenario.terrain.type), world.geometry.num_x, world.geometry.num_y,
           world.obstacles.size()};
 }
 

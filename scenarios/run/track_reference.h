@@ -1,7 +1,9 @@
 #pragma once
 
+#include <array>
 #include <string>
 
+#include "common/enum_names.h"
 #include "common/pose.h"
 #include "common/trajectory.h"
 
@@ -9,6 +11,15 @@ namespace trav::scenarios {
 
 /// Reference shapes of tracking scenarios.
 enum class ReferenceShape { kLine, kCircle, kFigureEight, kSlalom, kFile };
+
+/// The names of ReferenceShape's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<ReferenceShape>, 5> kReferenceShapeNames{
+    {{ReferenceShape::kLine, "line"},
+     {ReferenceShape::kCircle, "circle"},
+     {ReferenceShape::kFigureEight, "figure_eight"},
+     {ReferenceShape::kSlalom, "slalom"},
+     {ReferenceShape::kFile, "file"}}};
+constexpr const auto& EnumNames(ReferenceShape) { return kReferenceShapeNames; }
 
 /// The reference of a tracking scenario (scenario key `track`).
 struct TrackSettings {

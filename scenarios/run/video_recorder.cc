@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "common/enum_names.h"
 #include "mapping/traversability_mapper.h"
 #include "renders/map_panel.h"
 #include "renders/renderer.h"
@@ -220,7 +221,7 @@ void VideoRecorder::OnStepChecked(const ClosedLoop& loop, const LoopStep& step) 
 
 void VideoRecorder::OnEnd(const ClosedLoop& loop, Outcome outcome) {
   if (loop.navigator() != nullptr) {
-    WriteNavigationFrame(loop, std::string("outcome: ") + OutcomeName(outcome));
+    WriteNavigationFrame(loop, std::string("outcome: ") + common::NameOf(outcome));
   }
   video_->Close();
   frames_written_ = video_->frames_written();

@@ -1,11 +1,13 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "common/enum_names.h"
 #include "sim/moving_obstacles.h"
 
 namespace trav::sim {
@@ -21,12 +23,29 @@ enum class TrafficBehaviour {
                 ///< from each other and the robot (social force, personal distance 0.8 m)
 };
 
+/// The names of TrafficBehaviour's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<TrafficBehaviour>, 6> kTrafficBehaviourNames{
+    {{TrafficBehaviour::kRandomWalk, "random_walk"},
+     {TrafficBehaviour::kCrossing, "crossing"},
+     {TrafficBehaviour::kFlow, "flow"},
+     {TrafficBehaviour::kHeadOn, "head_on"},
+     {TrafficBehaviour::kOvertaking, "overtaking"},
+     {TrafficBehaviour::kReactive, "reactive"}}};
+constexpr const auto& EnumNames(TrafficBehaviour) { return kTrafficBehaviourNames; }
+
 /// What generated movers look like.
 enum class TrafficShape {
   kPedestrian,  ///< a capsule, radius 0.25 m, 1.7 m tall
   kCart,        ///< a box 1.0 x 0.7 x 1.0 m (long side along its motion)
   kBox,         ///< a box 0.6 x 0.6 x 0.8 m
 };
+
+/// The names of TrafficShape's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<TrafficShape>, 3> kTrafficShapeNames{
+    {{TrafficShape::kPedestrian, "pedestrian"},
+     {TrafficShape::kCart, "cart"},
+     {TrafficShape::kBox, "box"}}};
+constexpr const auto& EnumNames(TrafficShape) { return kTrafficShapeNames; }
 
 /// Scenario key `traffic`: movers generated from a count, a speed and a seed, so that a batch can
 /// sweep the density and speed of moving obstacles.

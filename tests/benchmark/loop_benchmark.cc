@@ -14,6 +14,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "common/enum_names.h"
 #include "common/yaml_reader.h"
 #include "renders/renderer.h"
 #include "scenarios/run/scenario.h"
@@ -82,7 +83,7 @@ void RunClosedLoop(benchmark::State& state, bool video) {
     state.counters[std::string("share_") + module] = total_s / wall_s;
   }
   state.counters["share_other"] = 1.0 - modules_s / wall_s;
-  state.SetLabel(std::string("outcome ") + trav::scenarios::OutcomeName(summary.outcome));
+  state.SetLabel(std::string("outcome ") + common::NameOf(summary.outcome));
 }
 
 void BM_ClosedLoopNoVideo(benchmark::State& state) { RunClosedLoop(state, /*video=*/false); }

@@ -1,7 +1,11 @@
 #include "common/yaml_reader.h"
 
+#include <array>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "common/enum_names.h"
 
 namespace trav::common {
 namespace {
@@ -88,15 +92,28 @@ TEST(YamlReaderTest, CheckReportsTheValue) {
               ThrowsMessage<InputError>(HasSubstr("s.yaml: resolution: value '-0.1' must be > 0")));
 }
 
+enum class Mode { kA, kB };
+inline constexpr std::array<EnumName<Mode>, 2> kModeNames{{{Mode::kA, "a"}, {Mode::kB, "b"}}};
+constexpr const auto& EnumNames(Mode) { return kModeNames; }
+
+TEST(YamlReaderTest, EnumReadsNamesOfItsTable) {
+  const YamlDocument document = YamlDocument::Parse("mode: b", "s.yaml");
+  YamlReader dut = document.Root();
+  Mode mode = Mode::kA;
+  dut.ReadEnum("mode", &mode);
+  EXPECT_EQ(mode, Mode::kB);
+  EXPECT_STREQ(NameOf(Mode::kB), "b");
+  EXPECT_EQ(EnumFromName<Mode>("a"), Mode::kA);
+  EXPECT_EQ(EnumFromName<Mode>("c"), std::nullopt);
+  EXPECT_EQ(EnumNameList<Mode>(), "a, b");
+}
+
 TEST(YamlReaderTest, EnumRejectsUnknownNamesListingValidOnes) {
-  enum class Mode { kA, kB };
   const YamlDocument document = YamlDocument::Parse("mode: c", "s.yaml");
   YamlReader dut = document.Root();
   Mode mode = Mode::kA;
   EXPECT_THAT(
-      [&] {
-        dut.ReadEnum("mode", &mode, {{"a", Mode::kA}, {"b", Mode::kB}});
-      },
+      [&] { dut.ReadEnum("mode", &mode); },
       ThrowsMessage<InputError>(HasSubstr("mode: unknown value 'c' (expected one of: a, b)")));
 }
 

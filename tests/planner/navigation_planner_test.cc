@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "common/enum_names.h"
+
 namespace trav::planner {
 namespace {
 
@@ -32,7 +34,7 @@ TEST(NavigationPlannerTest, PlansAroundAWallToTheGoal) {
   NavigationPlanner dut(NavigationPlannerConfig{});
   const common::GridLayers map = WallMap();
   const NavigationPlan plan = dut.Plan(map, Start(), {9.0, 0.0}, {});
-  ASSERT_EQ(plan.status, NavigationStatus::kPlanned) << ToString(plan.optimized.status);
+  ASSERT_EQ(plan.status, NavigationStatus::kPlanned) << common::NameOf(plan.optimized.status);
   EXPECT_EQ(plan.waypoints_W.front(), Start().position_W);
   EXPECT_EQ(plan.waypoints_W.back(), Eigen::Vector2d(9.0, 0.0));
   const common::Trajectory& t = plan.optimized.trajectory;
@@ -70,7 +72,7 @@ TEST(NavigationPlannerTest, ABlockedGoalIsMovedAndAnUnreachableOneHasNoPath) {
   const NavigationPlan none = dut.Plan(map, Start(), {9.0, 0.0}, {});
   EXPECT_EQ(none.status, NavigationStatus::kNoPath);
   EXPECT_FALSE(none.has_trajectory());
-  EXPECT_EQ(ToString(none.status), "no-path");
+  EXPECT_EQ(common::NameOf(none.status), "no-path");
 }
 
 }  // namespace

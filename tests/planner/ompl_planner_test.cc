@@ -10,15 +10,14 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "common/enum_names.h"
 #include "planner/astar.h"
 #include "planner/cost_map.h"
 
 namespace trav::planner {
 
 // Test names and failure messages print the algorithm's name.
-void PrintTo(SamplingAlgorithm algorithm, std::ostream* os) {
-  *os << SamplingAlgorithmName(algorithm);
-}
+void PrintTo(SamplingAlgorithm algorithm, std::ostream* os) { *os << common::NameOf(algorithm); }
 
 namespace {
 
@@ -75,7 +74,7 @@ SamplingPlannerConfig IterationBudget(SamplingAlgorithm algorithm, std::uint32_t
 
 // "rrt_star" for kRrtStar, ...
 std::string TestName(const ::testing::TestParamInfo<SamplingAlgorithm>& param_info) {
-  std::string name = SamplingAlgorithmName(param_info.param);
+  std::string name = common::NameOf(param_info.param);
   std::replace(name.begin(), name.end(), '-', '_');
   return name;
 }
@@ -203,9 +202,9 @@ TEST(SamplingPlannerConfigTest, RangeBoundsTheEdgesOfRrtConnect) {
 TEST(SamplingPlannerConfigTest, NamesRoundTripAndBadValuesThrowNamingThem) {
   for (const SamplingAlgorithm algorithm :
        {SamplingAlgorithm::kRrtStar, SamplingAlgorithm::kBitStar, SamplingAlgorithm::kRrtConnect}) {
-    EXPECT_EQ(ParseSamplingAlgorithm(SamplingAlgorithmName(algorithm)), algorithm);
+    EXPECT_EQ(ParseSamplingAlgorithm(common::NameOf(algorithm)), algorithm);
   }
-  EXPECT_STREQ(SamplingAlgorithmName(SamplingAlgorithm::kBitStar), "bit-star");
+  EXPECT_STREQ(common::NameOf(SamplingAlgorithm::kBitStar), "bit-star");
   EXPECT_THAT([] { ParseSamplingAlgorithm("prm-star"); },
               ThrowsMessage<std::invalid_argument>(HasSubstr("'prm-star'")));
   const SearchCostMap costs(WallMap(), WallConfig());

@@ -11,6 +11,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "common/enum_names.h"
 #include "common/input_error.h"
 #include "scenarios/run/scenario.h"
 #include "scenarios/run/scenario_run.h"
@@ -57,7 +58,8 @@ TEST_P(SuiteTest, ReachesTheGoal) {
   ASSERT_EQ(scenario.expected_outcome, Outcome::kSuccess);
   const RunSummary summary = RunHeadless(scenario, GetParam());
   ASSERT_EQ(summary.outcome, Outcome::kSuccess)
-      << OutcomeName(summary.outcome) << ", planner: " << summary.navigation->last_planner_status;
+      << common::NameOf(summary.outcome)
+      << ", planner: " << summary.navigation->last_planner_status;
   const NavigationMetrics& n = *summary.navigation;
   EXPECT_TRUE(n.goal_reached);
   EXPECT_LE(n.final_goal_distance_m, scenario.navigation.goal_radius_m);

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/enum_names.h"
 #include "scenarios/run/scenario.h"
 #include "scenarios/run/scenario_run.h"
 
@@ -31,7 +32,7 @@ TEST_P(SuiteSeedTest, ReachesTheGoal) {
       RunScenario(scenario, RobotModelPath(scenario, TRAV_MODELS_DIR), out.string());
   fs::remove_all(out);
   EXPECT_EQ(summary.outcome, Outcome::kSuccess)
-      << name << " seed " << seed << ": " << OutcomeName(summary.outcome) << ", planner "
+      << name << " seed " << seed << ": " << common::NameOf(summary.outcome) << ", planner "
       << summary.navigation->last_planner_status
       << (summary.collision ? ", hit " + summary.collision->target : std::string());
 }

@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "common/enum_names.h"
 #include "common/input_error.h"
 #include "sim/terrain_geometry.h"
 #include "sim/world_builder.h"
@@ -65,7 +66,7 @@ INSTANTIATE_TEST_SUITE_P(AllSceneTypes, GeneratorTest,
                                            TerrainType::kRuin, TerrainType::kRoad,
                                            TerrainType::kIndoor),
                          [](const ::testing::TestParamInfo<TerrainType>& param_info) {
-                           return std::string(TerrainTypeName(param_info.param));
+                           return std::string(common::NameOf(param_info.param));
                          });
 
 // Documented ranges (docs/terrains.md) over several seeds.
