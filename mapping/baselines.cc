@@ -116,6 +116,15 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
 
   // step (max - min) and flatness (plane angle) over 5 x 5 cells, then the weighted score
   stage = Clock::now();
+  ScoreCells(cells);
+  result.observed_cells = static_cast<int>(cells.size());
+  result.times.fusion = Milliseconds(stage);
+  return result;
+}
+
+void SgpMapper::ScoreCells(const std::vector<Eigen::Vector2i>& cells) {
+  const common::GridGeometry& g = map_.geometry();
+  const Eigen::MatrixXf& elevation = map_.Layer(layers::kElevation);
   const int r = config_.score_window_cells / 2;
   for (const Eigen::Vector2i& c : cells) {
     double lowest = 1e9, highest = -1e9;
@@ -149,9 +158,6 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
     map_.Layer(layers::kTraversability)(c.x(), c.y()) =
         static_cast<float>(std::clamp(cost, 0.0, 1.0));
   }
-  result.observed_cells = static_cast<int>(cells.size());
-  result.times.fusion = Milliseconds(stage);
-  return result;
 }
 
 ElevationMapper::ElevationMapper(const ElevationMapConfig& config, const FsgpConfig& score)

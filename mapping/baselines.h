@@ -31,6 +31,10 @@ class SgpMapper final : public TraversabilityMapper {
   const common::GridLayers& map() const override { return map_; }
 
  private:
+  // The step (max - min), flatness (plane angle) and score of each predicted cell from the
+  // elevations around it.
+  void ScoreCells(const std::vector<Eigen::Vector2i>& cells);
+
   SgpConfig config_;
   common::GridLayers map_;
   SparseGp gp_;

@@ -25,10 +25,9 @@ std::int64_t VoxelKey(const Eigen::Vector3d& p, double voxel) {
   return (ix << 42) | (iy << 21) | iz;
 }
 
-}  // namespace
-
-TrainingSet ExtractTrainingSet(const Eigen::Matrix3Xf& points_W, const FsgpConfig& config,
-                               common::Random* random) {
+// Every point of the voxel-downsampled cloud with its features: the covariance eigenvalue ratio
+// (curvature) and the mean height difference (gradient) over its k nearest neighbours.
+TrainingSet PointsWithFeatures(const Eigen::Matrix3Xf& points_W, const FsgpConfig& config) {
   // voxel pre-downsampling (voxel centroids)
   pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
   cloud->resize(static_cast<std::size_t>(points_W.cols()));
@@ -84,6 +83,15 @@ TrainingSet ExtractTrainingSet(const Eigen::Matrix3Xf& points_W, const FsgpConfi
     all.gradient[i] = height_differences / k;
   }
 
+  return all;
+}
+
+// The indices of the training points of `all`, in order: the feature points whole and the others
+// one per voxel, sampled down to max_training_points (seeded). Sets all->feature_points.
+std::vector<int> SelectTrainingPoints(TrainingSet* all_points, const FsgpConfig& config,
+                                      common::Random* random) {
+  TrainingSet& all = *all_points;
+  const int n = static_cast<int>(all.points_W.cols());
   // feature points whole; the others one per voxel (the first in order, keeping its features)
   std::vector<int> features, rest;
   std::unordered_map<std::int64_t, int> voxel_owner;
@@ -115,6 +123,16 @@ TrainingSet ExtractTrainingSet(const Eigen::Matrix3Xf& points_W, const FsgpConfi
   selected.insert(selected.end(), rest.begin(), rest.end());
   std::sort(selected.begin(), selected.end());
 
+  return selected;
+}
+
+}  // namespace
+
+TrainingSet ExtractTrainingSet(const Eigen::Matrix3Xf& points_W, const FsgpConfig& config,
+                               common::Random* random) {
+  TrainingSet all = PointsWithFeatures(points_W, config);
+  if (all.points_W.cols() == 0) return all;
+  const std::vector<int> selected = SelectTrainingPoints(&all, config, random);
   TrainingSet training;
   training.pre_voxel_points = all.pre_voxel_points;
   training.feature_points = all.feature_points;

@@ -24,6 +24,38 @@ double Milliseconds(Clock::time_point since) {
 
 }  // namespace
 
+FsgpBgkMapper::GpInputs FsgpBgkMapper::StandardisedInputs(const TrainingSet& training, bool pca) {
+  // inputs (x, y, kappa, g), standardised; optional PCA fitted on the training set
+  GpInputs gp;
+  const Eigen::Index m = training.points_W.cols();
+  Eigen::MatrixXd raw(m, 4);
+  raw.col(0) = training.points_W.row(0).transpose();
+  raw.col(1) = training.points_W.row(1).transpose();
+  raw.col(2) = training.curvature;
+  raw.col(3) = training.gradient;
+  gp.mean = raw.colwise().mean();
+  gp.scale = ((raw.rowwise() - gp.mean).colwise().squaredNorm() / static_cast<double>(m))
+                 .cwiseSqrt()
+                 .cwiseMax(1e-3);
+  // u = (raw - mean) / scale, then u' = u R (R: PCA rotation or identity)
+  gp.rotation = Eigen::Matrix4d::Identity();
+  gp.inputs = (raw.rowwise() - gp.mean).array().rowwise() / gp.scale.array();
+  if (pca) {
+    const Eigen::Matrix4d covariance = gp.inputs.transpose() * gp.inputs / static_cast<double>(m);
+    gp.rotation = Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(covariance).eigenvectors();
+    gp.inputs = gp.inputs * gp.rotation;
+  }
+  // a least-squares plane carries the terrain's trend; the GP models the deviations from it (a
+  // constant-mean GP with short length scales bends back to its mean between training points and
+  // overestimates slopes by 10-20 %)
+  Eigen::MatrixXd design(m, 3);
+  design << raw.col(0), raw.col(1), Eigen::VectorXd::Ones(m);
+  const Eigen::VectorXd observed = training.points_W.row(2).transpose();
+  gp.plane = design.colPivHouseholderQr().solve(observed);
+  gp.heights = observed - design * gp.plane;
+  return gp;
+}
+
 void BgkUpdate(double m_pre, double variance_pre, double t_s, double decay_rate, double epsilon,
                float* m, float* variance, float* t0_s) {
   if (std::isnan(*m)) {
@@ -60,11 +92,30 @@ FsgpBgkMapper::FsgpBgkMapper(const FsgpConfig& config)
   fused_ = common::GridLayers(geometry, {kFused});
 }
 
+Eigen::Matrix3Xf FsgpBgkMapper::AccumulateFrames(const Eigen::Matrix3Xf& window,
+                                                 const Eigen::Vector3d& p_WB) {
+  const double half = 0.5 * config_.area.window_m;
+  history_.push_back(window);
+  while (static_cast<int>(history_.size()) > config_.accumulate_frames) history_.pop_front();
+  Eigen::Index total = 0;
+  for (const Eigen::Matrix3Xf& frame : history_) total += frame.cols();
+  Eigen::Matrix3Xf accumulated(3, total);
+  Eigen::Index at = 0;
+  for (const Eigen::Matrix3Xf& frame : history_) {
+    for (Eigen::Index i = 0; i < frame.cols(); ++i) {
+      const Eigen::Vector3f p = frame.col(i);
+      if (std::abs(p.x() - p_WB.x()) <= half && std::abs(p.y() - p_WB.y()) <= half)
+        accumulated.col(at++) = p;
+    }
+  }
+  accumulated.conservativeResize(3, at);
+  return accumulated;
+}
+
 MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
                                       const Eigen::Isometry3d& X_WB, double t_s) {
   MapUpdateResult result;
   const Eigen::Vector3d p_WB = X_WB.translation();
-  const double half = 0.5 * config_.area.window_m;
 
   // 1. crop to the window (and drop invalid points and overhangs such as tree crowns)
   auto stage = Clock::now();
@@ -73,22 +124,7 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
       CropWindow(points_W, p_WB, config_.area.window_m, config_.area.max_height_above_robot_m,
                  &result, config_.max_height_above_ground_m, &below_robot);
   // FSGP-Accumulation: the last N frames' clouds together
-  if (config_.accumulate_frames > 1) {
-    history_.push_back(window);
-    while (static_cast<int>(history_.size()) > config_.accumulate_frames) history_.pop_front();
-    Eigen::Index total = 0;
-    for (const Eigen::Matrix3Xf& frame : history_) total += frame.cols();
-    window.resize(3, total);
-    Eigen::Index at = 0;
-    for (const Eigen::Matrix3Xf& frame : history_) {
-      for (Eigen::Index i = 0; i < frame.cols(); ++i) {
-        const Eigen::Vector3f p = frame.col(i);
-        if (std::abs(p.x() - p_WB.x()) <= half && std::abs(p.y() - p_WB.y()) <= half)
-          window.col(at++) = p;
-      }
-    }
-    window.conservativeResize(3, at);
-  }
+  if (config_.accumulate_frames > 1) window = AccumulateFrames(window, p_WB);
   result.window_points = static_cast<int>(window.cols());
   result.times.crop = Milliseconds(stage);
   if (window.cols() < kMinimumPoints) {
@@ -106,67 +142,65 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
     return result;
   }
 
-  // 4. inputs (x, y, kappa, g), standardised; optional PCA fitted on the training set
+  // 4-5. inputs and the sparse GP (optionally a few L-BFGS steps on the hyperparameters,
+  // warm-started)
   stage = Clock::now();
-  const Eigen::Index m = training.points_W.cols();
-  Eigen::MatrixXd raw(m, 4);
-  raw.col(0) = training.points_W.row(0).transpose();
-  raw.col(1) = training.points_W.row(1).transpose();
-  raw.col(2) = training.curvature;
-  raw.col(3) = training.gradient;
-  const Eigen::RowVector4d mean = raw.colwise().mean();
-  const Eigen::RowVector4d scale =
-      ((raw.rowwise() - mean).colwise().squaredNorm() / static_cast<double>(m))
-          .cwiseSqrt()
-          .cwiseMax(1e-3);
-  // u = (raw - mean) / scale, then u' = u R (R: PCA rotation or identity)
-  Eigen::Matrix4d rotation = Eigen::Matrix4d::Identity();
-  Eigen::MatrixXd inputs = (raw.rowwise() - mean).array().rowwise() / scale.array();
-  if (config_.pca) {
-    const Eigen::Matrix4d covariance = inputs.transpose() * inputs / static_cast<double>(m);
-    rotation = Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(covariance).eigenvectors();
-    inputs = inputs * rotation;
-  }
-  // a least-squares plane carries the terrain's trend; the GP models the deviations from it (a
-  // constant-mean GP with short length scales bends back to its mean between training points and
-  // overestimates slopes by 10-20 %)
-  Eigen::MatrixXd design(m, 3);
-  design << raw.col(0), raw.col(1), Eigen::VectorXd::Ones(m);
-  const Eigen::VectorXd observed = training.points_W.row(2).transpose();
-  const Eigen::Vector3d plane = design.colPivHouseholderQr().solve(observed);
-  const Eigen::VectorXd heights = observed - design * plane;
-
-  // 5. sparse GP (optionally a few L-BFGS steps on the hyperparameters, warm-started)
-  SparseGp::OptimiseHyperparameters(inputs, heights, config_.lbfgs_iterations, &hyper_);
-  if (!gp_.Fit(inputs, heights, hyper_)) {
+  const GpInputs inputs = StandardisedInputs(training, config_.pca);
+  SparseGp::OptimiseHyperparameters(inputs.inputs, inputs.heights, config_.lbfgs_iterations,
+                                    &hyper_);
+  if (!gp_.Fit(inputs.inputs, inputs.heights, hyper_)) {
     result.status = MapUpdateStatus::kModelFailed;
     return result;
   }
   result.times.fit = Milliseconds(stage);
 
-  // 6. the window's cells with a training point within the support radius: kappa*, g* by IDW,
-  // then the GP's mean, variance and slope
+  // 6. the window's cells with a training point within the support radius: their prediction
   stage = Clock::now();
   map_.Recenter(p_WB.head<2>());
   fused_.Recenter(p_WB.head<2>());
+  const auto [low, high] = WindowCells(map_.geometry(), p_WB, config_.area.window_m);
+  const CellPrediction prediction = PredictCells(training, inputs, low, high);
+  result.times.predict = Milliseconds(stage);
+
+  // 7-8. preliminary score and fusion per world cell
+  stage = Clock::now();
+  Fuse(prediction, t_s);
+  result.observed_cells = static_cast<int>(prediction.cells.size());
+  result.times.fusion = Milliseconds(stage);
+
+  // 9. normalised Gaussian smoothing over the known cells of the window
+  stage = Clock::now();
+  Smooth(low, high);
+  MarkObstacles(below_robot, low, high);
+  result.times.smoothing = Milliseconds(stage);
+  return result;
+}
+
+FsgpBgkMapper::CellPrediction FsgpBgkMapper::PredictCells(const TrainingSet& training,
+                                                          const GpInputs& inputs,
+                                                          const Eigen::Vector2i& low,
+                                                          const Eigen::Vector2i& high) const {
+  // kappa*, g* by IDW on the cells with a training point within the support radius
   const common::GridGeometry& g = map_.geometry();
-  const auto [low, high] = WindowCells(g, p_WB, config_.area.window_m);
-  Eigen::Matrix2Xd cells(2, (high - low + Eigen::Vector2i::Ones()).prod());
+  Eigen::Matrix2Xd centres(2, (high - low + Eigen::Vector2i::Ones()).prod());
   std::vector<Eigen::Vector2i> cell_index;
   for (int ix = low.x(); ix <= high.x(); ++ix) {
     for (int iy = low.y(); iy <= high.y(); ++iy) {
-      cells.col(static_cast<Eigen::Index>(cell_index.size())) = g.CellCenter(ix, iy);
+      centres.col(static_cast<Eigen::Index>(cell_index.size())) = g.CellCenter(ix, iy);
       cell_index.emplace_back(ix, iy);
     }
   }
   Eigen::MatrixXi idw_indices;
   Eigen::MatrixXd idw_weights;
   Eigen::VectorXd nearest;
-  InverseDistanceWeights(training.points_W, cells, config_.idw_neighbours, config_.support_radius_m,
-                         &idw_indices, &idw_weights, &nearest);
+  InverseDistanceWeights(training.points_W, centres, config_.idw_neighbours,
+                         config_.support_radius_m, &idw_indices, &idw_weights, &nearest);
+  CellPrediction prediction;
   std::vector<Eigen::Index> supported;
-  for (Eigen::Index c = 0; c < cells.cols(); ++c) {
-    if (nearest[c] <= config_.support_radius_m) supported.push_back(c);
+  for (Eigen::Index c = 0; c < centres.cols(); ++c) {
+    if (nearest[c] > config_.support_radius_m) continue;
+    supported.push_back(c);
+    prediction.cells.push_back(cell_index[static_cast<std::size_t>(c)]);
   }
   const auto t_count = static_cast<Eigen::Index>(supported.size());
   Eigen::MatrixXd test(t_count, 4);
@@ -177,68 +211,80 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
       curvature += idw_weights(j, c) * training.curvature[idw_indices(j, c)];
       gradient += idw_weights(j, c) * training.gradient[idw_indices(j, c)];
     }
-    test.row(s) << cells(0, c), cells(1, c), curvature, gradient;
+    test.row(s) << centres(0, c), centres(1, c), curvature, gradient;
   }
-  const Eigen::MatrixXd raw_test = test;
-  test = ((test.rowwise() - mean).array().rowwise() / scale.array()).matrix() * rotation;
-  Eigen::VectorXd f, variance;
+  prediction.raw_inputs = test;
+  // then the GP's mean, variance and slope
+  test = ((test.rowwise() - inputs.mean).array().rowwise() / inputs.scale.array()).matrix() *
+         inputs.rotation;
   Eigen::MatrixXd df_du;
-  gp_.Predict(test, &f, &df_du);
-  // the variance on every n-th cell; the others take it from the cell at the start of their block
-  {
-    const int stride = config_.variance_stride;
-    std::vector<Eigen::Index> sampled;
-    for (Eigen::Index s = 0; s < t_count; ++s) {
-      const Eigen::Vector2i& cell =
-          cell_index[static_cast<std::size_t>(supported[static_cast<std::size_t>(s)])];
-      if (cell.x() % stride == 0 && cell.y() % stride == 0) sampled.push_back(s);
-    }
-    Eigen::MatrixXd sampled_inputs(static_cast<Eigen::Index>(sampled.size()), test.cols());
-    for (std::size_t k = 0; k < sampled.size(); ++k)
-      sampled_inputs.row(static_cast<Eigen::Index>(k)) = test.row(sampled[k]);
-    Eigen::VectorXd sampled_variance;
-    gp_.PredictVariance(sampled_inputs, &sampled_variance);
-    // the sampled variances on the window's cells (NaN elsewhere), indexed from `low`
-    const Eigen::Vector2i window_size = high - low + Eigen::Vector2i::Ones();
-    Eigen::MatrixXd block_variance = Eigen::MatrixXd::Constant(
-        window_size.x(), window_size.y(), std::numeric_limits<double>::quiet_NaN());
-    for (std::size_t k = 0; k < sampled.size(); ++k) {
-      const Eigen::Vector2i& cell =
-          cell_index[static_cast<std::size_t>(supported[static_cast<std::size_t>(sampled[k])])];
-      block_variance(cell.x() - low.x(), cell.y() - low.y()) =
-          sampled_variance[static_cast<Eigen::Index>(k)];
-    }
-    variance.resize(t_count);
-    for (Eigen::Index s = 0; s < t_count; ++s) {
-      const Eigen::Vector2i& cell =
-          cell_index[static_cast<std::size_t>(supported[static_cast<std::size_t>(s)])];
-      const Eigen::Vector2i corner =
-          Eigen::Vector2i(cell.x() - cell.x() % stride, cell.y() - cell.y() % stride) - low;
-      const double v = (corner.array() >= 0).all() ? block_variance(corner.x(), corner.y())
-                                                   : std::numeric_limits<double>::quiet_NaN();
-      // a block whose corner cell is unsupported: the prior variance (least certain)
-      variance[s] = std::isnan(v) ? gp_.prior_variance() : v;
-    }
-  }
+  gp_.Predict(test, &prediction.elevation, &df_du);
+  prediction.variance = StridedVariance(test, prediction.cells, low, high);
   // the plane back in, and the slope over x and y only: d f / d x = a + sum_d d f / d u'_d R(x, d)
   // / s_x
-  f.array() += plane[0] * raw_test.col(0).array() + plane[1] * raw_test.col(1).array() + plane[2];
-  const Eigen::VectorXd df_dx = (df_du * rotation.row(0).transpose() / scale[0]).array() + plane[0];
-  const Eigen::VectorXd df_dy = (df_du * rotation.row(1).transpose() / scale[1]).array() + plane[1];
-  result.times.predict = Milliseconds(stage);
+  const Eigen::Vector3d& plane = inputs.plane;
+  prediction.elevation.array() += plane[0] * prediction.raw_inputs.col(0).array() +
+                                  plane[1] * prediction.raw_inputs.col(1).array() + plane[2];
+  prediction.df_dx =
+      (df_du * inputs.rotation.row(0).transpose() / inputs.scale[0]).array() + plane[0];
+  prediction.df_dy =
+      (df_du * inputs.rotation.row(1).transpose() / inputs.scale[1]).array() + plane[1];
+  return prediction;
+}
 
-  // 7-8. preliminary score and fusion per world cell
-  stage = Clock::now();
+Eigen::VectorXd FsgpBgkMapper::StridedVariance(const Eigen::MatrixXd& test,
+                                               const std::vector<Eigen::Vector2i>& cells,
+                                               const Eigen::Vector2i& low,
+                                               const Eigen::Vector2i& high) const {
+  // the variance on every n-th cell; the others take it from the cell at the start of their block
+  const int stride = config_.variance_stride;
+  const auto t_count = static_cast<Eigen::Index>(cells.size());
+  std::vector<Eigen::Index> sampled;
+  for (Eigen::Index s = 0; s < t_count; ++s) {
+    const Eigen::Vector2i& cell = cells[static_cast<std::size_t>(s)];
+    if (cell.x() % stride == 0 && cell.y() % stride == 0) sampled.push_back(s);
+  }
+  Eigen::MatrixXd sampled_inputs(static_cast<Eigen::Index>(sampled.size()), test.cols());
+  for (std::size_t k = 0; k < sampled.size(); ++k)
+    sampled_inputs.row(static_cast<Eigen::Index>(k)) = test.row(sampled[k]);
+  Eigen::VectorXd sampled_variance;
+  gp_.PredictVariance(sampled_inputs, &sampled_variance);
+  // the sampled variances on the window's cells (NaN elsewhere), indexed from `low`
+  const Eigen::Vector2i window_size = high - low + Eigen::Vector2i::Ones();
+  Eigen::MatrixXd block_variance = Eigen::MatrixXd::Constant(
+      window_size.x(), window_size.y(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t k = 0; k < sampled.size(); ++k) {
+    const Eigen::Vector2i& cell = cells[static_cast<std::size_t>(sampled[k])];
+    block_variance(cell.x() - low.x(), cell.y() - low.y()) =
+        sampled_variance[static_cast<Eigen::Index>(k)];
+  }
+  Eigen::VectorXd variance(t_count);
+  for (Eigen::Index s = 0; s < t_count; ++s) {
+    const Eigen::Vector2i& cell = cells[static_cast<std::size_t>(s)];
+    const Eigen::Vector2i corner =
+        Eigen::Vector2i(cell.x() - cell.x() % stride, cell.y() - cell.y() % stride) - low;
+    const double v = (corner.array() >= 0).all() ? block_variance(corner.x(), corner.y())
+                                                 : std::numeric_limits<double>::quiet_NaN();
+    // a block whose corner cell is unsupported: the prior variance (least certain)
+    variance[s] = std::isnan(v) ? gp_.prior_variance() : v;
+  }
+  return variance;
+}
+
+void FsgpBgkMapper::Fuse(const CellPrediction& prediction, double t_s) {
   Eigen::MatrixXf& fused = fused_.Layer(kFused);
   Eigen::MatrixXf& fused_variance = map_.Layer(layers::kTraversabilityVariance);
   Eigen::MatrixXf& last = map_.Layer(layers::kLastObserved);
-  for (Eigen::Index s = 0; s < t_count; ++s) {
-    const Eigen::Vector2i& cell =
-        cell_index[static_cast<std::size_t>(supported[static_cast<std::size_t>(s)])];
-    const double slope = std::atan(std::hypot(df_dx[s], df_dy[s]));
+  const Eigen::MatrixXd& raw_test = prediction.raw_inputs;
+  for (std::size_t k = 0; k < prediction.cells.size(); ++k) {
+    const auto s = static_cast<Eigen::Index>(k);
+    const Eigen::Vector2i& cell = prediction.cells[k];
+    const double variance = prediction.variance[s];
+    const double slope = std::atan(std::hypot(prediction.df_dx[s], prediction.df_dy[s]));
     const double score = PreliminaryScore(config_, raw_test(s, 2), raw_test(s, 3), slope);
-    map_.Layer(layers::kElevation)(cell.x(), cell.y()) = static_cast<float>(f[s]);
-    map_.Layer(layers::kElevationVariance)(cell.x(), cell.y()) = static_cast<float>(variance[s]);
+    map_.Layer(layers::kElevation)(cell.x(), cell.y()) =
+        static_cast<float>(prediction.elevation[s]);
+    map_.Layer(layers::kElevationVariance)(cell.x(), cell.y()) = static_cast<float>(variance);
     map_.Layer(layers::kSlope)(cell.x(), cell.y()) = static_cast<float>(slope);
     map_.Layer(layers::kCurvature)(cell.x(), cell.y()) = static_cast<float>(raw_test(s, 2));
     map_.Layer(layers::kGradient)(cell.x(), cell.y()) = static_cast<float>(raw_test(s, 3));
@@ -246,23 +292,14 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
     float& v_cell = fused_variance(cell.x(), cell.y());
     float& t_cell = last(cell.x(), cell.y());
     if (config_.fuse) {
-      BgkUpdate(score, variance[s], t_s, config_.decay_rate, config_.variance_epsilon, &m_cell,
+      BgkUpdate(score, variance, t_s, config_.decay_rate, config_.variance_epsilon, &m_cell,
                 &v_cell, &t_cell);
     } else {
       m_cell = static_cast<float>(score);
-      v_cell = static_cast<float>(variance[s]);
+      v_cell = static_cast<float>(variance);
       t_cell = static_cast<float>(t_s);
     }
   }
-  result.observed_cells = static_cast<int>(t_count);
-  result.times.fusion = Milliseconds(stage);
-
-  // 9. normalised Gaussian smoothing over the known cells of the window
-  stage = Clock::now();
-  Smooth(low, high);
-  MarkObstacles(below_robot, low, high);
-  result.times.smoothing = Milliseconds(stage);
-  return result;
 }
 
 namespace {

@@ -3,7 +3,10 @@
 #include <deque>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "common/random.h"
+#include "mapping/features.h"
 #include "mapping/fsgp_config.h"
 #include "mapping/sparse_gp.h"
 #include "mapping/traversability_mapper.h"
@@ -30,6 +33,38 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   const GpHyperparameters& hyperparameters() const { return hyper_; }
 
  private:
+  // The GP's inputs (x, y, kappa, g) standardised by `mean` and `scale` and rotated by `rotation`
+  // (PCA or identity), and the heights above the least-squares plane a x + b y + c.
+  struct GpInputs {
+    Eigen::RowVector4d mean;
+    Eigen::RowVector4d scale;
+    Eigen::Matrix4d rotation;
+    Eigen::MatrixXd inputs;
+    Eigen::Vector3d plane;
+    Eigen::VectorXd heights;
+  };
+  // The prediction on the window's supported cells: inputs before standardisation (x, y, kappa,
+  // g), elevation, variance and slope components.
+  struct CellPrediction {
+    std::vector<Eigen::Vector2i> cells;
+    Eigen::MatrixXd raw_inputs;
+    Eigen::VectorXd elevation;
+    Eigen::VectorXd variance;
+    Eigen::VectorXd df_dx;
+    Eigen::VectorXd df_dy;
+  };
+
+  static GpInputs StandardisedInputs(const TrainingSet& training, bool pca);
+  // FSGP-Accumulation: the last accumulate_frames windows within the window around p_WB.
+  Eigen::Matrix3Xf AccumulateFrames(const Eigen::Matrix3Xf& window, const Eigen::Vector3d& p_WB);
+  CellPrediction PredictCells(const TrainingSet& training, const GpInputs& inputs,
+                              const Eigen::Vector2i& low, const Eigen::Vector2i& high) const;
+  // The GP variance on every variance_stride-th cell, spread over the others of its block.
+  Eigen::VectorXd StridedVariance(const Eigen::MatrixXd& test,
+                                  const std::vector<Eigen::Vector2i>& cells,
+                                  const Eigen::Vector2i& low, const Eigen::Vector2i& high) const;
+  // The preliminary score of each predicted cell fused into the map (BGK, or replaced).
+  void Fuse(const CellPrediction& prediction, double t_s);
   void MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eigen::Vector2i& low,
                      const Eigen::Vector2i& high);
   void Smooth(const Eigen::Vector2i& low, const Eigen::Vector2i& high);

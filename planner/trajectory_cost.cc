@@ -51,6 +51,138 @@ struct Partials {
   double time{0.0};
 };
 
+// The dynamic-limit penalty at one node (speed, yaw rate, accelerations, centripetal
+// acceleration), times `weight`, with its partials added to `p`.
+double LimitsPenalty(const FlatState& state, const DynamicLimits& lim, double weight, double mu,
+                     Partials* partials) {
+  Partials& p = *partials;
+  double slope = 0.0;
+  const double v = state.ds, omega = state.dtheta;
+  double limits = 0.0;
+  limits += SmoothedL1(v * v - lim.max_speed_m_s * lim.max_speed_m_s, mu, &slope);
+  p.ds += slope * 2.0 * v;
+  limits += SmoothedL1(omega * omega - lim.max_yaw_rate_rad_s * lim.max_yaw_rate_rad_s, mu, &slope);
+  p.dtheta += slope * 2.0 * omega;
+  limits += SmoothedL1(
+      state.dds * state.dds - lim.max_acceleration_m_s2 * lim.max_acceleration_m_s2, mu, &slope);
+  p.dds += slope * 2.0 * state.dds;
+  limits += SmoothedL1(state.ddtheta * state.ddtheta -
+                           lim.max_yaw_acceleration_rad_s2 * lim.max_yaw_acceleration_rad_s2,
+                       mu, &slope);
+  p.ddtheta += slope * 2.0 * state.ddtheta;
+  const double a_c = lim.max_centripetal_acceleration_m_s2;
+  limits += SmoothedL1(omega * omega * v * v - a_c * a_c, mu, &slope);
+  p.dtheta += slope * 2.0 * omega * v * v;
+  p.ds += slope * 2.0 * v * omega * omega;
+  limits *= weight;
+  p.ds *= weight;
+  p.dtheta *= weight;
+  p.dds *= weight;
+  p.ddtheta *= weight;
+  return limits;
+}
+
+// The penalties read from the map's fields at one node, with their partials added to `p`.
+struct FieldTerms {
+  double clearance;       // the distance to lethal cells below the clearance
+  double traversability;  // the cost integrated over the distance driven
+};
+
+FieldTerms FieldPenalties(const CostField& field, const TrajectoryCostSetup& s,
+                          const Eigen::Vector2d& position, double v, Partials* partials) {
+  Partials& p = *partials;
+  const TrajectoryCostWeights& w = s.weights;
+  const double mu = s.smoothing;
+  double slope = 0.0;
+  const FieldSample distance = field.Distance(position);
+  const double clearance = w.clearance * SmoothedL1(s.clearance_m - distance.value, mu, &slope);
+  p.position -= w.clearance * slope * distance.gradient_W;
+
+  // int c |v| dt with |v| smoothed as sqrt(v^2 + e^2) - e
+  constexpr double kSpeedSmoothing = 0.05;
+  const FieldSample cost = field.Cost(position);
+  const double speed = std::sqrt(v * v + kSpeedSmoothing * kSpeedSmoothing);
+  const double traversability = w.traversability * cost.value * (speed - kSpeedSmoothing);
+  p.position += w.traversability * (speed - kSpeedSmoothing) * cost.gradient_W;
+  p.ds += w.traversability * cost.value * v / speed;
+  return {clearance, traversability};
+}
+
+// The moving-obstacle penalty at one node (position_W at absolute time t_abs), with its partials
+// added to `p`: a gap that grows with the time ahead of the start must stay clear of each
+// obstacle's prediction.
+double ObstaclesPenalty(const TrajectoryCostSetup& s, const Eigen::Vector2d& position, double t_abs,
+                        Partials* partials) {
+  Partials& p = *partials;
+  const double w = s.weights.moving_obstacles;
+  const double mu = s.smoothing;
+  double slope = 0.0;
+  double obstacles = 0.0;
+  for (const MovingObstacle& o : s.obstacles) {
+    const double ahead = t_abs - s.start_time_s;
+    const double gap =
+        s.robot_radius_m + o.radius_m + s.obstacle_clearance_m + s.clearance_growth_m_s * ahead;
+    const Eigen::Vector2d r = position - o.PositionAt(t_abs);
+    const double violation = gap * gap - r.squaredNorm();
+    if (violation <= 0.0) continue;
+    obstacles += w * SmoothedL1(violation, mu, &slope);
+    p.position -= w * slope * 2.0 * r;
+    p.time += w * slope * (2.0 * gap * s.clearance_growth_m_s + 2.0 * r.dot(o.velocity_W));
+  }
+  return obstacles;
+}
+
+// The backward pass through the integration of the position and the nodes' absolute times: adds
+// to dK/dc and dK/dT what the penalties' position and time partials at the nodes contribute.
+void AddIntegrationGradient(const Eigen::VectorXd& durations, const Eigen::MatrixXd& coefficients,
+                            int k_max, const std::vector<Eigen::Vector2d>& node_position_gradient,
+                            const std::vector<double>& node_time_gradient,
+                            const std::vector<Eigen::Vector2d>& step_increment,
+                            Eigen::MatrixXd* dK_dc_out, Eigen::VectorXd* dK_dT_out) {
+  Eigen::MatrixXd& dK_dc = *dK_dc_out;
+  Eigen::VectorXd& dK_dT = *dK_dT_out;
+  const auto n = static_cast<int>(durations.size());
+  const int nodes_per_piece = k_max + 1;
+  // backward pass through the integration: `adjoint` sums dK/dp over every node after the step
+  Eigen::Vector2d adjoint = Eigen::Vector2d::Zero();
+  for (int i = n - 1; i >= 0; --i) {
+    const double duration = durations(i);
+    const double h = duration / k_max;
+    const Eigen::Matrix<double, 6, 2> c = coefficients.middleRows<6>(6 * i);
+    for (int k = k_max; k >= 1; --k) {
+      adjoint += node_position_gradient[i * nodes_per_piece + k];
+      // Simpson step from node k - 1 to k: h/6 (f(t_a) + 4 f(t_m) + f(t_b))
+      const double times[3] = {(k - 1) * h, (k - 0.5) * h, k * h};
+      const double factors[3] = {h / 6.0, 4.0 * h / 6.0, h / 6.0};
+      for (int e = 0; e < 3; ++e) {
+        const Bases bases(times[e]);
+        const FlatState state = StateAt(c, bases);
+        const double cos_t = std::cos(state.theta), sin_t = std::sin(state.theta);
+        const double by_speed = adjoint.x() * cos_t + adjoint.y() * sin_t;
+        const double by_yaw = state.ds * (-adjoint.x() * sin_t + adjoint.y() * cos_t);
+        dK_dc.block<6, 1>(6 * i, 0) += factors[e] * by_yaw * bases.b0.transpose();
+        dK_dc.block<6, 1>(6 * i, 1) += factors[e] * by_speed * bases.b1.transpose();
+        dK_dT(i) +=
+            factors[e] * (by_yaw * state.dtheta + by_speed * state.dds) * (times[e] / duration);
+      }
+      dK_dT(i) += adjoint.dot(step_increment[i * k_max + k - 1]) / duration;
+    }
+    adjoint += node_position_gradient[i * nodes_per_piece];
+  }
+  // absolute node times: t = start + sum_{l < i} T_l + k/K T_i
+  double later = 0.0;
+  for (int i = n - 1; i >= 0; --i) {
+    double own = 0.0, total = 0.0;
+    for (int k = 0; k <= k_max; ++k) {
+      const double g = node_time_gradient[i * nodes_per_piece + k];
+      own += g * static_cast<double>(k) / k_max;
+      total += g;
+    }
+    dK_dT(i) += later + own;
+    later += total;
+  }
+}
+
 }  // namespace
 
 double SmoothedL1(double x, double mu, double* slope) {
@@ -166,58 +298,13 @@ double TrajectoryCost::Evaluate(const Eigen::VectorXd& z, Eigen::VectorXd* gradi
 
       // penalty integrand g and its partial derivatives
       Partials p;
-      double slope = 0.0;
-      const double v = state.ds, omega = state.dtheta;
-      double limits = 0.0;
-      limits += SmoothedL1(v * v - lim.max_speed_m_s * lim.max_speed_m_s, mu, &slope);
-      p.ds += slope * 2.0 * v;
-      limits +=
-          SmoothedL1(omega * omega - lim.max_yaw_rate_rad_s * lim.max_yaw_rate_rad_s, mu, &slope);
-      p.dtheta += slope * 2.0 * omega;
-      limits +=
-          SmoothedL1(state.dds * state.dds - lim.max_acceleration_m_s2 * lim.max_acceleration_m_s2,
-                     mu, &slope);
-      p.dds += slope * 2.0 * state.dds;
-      limits += SmoothedL1(state.ddtheta * state.ddtheta -
-                               lim.max_yaw_acceleration_rad_s2 * lim.max_yaw_acceleration_rad_s2,
-                           mu, &slope);
-      p.ddtheta += slope * 2.0 * state.ddtheta;
-      const double a_c = lim.max_centripetal_acceleration_m_s2;
-      limits += SmoothedL1(omega * omega * v * v - a_c * a_c, mu, &slope);
-      p.dtheta += slope * 2.0 * omega * v * v;
-      p.ds += slope * 2.0 * v * omega * omega;
-      limits *= w.limits;
-      p.ds *= w.limits;
-      p.dtheta *= w.limits;
-      p.dds *= w.limits;
-      p.ddtheta *= w.limits;
+      const double limits = LimitsPenalty(state, lim, w.limits, mu, &p);
 
-      const FieldSample distance = field_->Distance(position);
-      const double clearance = w.clearance * SmoothedL1(s.clearance_m - distance.value, mu, &slope);
-      p.position -= w.clearance * slope * distance.gradient_W;
+      const FieldTerms field = FieldPenalties(*field_, s, position, state.ds, &p);
+      const double clearance = field.clearance;
+      const double traversability = field.traversability;
 
-      // int c |v| dt with |v| smoothed as sqrt(v^2 + e^2) - e
-      constexpr double kSpeedSmoothing = 0.05;
-      const FieldSample cost = field_->Cost(position);
-      const double speed = std::sqrt(v * v + kSpeedSmoothing * kSpeedSmoothing);
-      const double traversability = w.traversability * cost.value * (speed - kSpeedSmoothing);
-      p.position += w.traversability * (speed - kSpeedSmoothing) * cost.gradient_W;
-      p.ds += w.traversability * cost.value * v / speed;
-
-      const double t_abs = piece_start_s + t;
-      double obstacles = 0.0;
-      for (const MovingObstacle& o : s.obstacles) {
-        const double ahead = t_abs - s.start_time_s;
-        const double gap =
-            s.robot_radius_m + o.radius_m + s.obstacle_clearance_m + s.clearance_growth_m_s * ahead;
-        const Eigen::Vector2d r = position - o.PositionAt(t_abs);
-        const double violation = gap * gap - r.squaredNorm();
-        if (violation <= 0.0) continue;
-        obstacles += w.moving_obstacles * SmoothedL1(violation, mu, &slope);
-        p.position -= w.moving_obstacles * slope * 2.0 * r;
-        p.time += w.moving_obstacles * slope *
-                  (2.0 * gap * s.clearance_growth_m_s + 2.0 * r.dot(o.velocity_W));
-      }
+      const double obstacles = ObstaclesPenalty(s, position, piece_start_s + t, &p);
 
       // trapezoidal weight of the node: the integral is sum weight * g
       const double weight = (k == 0 || k == k_max ? 0.5 : 1.0) * h;
@@ -248,59 +335,29 @@ double TrajectoryCost::Evaluate(const Eigen::VectorXd& z, Eigen::VectorXd* gradi
   node_position_gradient.back() += rho_ * shifted;
 
   if (gradient != nullptr) {
-    // backward pass through the integration: `adjoint` sums dK/dp over every node after the step
-    Eigen::Vector2d adjoint = Eigen::Vector2d::Zero();
-    for (int i = n - 1; i >= 0; --i) {
-      const double duration = durations(i);
-      const double h = duration / k_max;
-      const Eigen::Matrix<double, 6, 2> c = coefficients.middleRows<6>(6 * i);
-      for (int k = k_max; k >= 1; --k) {
-        adjoint += node_position_gradient[i * nodes_per_piece + k];
-        // Simpson step from node k - 1 to k: h/6 (f(t_a) + 4 f(t_m) + f(t_b))
-        const double times[3] = {(k - 1) * h, (k - 0.5) * h, k * h};
-        const double factors[3] = {h / 6.0, 4.0 * h / 6.0, h / 6.0};
-        for (int e = 0; e < 3; ++e) {
-          const Bases bases(times[e]);
-          const FlatState state = StateAt(c, bases);
-          const double cos_t = std::cos(state.theta), sin_t = std::sin(state.theta);
-          const double by_speed = adjoint.x() * cos_t + adjoint.y() * sin_t;
-          const double by_yaw = state.ds * (-adjoint.x() * sin_t + adjoint.y() * cos_t);
-          dK_dc.block<6, 1>(6 * i, 0) += factors[e] * by_yaw * bases.b0.transpose();
-          dK_dc.block<6, 1>(6 * i, 1) += factors[e] * by_speed * bases.b1.transpose();
-          dK_dT(i) +=
-              factors[e] * (by_yaw * state.dtheta + by_speed * state.dds) * (times[e] / duration);
-        }
-        dK_dT(i) += adjoint.dot(step_increment[i * k_max + k - 1]) / duration;
-      }
-      adjoint += node_position_gradient[i * nodes_per_piece];
-    }
-    // absolute node times: t = start + sum_{l < i} T_l + k/K T_i
-    double later = 0.0;
-    for (int i = n - 1; i >= 0; --i) {
-      double own = 0.0, total = 0.0;
-      for (int k = 0; k <= k_max; ++k) {
-        const double g = node_time_gradient[i * nodes_per_piece + k];
-        own += g * static_cast<double>(k) / k_max;
-        total += g;
-      }
-      dK_dT(i) += later + own;
-      later += total;
-    }
-
-    Eigen::MatrixXd dK_dq, dK_dtail;
-    Eigen::VectorXd dK_dT_total;
-    polynomial_.PropagateGradient(dK_dc, dK_dT, &dK_dq, &dK_dT_total, nullptr, &dK_dtail);
-    gradient->resize(num_variables());
-    gradient->segment(0, n - 1) = dK_dq.col(0);
-    gradient->segment(n - 1, n - 1) = dK_dq.col(1);
-    (*gradient)(2 * n - 2) = dK_dtail(0, 0);
-    (*gradient)(2 * n - 1) = dK_dtail(0, 1);
-    for (int i = 0; i < n; ++i) {
-      (*gradient)(2 * n + i) = dK_dT_total(i) * DurationGradient(z(2 * n + i));
-    }
+    AddIntegrationGradient(durations, coefficients, k_max, node_position_gradient,
+                           node_time_gradient, step_increment, &dK_dc, &dK_dT);
+    ChainToVariables(z, dK_dc, dK_dT, gradient);
   }
   if (terms != nullptr) *terms = local;
   return local.Total();
+}
+
+void TrajectoryCost::ChainToVariables(const Eigen::VectorXd& z, const Eigen::MatrixXd& dK_dc,
+                                      const Eigen::VectorXd& dK_dT,
+                                      Eigen::VectorXd* gradient) const {
+  const int n = num_pieces_;
+  Eigen::MatrixXd dK_dq, dK_dtail;
+  Eigen::VectorXd dK_dT_total;
+  polynomial_.PropagateGradient(dK_dc, dK_dT, &dK_dq, &dK_dT_total, nullptr, &dK_dtail);
+  gradient->resize(num_variables());
+  gradient->segment(0, n - 1) = dK_dq.col(0);
+  gradient->segment(n - 1, n - 1) = dK_dq.col(1);
+  (*gradient)(2 * n - 2) = dK_dtail(0, 0);
+  (*gradient)(2 * n - 1) = dK_dtail(0, 1);
+  for (int i = 0; i < n; ++i) {
+    (*gradient)(2 * n + i) = dK_dT_total(i) * DurationGradient(z(2 * n + i));
+  }
 }
 
 }  // namespace trav::planner

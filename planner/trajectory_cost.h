@@ -124,6 +124,10 @@ class TrajectoryCost {
   static double DurationGradient(double tau);
 
  private:
+  // The gradient over the variables z from dK/dc and dK/dT, through MINCO and the duration map.
+  void ChainToVariables(const Eigen::VectorXd& z, const Eigen::MatrixXd& dK_dc,
+                        const Eigen::VectorXd& dK_dT, Eigen::VectorXd* gradient) const;
+
   const CostField* field_;
   TrajectoryCostSetup setup_;
   int num_pieces_;
