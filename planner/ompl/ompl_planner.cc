@@ -182,6 +182,58 @@ void Validate(const SamplingPlannerConfig& config) {
   }
 }
 
+// The plane bounded by the grid's cells, states valid on free cells, motions checked every half
+// cell, sampled from seeds drawn from `seeds`.
+ob::SpaceInformationPtr SpaceOf(const SearchCostMap& costs, common::Random* seeds) {
+  const common::GridGeometry& g = costs.geometry();
+  const Eigen::Vector2d low_W = g.origin_W - Eigen::Vector2d::Constant(0.5 * g.resolution_m);
+  const Eigen::Vector2d high_W = low_W + g.resolution_m * Eigen::Vector2d(g.num_x, g.num_y);
+  auto space = std::make_shared<ob::RealVectorStateSpace>(2);
+  ob::RealVectorBounds bounds(2);
+  bounds.setLow(0, low_W.x());
+  bounds.setLow(1, low_W.y());
+  bounds.setHigh(0, high_W.x());
+  bounds.setHigh(1, high_W.y());
+  space->setBounds(bounds);
+  space->setLongestValidSegmentFraction(0.5 * g.resolution_m / space->getMaximumExtent());
+  space->setStateSamplerAllocator(
+      [sampler_seeds = common::Random(seeds->Next())](const ob::StateSpace* s) mutable {
+        return std::make_shared<SeededSampler>(s, static_cast<std::uint32_t>(sampler_seeds.Next()));
+      });
+  auto si = std::make_shared<ob::SpaceInformation>(space);
+  si->setStateValidityChecker(std::make_shared<CostMapValidityChecker>(si.get(), costs));
+  si->setMotionValidator(std::make_shared<SegmentMotionValidator>(si.get(), costs));
+  si->setup();
+
+  return si;
+}
+
+// The planner of `algorithm` on `si`, seeded.
+ob::PlannerPtr MakePlanner(const SamplingPlannerConfig& config, const ob::SpaceInformationPtr& si,
+                           std::uint32_t planner_seed) {
+  ob::PlannerPtr planner;
+  switch (config.algorithm) {
+    case SamplingAlgorithm::kRrtStar: {
+      auto rrt_star = std::make_shared<Seeded<og::RRTstar>>(si, planner_seed);
+      if (config.range_m > 0.0) rrt_star->setRange(config.range_m);
+      planner = rrt_star;
+      break;
+    }
+    case SamplingAlgorithm::kBitStar:
+      // BIT* draws only from the informed sampler (its own generator serves just-in-time
+      // sampling, which is off); OMPL names its default k-nearest variant "kBITstar"
+      planner = std::make_shared<og::BITstar>(si, "kBITstar");
+      break;
+    case SamplingAlgorithm::kRrtConnect: {
+      auto rrt_connect = std::make_shared<Seeded<og::RRTConnect>>(si, planner_seed);
+      if (config.range_m > 0.0) rrt_connect->setRange(config.range_m);
+      planner = rrt_connect;
+      break;
+    }
+  }
+  return planner;
+}
+
 }  // namespace
 
 SamplingAlgorithm ParseSamplingAlgorithm(const std::string& name) {
@@ -211,26 +263,8 @@ SamplingResult PlanSampling(const SearchCostMap& costs, const SamplingPlannerCon
   ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
   common::Random seeds(config.seed);
 
-  // the plane, bounded by the grid's cells, motions checked every half cell
-  const common::GridGeometry& g = costs.geometry();
-  const Eigen::Vector2d low_W = g.origin_W - Eigen::Vector2d::Constant(0.5 * g.resolution_m);
-  const Eigen::Vector2d high_W = low_W + g.resolution_m * Eigen::Vector2d(g.num_x, g.num_y);
-  auto space = std::make_shared<ob::RealVectorStateSpace>(2);
-  ob::RealVectorBounds bounds(2);
-  bounds.setLow(0, low_W.x());
-  bounds.setLow(1, low_W.y());
-  bounds.setHigh(0, high_W.x());
-  bounds.setHigh(1, high_W.y());
-  space->setBounds(bounds);
-  space->setLongestValidSegmentFraction(0.5 * g.resolution_m / space->getMaximumExtent());
-  space->setStateSamplerAllocator(
-      [sampler_seeds = common::Random(seeds.Next())](const ob::StateSpace* s) mutable {
-        return std::make_shared<SeededSampler>(s, static_cast<std::uint32_t>(sampler_seeds.Next()));
-      });
-  auto si = std::make_shared<ob::SpaceInformation>(space);
-  si->setStateValidityChecker(std::make_shared<CostMapValidityChecker>(si.get(), costs));
-  si->setMotionValidator(std::make_shared<SegmentMotionValidator>(si.get(), costs));
-  si->setup();
+  const ob::SpaceInformationPtr si = SpaceOf(costs, &seeds);
+  const auto space = si->getStateSpace();
 
   // the query and its cost
   ob::ScopedState<ob::RealVectorStateSpace> start(space), goal(space);
@@ -242,27 +276,7 @@ SamplingResult PlanSampling(const SearchCostMap& costs, const SamplingPlannerCon
   problem->setStartAndGoalStates(start, goal);
   problem->setOptimizationObjective(std::make_shared<SegmentCostObjective>(si, costs, goal_W));
 
-  ob::PlannerPtr planner;
-  const auto planner_seed = static_cast<std::uint32_t>(seeds.Next());
-  switch (config.algorithm) {
-    case SamplingAlgorithm::kRrtStar: {
-      auto rrt_star = std::make_shared<Seeded<og::RRTstar>>(si, planner_seed);
-      if (config.range_m > 0.0) rrt_star->setRange(config.range_m);
-      planner = rrt_star;
-      break;
-    }
-    case SamplingAlgorithm::kBitStar:
-      // BIT* draws only from the informed sampler (its own generator serves just-in-time
-      // sampling, which is off); OMPL names its default k-nearest variant "kBITstar"
-      planner = std::make_shared<og::BITstar>(si, "kBITstar");
-      break;
-    case SamplingAlgorithm::kRrtConnect: {
-      auto rrt_connect = std::make_shared<Seeded<og::RRTConnect>>(si, planner_seed);
-      if (config.range_m > 0.0) rrt_connect->setRange(config.range_m);
-      planner = rrt_connect;
-      break;
-    }
-  }
+  const ob::PlannerPtr planner = MakePlanner(config, si, static_cast<std::uint32_t>(seeds.Next()));
   planner->setProblemDefinition(problem);
   planner->setup();
 

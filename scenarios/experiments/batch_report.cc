@@ -202,41 +202,19 @@ bool IsSeedLabel(const std::string& label) {
   return label.size() >= 4 && label.compare(label.size() - 4, 4, "seed") == 0;
 }
 
-}  // namespace
-
-std::map<std::string, double> FlattenSummary(const nlohmann::json& summary) {
-  std::map<std::string, double> values;
-  FlattenInto(summary, "", &values);
-  return values;
-}
-
-WilsonInterval Wilson95(int successes, int trials) {
-  if (trials <= 0) return {0.0, 1.0};
-  constexpr double z = 1.959963984540054;
-  const double n = trials;
-  const double p = successes / n;
-  const double denominator = 1.0 + z * z / n;
-  const double centre = (p + z * z / (2.0 * n)) / denominator;
-  const double half = z * std::sqrt(p * (1.0 - p) / n + z * z / (4.0 * n * n)) / denominator;
-  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
-}
-
-void WriteBatchReport(const std::string& out_dir) {
-  const fs::path folder(out_dir);
-  const std::optional<nlohmann::json> batch = ReadJsonIfPresent((folder / "batch.json").string());
-  if (!batch) throw common::InputError((folder / "batch.json").string(), "", "no batch here");
-
+// The batch's runs that have a result (a summary, or the record of a failure), in the batch's
+// order; `labels` receives the swept parameters' names and `pending` the runs without a result.
+std::vector<Row> ReadRows(const fs::path& folder, const nlohmann::json& batch,
+                          std::vector<std::string>* labels, int* pending) {
   std::vector<Row> rows;
-  std::vector<std::string> labels;
-  int pending = 0;
-  for (const nlohmann::json& run : batch->at("runs")) {
+  for (const nlohmann::json& run : batch.at("runs")) {
     Row row;
     row.id = run.at("id").get<std::string>();
     row.scenario = run.at("scenario").get<std::string>();
     for (auto it = run.at("parameters").begin(); it != run.at("parameters").end(); ++it) {
       row.parameters.emplace_back(it.key(), it->get<std::string>());
-      if (std::find(labels.begin(), labels.end(), it.key()) == labels.end()) {
-        labels.push_back(it.key());
+      if (std::find(labels->begin(), labels->end(), it.key()) == labels->end()) {
+        labels->push_back(it.key());
       }
     }
     if (const auto summary =
@@ -249,13 +227,18 @@ void WriteBatchReport(const std::string& out_dir) {
       row.outcome = failure->value("outcome", "error");
       row.log = failure->value("log", "");
     } else {
-      ++pending;
+      ++*pending;
       continue;
     }
     rows.push_back(std::move(row));
   }
 
-  // results.json and results.csv
+  return rows;
+}
+
+// results.json and results.csv: every run with its parameters, outcome and flattened metrics.
+void WriteResults(const fs::path& folder, const std::vector<Row>& rows,
+                  const std::vector<std::string>& labels) {
   std::set<std::string> metric_keys;
   for (const Row& row : rows) {
     for (const auto& [key, value] : row.metrics) metric_keys.insert(key);
@@ -292,20 +275,12 @@ void WriteBatchReport(const std::string& out_dir) {
   }
   WriteTextFileAtomically((folder / "results.json").string(), results.dump(1) + "\n");
   WriteTextFileAtomically((folder / "results.csv").string(), csv);
+}
 
-  // report.md
-  const std::size_t finished = static_cast<std::size_t>(
-      std::count_if(rows.begin(), rows.end(), [](const Row& row) { return row.log.empty(); }));
+// The report's groups: runs of one scenario and parameter values but the seeds, in the order of
+// their first run, with the success rate and the spread of each metric.
+std::string GroupsSection(const std::vector<Row>& rows) {
   std::ostringstream md;
-  md << "# Batch " << batch->value("name", "") << "\n\n"
-     << batch->at("runs").size() << " runs: " << finished << " finished, " << rows.size() - finished
-     << " failed to finish, " << pending << " pending. Source: `" << batch->value("source", "")
-     << "`.\n\n| outcome | runs |\n|---|---|\n";
-  std::map<std::string, int> outcomes;
-  for (const Row& row : rows) ++outcomes[row.outcome];
-  for (const auto& [outcome, count] : outcomes) md << "| " << outcome << " | " << count << " |\n";
-
-  // groups in the order of their first run (the batch's order)
   std::vector<std::pair<std::string, std::vector<const Row*>>> groups;
   for (const Row& row : rows) {
     std::string group = row.scenario;
@@ -332,6 +307,12 @@ void WriteBatchReport(const std::string& out_dir) {
     for (const MetricColumn& column : kGroupMetrics) md << " " << Spread(members, column) << " |";
     md << "\n";
   }
+  return md.str();
+}
+
+// The report's table of the runs that failed to finish, with their logs.
+std::string FailedRunsSection(const std::vector<Row>& rows) {
+  std::ostringstream md;
   bool any_failed = false;
   for (const Row& row : rows) {
     if (row.log.empty()) continue;
@@ -340,7 +321,13 @@ void WriteBatchReport(const std::string& out_dir) {
     md << "| " << row.id << " | " << row.outcome << " | " << row.log << " |\n";
   }
 
-  // plots against each numeric swept parameter
+  return md.str();
+}
+
+// The report's plots against each numeric swept parameter, and their notes.
+std::string PlotsSection(const fs::path& folder, const std::vector<Row>& rows,
+                         const std::vector<std::string>& labels) {
+  std::ostringstream md;
   std::vector<std::string> notes;
   for (const std::string& label : labels) {
     if (IsSeedLabel(label)) continue;
@@ -361,6 +348,49 @@ void WriteBatchReport(const std::string& out_dir) {
     }
   }
   for (const std::string& note : notes) md << "\n" << note << "\n";
+  return md.str();
+}
+
+}  // namespace
+
+std::map<std::string, double> FlattenSummary(const nlohmann::json& summary) {
+  std::map<std::string, double> values;
+  FlattenInto(summary, "", &values);
+  return values;
+}
+
+WilsonInterval Wilson95(int successes, int trials) {
+  if (trials <= 0) return {0.0, 1.0};
+  constexpr double z = 1.959963984540054;
+  const double n = trials;
+  const double p = successes / n;
+  const double denominator = 1.0 + z * z / n;
+  const double centre = (p + z * z / (2.0 * n)) / denominator;
+  const double half = z * std::sqrt(p * (1.0 - p) / n + z * z / (4.0 * n * n)) / denominator;
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
+void WriteBatchReport(const std::string& out_dir) {
+  const fs::path folder(out_dir);
+  const std::optional<nlohmann::json> batch = ReadJsonIfPresent((folder / "batch.json").string());
+  if (!batch) throw common::InputError((folder / "batch.json").string(), "", "no batch here");
+  std::vector<std::string> labels;
+  int pending = 0;
+  const std::vector<Row> rows = ReadRows(folder, *batch, &labels, &pending);
+  WriteResults(folder, rows, labels);
+
+  // report.md
+  const std::size_t finished = static_cast<std::size_t>(
+      std::count_if(rows.begin(), rows.end(), [](const Row& row) { return row.log.empty(); }));
+  std::ostringstream md;
+  md << "# Batch " << batch->value("name", "") << "\n\n"
+     << batch->at("runs").size() << " runs: " << finished << " finished, " << rows.size() - finished
+     << " failed to finish, " << pending << " pending. Source: `" << batch->value("source", "")
+     << "`.\n\n| outcome | runs |\n|---|---|\n";
+  std::map<std::string, int> outcomes;
+  for (const Row& row : rows) ++outcomes[row.outcome];
+  for (const auto& [outcome, count] : outcomes) md << "| " << outcome << " | " << count << " |\n";
+  md << GroupsSection(rows) << FailedRunsSection(rows) << PlotsSection(folder, rows, labels);
   WriteTextFileAtomically((folder / "report.md").string(), md.str());
 }
 

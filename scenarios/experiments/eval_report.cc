@@ -247,14 +247,10 @@ std::vector<EvalAggregate> AggregateScenes(const std::vector<nlohmann::json>& sc
   return rows;
 }
 
-void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
-                     int base_inducing_points, const std::vector<nlohmann::json>& scenes,
-                     const std::vector<nlohmann::json>& failures, const std::string& command) {
-  const fs::path folder(out_dir);
-  const std::vector<std::string> methods = EvalMethods(options);
-  const std::vector<EvalAggregate> rows = AggregateScenes(scenes, options.terrains, methods);
+namespace {
 
-  // results.json and results.csv
+// results.json and results.csv: one row per terrain type and method.
+void WriteEvalResults(const fs::path& folder, const std::vector<EvalAggregate>& rows) {
   nlohmann::json results = nlohmann::json::array();
   std::string csv =
       "terrain,method,mean_error,error_variance,runtime_ms_median,peak_memory_mb,scenes,frames,"
@@ -276,9 +272,12 @@ void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
   }
   WriteTextFileAtomically((folder / "results.json").string(), results.dump(1) + "\n");
   WriteTextFileAtomically((folder / "results.csv").string(), csv);
+}
 
-  // error over time per terrain type
-  std::vector<std::string> notes;
+// The error-over-time CSV and plot of each terrain type (notes on missing plots to `notes`).
+void WriteErrorOverTime(const fs::path& folder, const EvalOptions& options,
+                        const std::vector<nlohmann::json>& scenes,
+                        std::vector<std::string>* notes) {
   std::vector<PlotSeries> method_series;
   for (const std::string& method : options.methods) method_series.push_back({method, method});
   for (const std::string& terrain : options.terrains) {
@@ -291,12 +290,16 @@ void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
                         true,
                         false};
     WriteCsvAndPlots(folder, "error_over_time_" + terrain + ".csv",
-                     ErrorOverTimeCsv(scenes, terrain, options.methods), {plot}, &notes);
+                     ErrorOverTimeCsv(scenes, terrain, options.methods), {plot}, notes);
   }
+}
 
-  // the inducing-point ablation
-  const std::vector<std::pair<int, std::string>> ablation =
-      AblationMethods(options, base_inducing_points);
+// The inducing-point ablation: ablation.csv, its plots, and its table for results.md (empty when
+// there is no ablation).
+std::string WriteAblation(const fs::path& folder, const EvalOptions& options,
+                          const std::vector<EvalAggregate>& rows,
+                          const std::vector<std::pair<int, std::string>>& ablation,
+                          std::vector<std::string>* notes) {
   std::ostringstream ablation_md;
   if (!ablation.empty()) {
     std::string ablation_csv = "inducing_points";
@@ -335,8 +338,31 @@ void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
          "inducing points M", "mean |traversability - ground truth|", error_series, true, true},
         {"ablation_runtime.png", "FSGP-BGK: median update against inducing points",
          "inducing_points", "inducing points M", "median update [ms]", runtime_series, true, true}};
-    WriteCsvAndPlots(folder, "ablation.csv", ablation_csv, plots, &notes);
+    WriteCsvAndPlots(folder, "ablation.csv", ablation_csv, plots, notes);
   }
+
+  return ablation_md.str();
+}
+
+}  // namespace
+
+void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
+                     int base_inducing_points, const std::vector<nlohmann::json>& scenes,
+                     const std::vector<nlohmann::json>& failures, const std::string& command) {
+  const fs::path folder(out_dir);
+  const std::vector<std::string> methods = EvalMethods(options);
+  const std::vector<EvalAggregate> rows = AggregateScenes(scenes, options.terrains, methods);
+
+  WriteEvalResults(folder, rows);
+
+  // error over time per terrain type
+  std::vector<std::string> notes;
+  WriteErrorOverTime(folder, options, scenes, &notes);
+
+  // the inducing-point ablation
+  const std::vector<std::pair<int, std::string>> ablation =
+      AblationMethods(options, base_inducing_points);
+  const std::string ablation_md = WriteAblation(folder, options, rows, ablation, &notes);
 
   // results.md
   std::ostringstream md;
@@ -359,7 +385,7 @@ void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
                    "paper")
      << "\nPeak memory: the largest growth of the heap in use (glibc mallinfo2, all arenas) "
         "between the method's construction and the end of any of its updates in one scene.\n\n"
-     << ablation_md.str();
+     << ablation_md;
   if (!failures.empty()) {
     md << "\n## Failed scenes\n\n| scene | end | exit code | signal | log "
           "|\n|---|---|---|---|---|\n";

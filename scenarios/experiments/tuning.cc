@@ -15,6 +15,7 @@
 
 #include "common/enum_names.h"
 #include "common/input_error.h"
+#include "common/logging.h"
 #include "common/yaml_reader.h"
 #include "scenarios/experiments/batch.h"
 #include "scenarios/experiments/batch_report.h"
@@ -301,12 +302,10 @@ TuneSpec LoadTuneFile(const std::string& path) {
   return spec;
 }
 
-TuneResult RunTuning(const TuneSpec& spec, const std::string& out_dir,
-                     const TuneExecution& execution) {
-  if (execution.slurm) ValidateSlurmOptions(*execution.slurm);
-  const CampaignFolder campaign(out_dir, "tune", "tune.json", {});
-  const fs::path folder = fs::absolute(out_dir);
-  fs::create_directories(folder / "candidates");
+namespace {
+
+// The folder's identity: the tuning file it belongs to (a folder of another tuning is refused).
+void ClaimTuneFolder(const TuneSpec& spec, const fs::path& folder) {
   const fs::path identity_path = folder / "tune.json";
   const nlohmann::json identity = {{"source", spec.source}, {"tuning", ReadTextFile(spec.source)}};
   if (const std::optional<nlohmann::json> previous = ReadJsonIfPresent(identity_path.string())) {
@@ -317,8 +316,13 @@ TuneResult RunTuning(const TuneSpec& spec, const std::string& out_dir,
     }
   }
   WriteTextFileAtomically(identity_path.string(), identity.dump(1) + "\n");
+}
 
-  TuneResult result;
+// The search: NLopt from the scenarios' own values over the unit cube of the parameters, every
+// evaluation appended to evaluations.csv. Fills the result's initial and best values.
+void Search(const TuneSpec& spec, const fs::path& folder, const TuneExecution& execution,
+            TuneResult* result_out) {
+  TuneResult& result = *result_out;
   // the scenarios' own values (of the first scenario) start the search
   const common::YamlDocument first =
       ResolvedDocument(spec, spec.scenarios.front(), spec.seeds.front());
@@ -366,9 +370,11 @@ TuneResult RunTuning(const TuneSpec& spec, const std::string& out_dir,
     }
     csv += "\n";
     WriteTextFileAtomically((folder / "evaluations.csv").string(), csv);
-    std::fprintf(stderr, "evaluation %d/%d: objective %.6g (best %.6g)%s\n", result.evaluations,
-                 spec.budget, evaluation.objective, result.best_objective,
-                 cached ? " [from the folder]" : "");
+    char line[160];
+    std::snprintf(line, sizeof(line), "evaluation %d/%d: objective %.6g (best %.6g)%s",
+                  result.evaluations, spec.budget, evaluation.objective, result.best_objective,
+                  cached ? " [from the folder]" : "");
+    common::Log(common::LogLevel::kInfo, line);
     return evaluation.objective;
   };
   optimiser.set_min_objective(
@@ -382,26 +388,18 @@ TuneResult RunTuning(const TuneSpec& spec, const std::string& out_dir,
   } catch (const nlopt::forced_stop&) {
   } catch (const nlopt::roundoff_limited&) {
   }
-  if (result.interrupted) return result;
+}
 
-  // the initial and the best values on the training and the held-out seeds
-  const Evaluation initial_training = Evaluate(spec, result.initial, spec.seeds, folder, execution);
-  const Evaluation best_training = Evaluate(spec, result.best, spec.seeds, folder, execution);
-  std::optional<Evaluation> initial_held_out, best_held_out;
-  if (!spec.held_out_seeds.empty()) {
-    initial_held_out = Evaluate(spec, result.initial, spec.held_out_seeds, folder, execution);
-    best_held_out = Evaluate(spec, result.best, spec.held_out_seeds, folder, execution);
-    if (initial_held_out->interrupted || best_held_out->interrupted) {
-      result.interrupted = true;
-      return result;
-    }
-    result.initial_held_out = initial_held_out->objective;
-    result.best_held_out = best_held_out->objective;
-  }
+// The scenarios' values and the tuned ones, each on the training and the held-out seeds.
+struct Comparison {
+  Evaluation initial_training;
+  Evaluation best_training;
+  std::optional<Evaluation> initial_held_out;
+  std::optional<Evaluation> best_held_out;
+};
 
-  WriteTextFileAtomically((folder / "tuned.yaml").string(), TunedYaml(spec, result.best));
-
-  // plots
+// objective.png and parameters.png from evaluations.csv.
+PlotResult WriteTunePlots(const TuneSpec& spec, const fs::path& folder) {
   std::vector<PlotSeries> coordinates;
   for (const TunedParameter& p : spec.parameters) coordinates.push_back({p.key + "_u", p.key});
   const std::vector<LinePlot> plots = {
@@ -418,7 +416,16 @@ TuneResult RunTuning(const TuneSpec& spec, const std::string& out_dir,
   const PlotResult plotted =
       WriteLinePlots((folder / "evaluations.csv").string(), plots, folder.string());
 
-  // report.md
+  return plotted;
+}
+
+// report.md: the objective, the comparison on training and held-out seeds, the values.
+std::string TuneReport(const TuneSpec& spec, const TuneResult& result, const Comparison& c,
+                       const PlotResult& plotted) {
+  const Evaluation& initial_training = c.initial_training;
+  const Evaluation& best_training = c.best_training;
+  const std::optional<Evaluation>& initial_held_out = c.initial_held_out;
+  const std::optional<Evaluation>& best_held_out = c.best_held_out;
   const char* algorithm_name = common::NameOf(spec.algorithm);
   auto join = [](const std::vector<std::string>& items) {
     std::string text;
@@ -491,7 +498,42 @@ TuneResult RunTuning(const TuneSpec& spec, const std::string& out_dir,
      << TunedYaml(spec, result.best) << "```\n\n";
   for (const std::string& image : plotted.written) md << "![" << image << "](" << image << ")\n";
   if (!plotted.message.empty()) md << "\n" << plotted.message << "\n";
-  WriteTextFileAtomically((folder / "report.md").string(), md.str());
+  return md.str();
+}
+
+}  // namespace
+
+TuneResult RunTuning(const TuneSpec& spec, const std::string& out_dir,
+                     const TuneExecution& execution) {
+  if (execution.slurm) ValidateSlurmOptions(*execution.slurm);
+  const CampaignFolder campaign(out_dir, "tune", "tune.json", {});
+  const fs::path folder = fs::absolute(out_dir);
+  fs::create_directories(folder / "candidates");
+  ClaimTuneFolder(spec, folder);
+  TuneResult result;
+  Search(spec, folder, execution, &result);
+  if (result.interrupted) return result;
+
+  // the initial and the best values on the training and the held-out seeds
+  Comparison comparison{Evaluate(spec, result.initial, spec.seeds, folder, execution),
+                        Evaluate(spec, result.best, spec.seeds, folder, execution), std::nullopt,
+                        std::nullopt};
+  if (!spec.held_out_seeds.empty()) {
+    comparison.initial_held_out =
+        Evaluate(spec, result.initial, spec.held_out_seeds, folder, execution);
+    comparison.best_held_out = Evaluate(spec, result.best, spec.held_out_seeds, folder, execution);
+    if (comparison.initial_held_out->interrupted || comparison.best_held_out->interrupted) {
+      result.interrupted = true;
+      return result;
+    }
+    result.initial_held_out = comparison.initial_held_out->objective;
+    result.best_held_out = comparison.best_held_out->objective;
+  }
+
+  WriteTextFileAtomically((folder / "tuned.yaml").string(), TunedYaml(spec, result.best));
+  const PlotResult plotted = WriteTunePlots(spec, folder);
+  WriteTextFileAtomically((folder / "report.md").string(),
+                          TuneReport(spec, result, comparison, plotted));
   return result;
 }
 
