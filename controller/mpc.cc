@@ -1,13 +1,13 @@
 #include "controller/mpc.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include <ceres/ceres.h>
 #include <ceres/dynamic_autodiff_cost_function.h>
 
 #include "common/input_error.h"
+#include "common/stopwatch.h"
 
 namespace trav::controller {
 namespace {
@@ -150,7 +150,7 @@ common::Twist2 MpcController::Limit(const common::Twist2& command) const {
 
 MpcResult MpcController::Solve(const MpcState& state, const common::Trajectory& reference,
                                double t_s) {
-  const auto start = std::chrono::steady_clock::now();
+  const common::Stopwatch start;
   Problem& p = *problem_;
   const int n = config_.horizon;
 
@@ -214,8 +214,7 @@ MpcResult MpcController::Solve(const MpcState& state, const common::Trajectory& 
     warm_ = true;
   }
   last_command_ = result.command;
-  result.solve_time_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.solve_time_s = start.ElapsedSeconds();
   return result;
 }
 

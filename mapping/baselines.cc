@@ -1,25 +1,20 @@
 #include "mapping/baselines.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
+#include "common/stopwatch.h"
 #include "mapping/fsgp_bgk_mapper.h"
 #include "mapping/window.h"
 
 namespace trav::mapping {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 constexpr int kMinimumPoints = 10;
-
-double Milliseconds(Clock::time_point since) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
-}
 
 common::GridLayers MakeMap(const MapArea& area) {
   return common::GridLayers(
@@ -33,10 +28,10 @@ common::GridLayers MakeMap(const MapArea& area) {
 // The window's points, timed; a status of kTooFewPoints when there are fewer than the minimum.
 Eigen::Matrix3Xf CropOrRefuse(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
                               const MapArea& area, MapUpdateResult* result) {
-  const auto start = Clock::now();
+  const common::Stopwatch start;
   Eigen::Matrix3Xf window =
       CropWindow(points_W, p_WB, area.window_m, area.max_height_above_robot_m, result);
-  result->times.crop = Milliseconds(start);
+  result->times.crop = start.ElapsedMilliseconds();
   if (window.cols() < kMinimumPoints) result->status = MapUpdateStatus::kTooFewPoints;
   return window;
 }
@@ -52,7 +47,7 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
   const Eigen::Matrix3Xf window = CropOrRefuse(points_W, p_WB, config_.area, &result);
   if (result.status != MapUpdateStatus::kUpdated) return result;
   // inducing points on a stride of the points sorted by x
-  auto stage = Clock::now();
+  common::Stopwatch stage;
   std::vector<Eigen::Index> order(static_cast<std::size_t>(window.cols()));
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<Eigen::Index>(i);
   std::stable_sort(order.begin(), order.end(),
@@ -70,8 +65,8 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
     heights[k] = window(2, i);
   }
   result.training_points = static_cast<int>(m);
-  result.times.features = Milliseconds(stage);
-  stage = Clock::now();
+  result.times.features = stage.ElapsedMilliseconds();
+  stage.Restart();
   GpHyperparameters hyper;
   hyper.length_scales = Eigen::Vector4d::Constant(config_.length_scale_m);
   hyper.noise_std_m = config_.noise_std_m;
@@ -79,10 +74,10 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
     result.status = MapUpdateStatus::kModelFailed;
     return result;
   }
-  result.times.fit = Milliseconds(stage);
+  result.times.fit = stage.ElapsedMilliseconds();
 
   // predict every window cell near data
-  stage = Clock::now();
+  stage.Restart();
   map_.Recenter(p_WB.head<2>());
   const common::GridGeometry& g = map_.geometry();
   const auto [low, high] = WindowCells(g, p_WB, config_.area.window_m);
@@ -112,13 +107,13 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
         static_cast<float>(std::atan(gradient.row(i).norm()));
     map_.Layer(layers::kLastObserved)(cells[k].x(), cells[k].y()) = static_cast<float>(t_s);
   }
-  result.times.predict = Milliseconds(stage);
+  result.times.predict = stage.ElapsedMilliseconds();
 
   // step (max - min) and flatness (plane angle) over 5 x 5 cells, then the weighted score
-  stage = Clock::now();
+  stage.Restart();
   ScoreCells(cells);
   result.observed_cells = static_cast<int>(cells.size());
-  result.times.fusion = Milliseconds(stage);
+  result.times.fusion = stage.ElapsedMilliseconds();
   return result;
 }
 
@@ -170,7 +165,7 @@ MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
   const Eigen::Matrix3Xf window = CropOrRefuse(points_W, p_WB, config_.area, &result);
   if (result.status != MapUpdateStatus::kUpdated) return result;
   // per-cell Kalman fusion of the point heights
-  auto stage = Clock::now();
+  common::Stopwatch stage;
   map_.Recenter(p_WB.head<2>());
   const common::GridGeometry& g = map_.geometry();
   Eigen::MatrixXf& h = map_.Layer(layers::kElevation);
@@ -195,10 +190,10 @@ MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
     }
     last(cell->x(), cell->y()) = static_cast<float>(t_s);
   }
-  result.times.fusion = Milliseconds(stage);
+  result.times.fusion = stage.ElapsedMilliseconds();
 
   // the score's terms on the fused elevation around every known window cell
-  stage = Clock::now();
+  stage.Restart();
   const auto [low, high] = WindowCells(g, p_WB, config_.area.window_m);
   const int r =
       static_cast<int>(std::floor(config_.neighbourhood_radius_m / g.resolution_m + 1e-9));
@@ -247,7 +242,7 @@ MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
       ++result.observed_cells;
     }
   }
-  result.times.smoothing = Milliseconds(stage);
+  result.times.smoothing = stage.ElapsedMilliseconds();
   return result;
 }
 

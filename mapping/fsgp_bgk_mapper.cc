@@ -1,26 +1,21 @@
 #include "mapping/fsgp_bgk_mapper.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
+#include "common/stopwatch.h"
 #include "mapping/features.h"
 #include "mapping/window.h"
 
 namespace trav::mapping {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 const std::string kFused = "fused";
 constexpr int kMinimumPoints = 10;
-
-double Milliseconds(Clock::time_point since) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
-}
 
 }  // namespace
 
@@ -118,7 +113,7 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   const Eigen::Vector3d p_WB = X_WB.translation();
 
   // 1. crop to the window (and drop invalid points and overhangs such as tree crowns)
-  auto stage = Clock::now();
+  common::Stopwatch stage;
   Eigen::Matrix3Xf below_robot;
   Eigen::Matrix3Xf window =
       CropWindow(points_W, p_WB, config_.area.window_m, config_.area.max_height_above_robot_m,
@@ -126,17 +121,17 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   // FSGP-Accumulation: the last N frames' clouds together
   if (config_.accumulate_frames > 1) window = AccumulateFrames(window, p_WB);
   result.window_points = static_cast<int>(window.cols());
-  result.times.crop = Milliseconds(stage);
+  result.times.crop = stage.ElapsedMilliseconds();
   if (window.cols() < kMinimumPoints) {
     result.status = MapUpdateStatus::kTooFewPoints;
     return result;
   }
 
   // 2-3. features and the training set
-  stage = Clock::now();
+  stage.Restart();
   const TrainingSet training = ExtractTrainingSet(window, config_, &random_);
   result.training_points = static_cast<int>(training.points_W.cols());
-  result.times.features = Milliseconds(stage);
+  result.times.features = stage.ElapsedMilliseconds();
   if (training.points_W.cols() < kMinimumPoints) {
     result.status = MapUpdateStatus::kTooFewPoints;
     return result;
@@ -144,7 +139,7 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
 
   // 4-5. inputs and the sparse GP (optionally a few L-BFGS steps on the hyperparameters,
   // warm-started)
-  stage = Clock::now();
+  stage.Restart();
   const GpInputs inputs = StandardisedInputs(training, config_.pca);
   SparseGp::OptimiseHyperparameters(inputs.inputs, inputs.heights, config_.lbfgs_iterations,
                                     &hyper_);
@@ -152,27 +147,27 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
     result.status = MapUpdateStatus::kModelFailed;
     return result;
   }
-  result.times.fit = Milliseconds(stage);
+  result.times.fit = stage.ElapsedMilliseconds();
 
   // 6. the window's cells with a training point within the support radius: their prediction
-  stage = Clock::now();
+  stage.Restart();
   map_.Recenter(p_WB.head<2>());
   fused_.Recenter(p_WB.head<2>());
   const auto [low, high] = WindowCells(map_.geometry(), p_WB, config_.area.window_m);
   const CellPrediction prediction = PredictCells(training, inputs, low, high);
-  result.times.predict = Milliseconds(stage);
+  result.times.predict = stage.ElapsedMilliseconds();
 
   // 7-8. preliminary score and fusion per world cell
-  stage = Clock::now();
+  stage.Restart();
   Fuse(prediction, t_s);
   result.observed_cells = static_cast<int>(prediction.cells.size());
-  result.times.fusion = Milliseconds(stage);
+  result.times.fusion = stage.ElapsedMilliseconds();
 
   // 9. normalised Gaussian smoothing over the known cells of the window
-  stage = Clock::now();
+  stage.Restart();
   Smooth(low, high);
   MarkObstacles(below_robot, low, high);
-  result.times.smoothing = Milliseconds(stage);
+  result.times.smoothing = stage.ElapsedMilliseconds();
   return result;
 }
 

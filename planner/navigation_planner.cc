@@ -1,18 +1,14 @@
 #include "planner/navigation_planner.h"
 
-#include <chrono>
 #include <cmath>
 #include <optional>
 
 #include "common/input_error.h"
+#include "common/stopwatch.h"
 #include "planner/cost_field.h"
 
 namespace trav::planner {
 namespace {
-
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // The centre of the unblocked cell nearest to p_W within `radius_m`, if any: a robot standing in
 // the inflation of lethal cells (after a swerve, or when cells turn lethal around it) searches
@@ -74,7 +70,7 @@ NavigationPlan NavigationPlanner::Plan(const CostMap& costs, const common::Traje
                                        const Eigen::Vector2d& goal_W,
                                        const std::vector<MovingObstacle>& obstacles) {
   NavigationPlan plan;
-  const auto search_start = std::chrono::steady_clock::now();
+  const common::Stopwatch search_start;
   const GridPlanner search(costs.search());
   Eigen::Vector2d search_start_W = start.position_W;
   plan.path = search.Plan(search_start_W, goal_W);
@@ -106,7 +102,7 @@ NavigationPlan NavigationPlanner::Plan(const CostMap& costs, const common::Traje
   if (plan.path.status == PlanStatus::kFound || plan.path.status == PlanStatus::kGoalMoved) {
     plan.waypoints_W = search.Simplify(plan.path.points_W, config_.simplify_tolerance);
   }
-  plan.search_time_s = SecondsSince(search_start);
+  plan.search_time_s = search_start.ElapsedSeconds();
   if (plan.waypoints_W.empty()) {
     plan.status = NavigationStatus::kNoPath;
     return plan;
@@ -120,7 +116,7 @@ NavigationPlan NavigationPlanner::Plan(const CostMap& costs, const common::Traje
   }
   if (plan.path.status == PlanStatus::kFound) plan.waypoints_W.back() = goal_W;
 
-  const auto optimization_start = std::chrono::steady_clock::now();
+  const common::Stopwatch optimization_start;
   const CostField& field = costs.field();
   TrajectoryRequest request;
   request.start = start;
@@ -128,7 +124,7 @@ NavigationPlan NavigationPlanner::Plan(const CostMap& costs, const common::Traje
   request.guide_W = plan.waypoints_W;
   request.obstacles = obstacles;
   plan.optimized = optimizer_.Optimize(field, request);
-  plan.optimization_time_s = SecondsSince(optimization_start);
+  plan.optimization_time_s = optimization_start.ElapsedSeconds();
   if (plan.optimized.status == OptimizationStatus::kInfeasible) {
     plan.status = NavigationStatus::kOptimizerFailed;
   } else {

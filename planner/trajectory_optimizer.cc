@@ -3,13 +3,13 @@
 #include <lbfgs.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <utility>
 
 #include "common/input_error.h"
 #include "common/polyline.h"
+#include "common/stopwatch.h"
 
 namespace trav::planner {
 namespace {
@@ -409,7 +409,7 @@ TrajectoryOptimizer::TrajectoryOptimizer(const TrajectoryOptimizerConfig& config
 
 OptimizedTrajectory TrajectoryOptimizer::Optimize(const CostField& field,
                                                   const TrajectoryRequest& request) {
-  const auto clock_start = std::chrono::steady_clock::now();
+  const common::Stopwatch clock_start;
   TrajectoryCostSetup setup;
   setup.limits = config_.limits;
   setup.weights = config_.weights;
@@ -461,8 +461,7 @@ OptimizedTrajectory TrajectoryOptimizer::Optimize(const CostField& field,
     solve_cold();
   }
   previous_ = std::move(solution);
-  out.diagnostics.solve_time_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
+  out.diagnostics.solve_time_s = clock_start.ElapsedSeconds();
   return out;
 }
 

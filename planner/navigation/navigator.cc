@@ -1,11 +1,11 @@
 #include "planner/navigation/navigator.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "common/enum_names.h"
 #include "common/input_error.h"
+#include "common/stopwatch.h"
 
 namespace trav::planner {
 namespace {
@@ -97,12 +97,10 @@ NavigatorTick Navigator::Update(const common::RobotState& state, const common::G
     tick.command = tracker_.Command(state);
     return tick;
   }
-  const auto control_start = std::chrono::steady_clock::now();
+  const common::Stopwatch control_start;
   tick.command = tracker_.Command(state);
   tick.solved = true;
-  statistics_.control_ms.push_back(
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - control_start)
-          .count());
+  statistics_.control_ms.push_back(control_start.ElapsedMilliseconds());
   return tick;
 }
 

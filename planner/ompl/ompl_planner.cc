@@ -1,7 +1,6 @@
 #include "planner/ompl/ompl_planner.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <iterator>
 #include <memory>
@@ -28,6 +27,7 @@
 
 #include "common/enum_names.h"
 #include "common/random.h"
+#include "common/stopwatch.h"
 
 namespace trav::planner {
 namespace {
@@ -248,9 +248,8 @@ SamplingAlgorithm ParseSamplingAlgorithm(const std::string& name) {
 SamplingResult PlanSampling(const SearchCostMap& costs, const SamplingPlannerConfig& config,
                             const Eigen::Vector2d& start_W, const Eigen::Vector2d& goal_W) {
   Validate(config);
-  using Clock = std::chrono::steady_clock;
-  const Clock::time_point started = Clock::now();
-  auto elapsed_s = [&] { return std::chrono::duration<double>(Clock::now() - started).count(); };
+  const common::Stopwatch started;
+  auto elapsed_s = [&] { return started.ElapsedSeconds(); };
   SamplingResult result;
   GridPath& path = result.path;
   // the ends first, as A* checks them; a blocked goal is not moved

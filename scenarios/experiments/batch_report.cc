@@ -16,6 +16,7 @@
 
 #include "common/input_error.h"
 #include "common/statistics.h"
+#include "common/text.h"
 #include "scenarios/run/output_folder.h"
 #include "scenarios/run/plots.h"
 #include "scenarios/run/run_metrics.h"
@@ -54,12 +55,6 @@ constexpr MetricColumn kGroupMetrics[] = {
     {"real_time_factor", "real-time factor", false},
 };
 
-std::string Format(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof(text), format, value);
-  return text;
-}
-
 // "median (p10 to p90)" of a metric over rows, or "-".
 std::string Spread(const std::vector<const Row*>& rows, const MetricColumn& column) {
   std::vector<double> values;
@@ -69,9 +64,9 @@ std::string Spread(const std::vector<const Row*>& rows, const MetricColumn& colu
     if (it != row->metrics.end() && std::isfinite(it->second)) values.push_back(it->second);
   }
   if (values.empty()) return "-";
-  return Format("%.3g", common::Quantile(values, 0.5)) + " (" +
-         Format("%.3g", common::Quantile(values, 0.1)) + "-" +
-         Format("%.3g", common::Quantile(values, 0.9)) + ")";
+  return common::FormatNumber("%.3g", common::Quantile(values, 0.5)) + " (" +
+         common::FormatNumber("%.3g", common::Quantile(values, 0.1)) + "-" +
+         common::FormatNumber("%.3g", common::Quantile(values, 0.9)) + ")";
 }
 
 std::optional<double> Number(const std::string& text) {
@@ -86,8 +81,9 @@ std::string SuccessText(const std::vector<const Row*>& rows) {
   int successes = 0;
   for (const Row* row : rows) successes += row->success ? 1 : 0;
   const WilsonInterval interval = Wilson95(successes, static_cast<int>(rows.size()));
-  return Format("%.0f %%", 100.0 * successes / static_cast<double>(rows.size())) + " (" +
-         Format("%.0f", 100.0 * interval.low) + "-" + Format("%.0f", 100.0 * interval.high) + ")";
+  return common::FormatNumber("%.0f %%", 100.0 * successes / static_cast<double>(rows.size())) +
+         " (" + common::FormatNumber("%.0f", 100.0 * interval.low) + "-" +
+         common::FormatNumber("%.0f", 100.0 * interval.high) + ")";
 }
 
 // vs_<label>.csv and its plots for a numeric swept parameter; returns the images written.
@@ -127,12 +123,14 @@ std::vector<std::string> ParameterPlots(const fs::path& folder, const std::strin
     const double n = static_cast<double>(group.size());
     const WilsonInterval interval = Wilson95(successes, static_cast<int>(group.size()));
     auto median = [](const std::vector<double>& values) {
-      return values.empty() ? std::string() : Format("%.6g", common::Quantile(values, 0.5));
+      return values.empty() ? std::string()
+                            : common::FormatNumber("%.6g", common::Quantile(values, 0.5));
     };
-    csv += Format("%.6g", value) + "," + Format("%.6g", successes / n) + "," +
-           Format("%.6g", interval.low) + "," + Format("%.6g", interval.high) + "," +
-           Format("%.6g", collisions / n) + "," + median(times) + "," + median(ratios) + "," +
-           median(clearances) + "," + median(replan_rates) + "\n";
+    csv += common::FormatNumber("%.6g", value) + "," + common::FormatNumber("%.6g", successes / n) +
+           "," + common::FormatNumber("%.6g", interval.low) + "," +
+           common::FormatNumber("%.6g", interval.high) + "," +
+           common::FormatNumber("%.6g", collisions / n) + "," + median(times) + "," +
+           median(ratios) + "," + median(clearances) + "," + median(replan_rates) + "\n";
   }
   const std::string name = "vs_" + label;
   const std::string csv_path = (folder / (name + ".csv")).string();
@@ -263,7 +261,8 @@ void WriteResults(const fs::path& folder, const std::vector<Row>& rows,
     csv += "," + row.outcome + "," + (row.success ? "1" : "0");
     for (const std::string& key : metric_keys) {
       const auto it = row.metrics.find(key);
-      csv += "," + (it == row.metrics.end() ? std::string() : Format("%.9g", it->second));
+      csv += "," +
+             (it == row.metrics.end() ? std::string() : common::FormatNumber("%.9g", it->second));
     }
     csv += "\n";
     results.push_back({{"id", row.id},

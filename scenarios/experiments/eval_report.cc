@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "common/statistics.h"
+#include "common/text.h"
 #include "scenarios/run/output_folder.h"
 #include "scenarios/run/plots.h"
 #include "scenarios/run/run_metrics.h"
@@ -32,12 +33,6 @@ constexpr PaperRow kPaperTableI[] = {
     {"road", {0.1694, 0.0373}, {0.1434, 0.0328}, {0.1051, 0.0240}},
     {"indoor", {0.2455, 0.0451}, {0.2537, 0.0429}, {0.1978, 0.0420}},
 };
-
-std::string Format(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof(text), format, value);
-  return text;
-}
 
 // A method's record in a scene, or null.
 const nlohmann::json* MethodRecord(const nlohmann::json& scene, const std::string& method) {
@@ -97,10 +92,10 @@ std::string ErrorOverTimeCsv(const std::vector<nlohmann::json>& scenes, const st
           ++count;
         }
       }
-      row += "," + (count > 0 ? Format("%.6g", sum / count) : std::string());
+      row += "," + (count > 0 ? common::FormatNumber("%.6g", sum / count) : std::string());
     }
     if (t_count == 0) continue;
-    csv += Format("%.3f", t_sum / t_count) + row + "\n";
+    csv += common::FormatNumber("%.3f", t_sum / t_count) + row + "\n";
   }
   return csv;
 }
@@ -150,7 +145,8 @@ std::string TableOne(const std::vector<EvalAggregate>& rows, const EvalOptions& 
     for (const std::string& method : methods) {
       const EvalAggregate* row = Find(rows, terrain, method);
       md << " "
-         << (row ? Format("%.4f", row->mean_error) + " / " + Format("%.4f", row->error_variance)
+         << (row ? common::FormatNumber("%.4f", row->mean_error) + " / " +
+                       common::FormatNumber("%.4f", row->error_variance)
                  : std::string("-"))
          << " |";
     }
@@ -159,10 +155,12 @@ std::string TableOne(const std::vector<EvalAggregate>& rows, const EvalOptions& 
   md << "\nThe paper's Table I (its simulator, its ground-truth formula):\n\n"
      << "| terrain | sgp | fsgp | fsgp-bgk |\n|---|---|---|---|\n";
   for (const PaperRow& paper : kPaperTableI) {
-    md << "| " << paper.terrain << " | " << Format("%.4f", paper.sgp[0]) << " / "
-       << Format("%.4f", paper.sgp[1]) << " | " << Format("%.4f", paper.fsgp[0]) << " / "
-       << Format("%.4f", paper.fsgp[1]) << " | " << Format("%.4f", paper.fsgp_bgk[0]) << " / "
-       << Format("%.4f", paper.fsgp_bgk[1]) << " |\n";
+    md << "| " << paper.terrain << " | " << common::FormatNumber("%.4f", paper.sgp[0]) << " / "
+       << common::FormatNumber("%.4f", paper.sgp[1]) << " | "
+       << common::FormatNumber("%.4f", paper.fsgp[0]) << " / "
+       << common::FormatNumber("%.4f", paper.fsgp[1]) << " | "
+       << common::FormatNumber("%.4f", paper.fsgp_bgk[0]) << " / "
+       << common::FormatNumber("%.4f", paper.fsgp_bgk[1]) << " |\n";
   }
   return md.str();
 }
@@ -180,9 +178,10 @@ std::string Comparison(const std::vector<nlohmann::json>& scenes, const std::str
       md << "| " << method << " | not evaluated (add it to --methods) | | | | " << paper << " |\n";
       continue;
     }
-    md << "| " << method << " | " << Format("%.4f", row->mean_error) << " | "
-       << Format("%.4f", row->error_variance) << " | " << Format("%.2f", row->runtime_ms_median)
-       << " | " << Format("%.2f", row->peak_memory_mb) << " | " << paper << " |\n";
+    md << "| " << method << " | " << common::FormatNumber("%.4f", row->mean_error) << " | "
+       << common::FormatNumber("%.4f", row->error_variance) << " | "
+       << common::FormatNumber("%.2f", row->runtime_ms_median) << " | "
+       << common::FormatNumber("%.2f", row->peak_memory_mb) << " | " << paper << " |\n";
   }
   return md.str();
 }
@@ -265,10 +264,12 @@ void WriteEvalResults(const fs::path& folder, const std::vector<EvalAggregate>& 
                        {"scenes", row.scenes},
                        {"frames", row.frames},
                        {"coverage", row.coverage}});
-    csv += row.terrain + "," + row.method + "," + Format("%.6g", row.mean_error) + "," +
-           Format("%.6g", row.error_variance) + "," + Format("%.6g", row.runtime_ms_median) + "," +
-           Format("%.6g", row.peak_memory_mb) + "," + std::to_string(row.scenes) + "," +
-           std::to_string(row.frames) + "," + Format("%.4f", row.coverage) + "\n";
+    csv += row.terrain + "," + row.method + "," + common::FormatNumber("%.6g", row.mean_error) +
+           "," + common::FormatNumber("%.6g", row.error_variance) + "," +
+           common::FormatNumber("%.6g", row.runtime_ms_median) + "," +
+           common::FormatNumber("%.6g", row.peak_memory_mb) + "," + std::to_string(row.scenes) +
+           "," + std::to_string(row.frames) + "," + common::FormatNumber("%.4f", row.coverage) +
+           "\n";
   }
   WriteTextFileAtomically((folder / "results.json").string(), results.dump(1) + "\n");
   WriteTextFileAtomically((folder / "results.csv").string(), csv);
@@ -321,12 +322,12 @@ std::string WriteAblation(const fs::path& folder, const EvalOptions& options,
       ablation_md << "| " << count << " |";
       for (const std::string& terrain : options.terrains) {
         const EvalAggregate* row = Find(rows, terrain, method);
-        ablation_csv += row ? "," + Format("%.6g", row->mean_error) + "," +
-                                  Format("%.6g", row->runtime_ms_median)
+        ablation_csv += row ? "," + common::FormatNumber("%.6g", row->mean_error) + "," +
+                                  common::FormatNumber("%.6g", row->runtime_ms_median)
                             : std::string(",,");
         ablation_md << " "
-                    << (row ? Format("%.4f", row->mean_error) + " / " +
-                                  Format("%.2f", row->runtime_ms_median)
+                    << (row ? common::FormatNumber("%.4f", row->mean_error) + " / " +
+                                  common::FormatNumber("%.2f", row->runtime_ms_median)
                             : std::string("-"))
                     << " |";
       }

@@ -3,7 +3,6 @@
 #include <malloc.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -18,6 +17,7 @@
 #include "common/logging.h"
 #include "common/random.h"
 #include "common/statistics.h"
+#include "common/stopwatch.h"
 #include "common/yaml_reader.h"
 #include "mapping/traversability_mapper.h"
 #include "scenarios/experiments/eval_report.h"
@@ -34,7 +34,6 @@ namespace trav::scenarios {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 constexpr const char* kConstantPrefix = "constant=";
 constexpr const char* kAblationPrefix = "fsgp-bgk-m";
@@ -191,9 +190,9 @@ nlohmann::json EvaluateMethod(const std::string& method, const Scenario& scene,
   double mean_sum = 0.0, variance_sum = 0.0;
   int scored = 0;
   for (const RecordedFrame& frame : frames) {
-    const auto start = Clock::now();
+    const common::Stopwatch start;
     mapper->Update(frame.points_W, frame.X_WB, frame.t_s);
-    runtime.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+    runtime.push_back(start.ElapsedMilliseconds());
     const double heap = HeapInUseBytes() - heap_before;
     peak_heap = std::max(peak_heap, heap);
     heap_mb.push_back(heap / kBytesPerMiB);

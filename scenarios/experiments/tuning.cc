@@ -16,6 +16,7 @@
 #include "common/enum_names.h"
 #include "common/input_error.h"
 #include "common/logging.h"
+#include "common/text.h"
 #include "common/yaml_reader.h"
 #include "scenarios/experiments/batch.h"
 #include "scenarios/experiments/batch_report.h"
@@ -189,12 +190,6 @@ Evaluation Evaluate(const TuneSpec& spec, const std::vector<double>& values,
   for (auto& [metric, sum] : evaluation.metric_means) sum /= metric_counts[metric];
   if (evaluation.runs > 0) evaluation.objective /= evaluation.runs;
   return evaluation;
-}
-
-std::string Format(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof(text), format, value);
-  return text;
 }
 
 // The best values as a scenario fragment: each tuned key's whole value (all of a list).
@@ -455,14 +450,15 @@ std::string TuneReport(const TuneSpec& spec, const TuneResult& result, const Com
   md << "\n";
   auto row = [&](const char* label, const Evaluation& training,
                  const std::optional<Evaluation>& held_out) {
-    md << "| " << label << " | " << Format("%.6g", training.objective) << " | "
-       << (held_out ? Format("%.6g", held_out->objective) : std::string("-")) << " | "
+    md << "| " << label << " | " << common::FormatNumber("%.6g", training.objective) << " | "
+       << (held_out ? common::FormatNumber("%.6g", held_out->objective) : std::string("-")) << " | "
        << training.failures << " / " << (held_out ? std::to_string(held_out->failures) : "-")
        << " |";
     for (const ObjectiveTerm& term : spec.objective) {
       auto mean = [&](const Evaluation& e) {
         const auto it = e.metric_means.find(term.metric);
-        return it == e.metric_means.end() ? std::string("-") : Format("%.4g", it->second);
+        return it == e.metric_means.end() ? std::string("-")
+                                          : common::FormatNumber("%.4g", it->second);
       };
       md << " " << mean(training) << " / " << (held_out ? mean(*held_out) : std::string("-"))
          << " |";
@@ -478,14 +474,15 @@ std::string TuneReport(const TuneSpec& spec, const TuneResult& result, const Com
   md << "\n";
   if (tuned < reference) {
     md << "The tuned values lower the " << where << " objective by "
-       << Format("%.1f", 100.0 * (reference - tuned) / reference) << " % (training: "
-       << Format("%.1f", 100.0 * (initial_training.objective - best_training.objective) /
-                             initial_training.objective)
+       << common::FormatNumber("%.1f", 100.0 * (reference - tuned) / reference) << " % (training: "
+       << common::FormatNumber("%.1f", 100.0 *
+                                           (initial_training.objective - best_training.objective) /
+                                           initial_training.objective)
        << " %).\n";
   } else {
-    md << "Tuning could not improve the " << where << " objective (" << Format("%.6g", reference)
-       << " with the scenarios' values, " << Format("%.6g", tuned)
-       << " tuned): keep the scenarios' values.\n";
+    md << "Tuning could not improve the " << where << " objective ("
+       << common::FormatNumber("%.6g", reference) << " with the scenarios' values, "
+       << common::FormatNumber("%.6g", tuned) << " tuned): keep the scenarios' values.\n";
   }
   md << "\n## Parameters\n\n| parameter | range | scenario value | tuned |\n|---|---|---|---|\n";
   for (std::size_t i = 0; i < spec.parameters.size(); ++i) {

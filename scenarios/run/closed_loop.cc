@@ -1,11 +1,11 @@
 #include "scenarios/run/closed_loop.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <utility>
 
+#include "common/stopwatch.h"
 #include "controller/skid_steer.h"
 #include "mapping/ground_truth.h"
 #include "scenarios/run/mappers.h"
@@ -15,11 +15,6 @@
 
 namespace trav::scenarios {
 namespace {
-
-double MillisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 // Every mover as a disc at constant velocity from its true state at t.
 std::vector<planner::MovingObstacle> TrueMovers(const std::vector<sim::MovingObstacle>& all,
@@ -130,7 +125,7 @@ struct ClosedLoop::PendingFrame {
 };
 
 ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& options)
-    : created_at_(std::chrono::steady_clock::now()),
+    : wall_clock_(),
       scenario_(scenario),
       world_(sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W})),
       tracker_(MakeTracker(scenario)),
@@ -220,10 +215,10 @@ void ClosedLoop::DecideCommand() {
   predicted_movers_ = mover_tracker_ ? PerceivedMovers(*mover_tracker_) : true_movers_;
   // the navigator's wall time goes to planning when it planned, else to control when the MPC
   // solved (the other ticks hold the command)
-  const auto navigation_start = std::chrono::steady_clock::now();
+  const common::Stopwatch navigation_start;
   navigator_tick_ = navigator_->Update(pose_noise_->Estimate(state_), navigation_map_, map_changed_,
                                        predicted_movers_);
-  const double navigation_ms = MillisecondsSince(navigation_start);
+  const double navigation_ms = navigation_start.ElapsedMilliseconds();
   if (navigator_tick_.replan != planner::ReplanReason::kNone) {
     times_.Add("planning", navigation_ms);
   } else if (navigator_tick_.solved) {
@@ -238,9 +233,9 @@ bool ClosedLoop::Scan() {
   const double dt = simulation.timestep();
   const Eigen::Isometry3d X_WL =
       X_BL_ ? Eigen::Isometry3d(state_.X_WB * *X_BL_) : simulation.LidarPose();
-  const auto cast_start = std::chrono::steady_clock::now();
+  const common::Stopwatch cast_start;
   lidar_->Scan(*ray_scene_, simulation.time(), simulation.time() + dt, X_WL);
-  const double cast_ms = MillisecondsSince(cast_start);
+  const double cast_ms = cast_start.ElapsedMilliseconds();
   lidar_cast_s_ += 1e-3 * cast_ms;
   times_.Add("lidar", cast_ms);
   if (!lidar_->frame_ready()) return true;
@@ -281,9 +276,9 @@ void ClosedLoop::MapPendingFrames() {
   while (mapper_ && !pending_frames_.empty() &&
          pending_frames_.front().ready_s <= simulation_->time() + 1e-9) {
     const PendingFrame& pending = pending_frames_.front();
-    const auto map_start = std::chrono::steady_clock::now();
+    const common::Stopwatch map_start;
     map_updates_.push_back(mapper_->Update(pending.cloud_W, pending.X_WB, pending.scan_time_s));
-    mapping_ms_.push_back(MillisecondsSince(map_start));
+    mapping_ms_.push_back(map_start.ElapsedMilliseconds());
     times_.Add("mapping", mapping_ms_.back());
     pending_frames_.pop_front();
     navigation_map_ = &mapper_->map();
@@ -318,9 +313,9 @@ Outcome ClosedLoop::Run(const std::function<void(double fraction)>& progress) {
     MapPendingFrames();
     for (LoopObserver* observer : observers_) observer->BeforePhysics(*this);
 
-    const auto physics_start = std::chrono::steady_clock::now();
+    const common::Stopwatch physics_start;
     const sim::StepStatus status = simulation.Step();
-    times_.Add("physics", MillisecondsSince(physics_start));
+    times_.Add("physics", physics_start.ElapsedMilliseconds());
     ++physics_steps_;
     if (status == sim::StepStatus::kDiverged) {
       outcome = Outcome::kDiverged;

@@ -1,6 +1,5 @@
 #pragma once
 
-#include <chrono>
 #include <deque>
 #include <functional>
 #include <memory>
@@ -13,6 +12,7 @@
 #include "common/grid.h"
 #include "common/point_cloud.h"
 #include "common/pose.h"
+#include "common/stopwatch.h"
 #include "controller/mpc_tracker.h"
 #include "mapping/mover_tracker.h"
 #include "mapping/traversability_mapper.h"
@@ -113,8 +113,8 @@ class ClosedLoop {
   /// ended the run early).
   Outcome Run(const std::function<void(double fraction)>& progress = {});
 
-  /// When construction began (wall clock): a run's wall time includes building its world.
-  std::chrono::steady_clock::time_point created_at() const { return created_at_; }
+  /// Wall time since construction began [s]: a run's wall time includes building its world.
+  double wall_time_s() const { return wall_clock_.ElapsedSeconds(); }
   const Scenario& scenario() const { return scenario_; }
   const sim::TerrainWorld& world() const { return world_; }
   const sim::Simulation& simulation() const { return *simulation_; }
@@ -174,7 +174,7 @@ class ClosedLoop {
   void MapPendingFrames();
   std::optional<Outcome> CheckEnd(EndCondition::Stage stage, const LoopStep& step);
 
-  const std::chrono::steady_clock::time_point created_at_;
+  const common::Stopwatch wall_clock_;
   const Scenario scenario_;
   const sim::TerrainWorld world_;
   mutable std::optional<Eigen::MatrixXf> obstacle_heights_;

@@ -193,8 +193,7 @@ RunSummary RunLoop(ClosedLoop* loop, const std::vector<LoopObserver*>& observers
   RunSummary summary;
   summary.outcome = loop->Run(progress);
   summary.sim_time_s = loop->simulation().time();
-  summary.wall_time_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - loop->created_at()).count();
+  summary.wall_time_s = loop->wall_time_s();
   summary.real_time_factor =
       summary.wall_time_s > 0.0 ? summary.sim_time_s / summary.wall_time_s : 0.0;
   summary.physics_steps = loop->physics_steps();

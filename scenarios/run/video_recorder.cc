@@ -1,12 +1,12 @@
 #include "scenarios/run/video_recorder.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
 #include "common/enum_names.h"
+#include "common/stopwatch.h"
 #include "mapping/traversability_mapper.h"
 #include "renders/map_panel.h"
 #include "renders/renderer.h"
@@ -195,7 +195,7 @@ void VideoRecorder::WriteNavigationFrame(const ClosedLoop& loop, const std::stri
 
 void VideoRecorder::BeforePhysics(const ClosedLoop& loop) {
   if (loop.simulation().time() < next_frame_s_ - 1e-9) return;
-  const auto render_start = std::chrono::steady_clock::now();
+  const common::Stopwatch render_start;
   if (loop.navigator() != nullptr) {
     WriteNavigationFrame(loop, loop.navigator()->statistics().last_status);
   } else {
@@ -203,9 +203,7 @@ void VideoRecorder::BeforePhysics(const ClosedLoop& loop) {
                       overlay_, &frame_);
     video_->Write(frame_);
   }
-  times_->Add("render", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
-                                                                  render_start)
-                            .count());
+  times_->Add("render", render_start.ElapsedMilliseconds());
   next_frame_s_ += frame_period_s_;
 }
 
