@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include "common/input_error.h"
+#include "tests/test_environment.h"
 
 namespace trav::scenarios {
 namespace {
@@ -102,9 +103,9 @@ struct PngSize {
   return ::testing::AssertionSuccess();
 }
 
-#define SKIP_WITHOUT_GNUPLOT()                                                              \
-  if (!ProgramAvailable("gnuplot")) {                                                       \
-    GTEST_SKIP() << "gnuplot is not installed (scripts/install-deps installs gnuplot-nox)"; \
+#define SKIP_WITHOUT_GNUPLOT()                                                                   \
+  if (!ProgramAvailable("gnuplot")) {                                                            \
+    TRAV_SKIP_UNLESS_CI("gnuplot is not installed (scripts/install-deps installs gnuplot-nox)"); \
   }
 
 TEST_F(PlotsTest, WritesEveryPlotAsPngOfTheAskedSize) {
