@@ -40,7 +40,7 @@ int Batch(const BatchCommand& command) {
   const std::vector<BatchRun> runs = ExpandBatch(spec);
   const std::optional<SlurmOptions> slurm = SlurmOf(command.cluster, "--runs-per-task");
   const CampaignFolder folder(command.out, "batch", "batch.json", kBatchPartialSubfolders);
-  const std::vector<BatchRun> pending = PrepareBatchFolder(spec, runs, command.out);
+  const std::vector<BatchRun> pending = PrepareBatchFolder(spec, runs, folder);
   if (slurm) {
     const std::string job = SubmitBatchToSlurm(spec, pending, command.out, *slurm);
     if (!slurm->wait && !job.empty()) {

@@ -174,8 +174,8 @@ std::vector<BatchRun> ExpandBatch(const BatchSpec& spec) {
 }
 
 std::vector<BatchRun> PrepareBatchFolder(const BatchSpec& spec, const std::vector<BatchRun>& runs,
-                                         const std::string& out_dir) {
-  const fs::path folder = fs::absolute(out_dir);
+                                         const CampaignFolder& campaign) {
+  const fs::path folder(campaign.path());
   nlohmann::json batch = {{"name", spec.name},
                           {"source", spec.source},
                           {"time_limit_s", spec.time_limit_s},
@@ -186,21 +186,23 @@ std::vector<BatchRun> PrepareBatchFolder(const BatchSpec& spec, const std::vecto
     batch["runs"].push_back(
         {{"id", run.id}, {"scenario", run.scenario_name}, {"parameters", parameters}});
   }
-  const fs::path batch_path = folder / "batch.json";
+  campaign.Claim(
+      batch,
+      [&](const nlohmann::json& previous) {
+        // the same runs, and every scenario written so far the same (a batch killed while laying
+        // out its folder may lack some)
+        bool same = previous.value("runs", nlohmann::json()) == batch["runs"];
+        for (const BatchRun& run : runs) {
+          const fs::path scenario = folder / "scenarios" / (run.id + ".yaml");
+          std::error_code missing;
+          same = same && (!fs::exists(scenario, missing) ||
+                          ReadTextFile(scenario.string()) == run.scenario_yaml);
+        }
+        return same;
+      },
+      "the folder holds another batch (other runs or scenarios); use another --out, or the same "
+      "batch to resume it");
   std::error_code error;
-  if (fs::exists(batch_path, error)) {
-    const nlohmann::json previous = ReadJsonFile(batch_path.string());
-    bool same = previous.value("runs", nlohmann::json()) == batch["runs"];
-    for (const BatchRun& run : runs) {
-      const fs::path scenario = folder / "scenarios" / (run.id + ".yaml");
-      same = same && ReadTextFile(scenario.string()) == run.scenario_yaml;
-    }
-    if (!same) {
-      throw common::InputError(batch_path.string(), "",
-                               "the folder holds another batch (other runs or scenarios); use "
-                               "another --out, or the same batch to resume it");
-    }
-  }
   for (const char* sub : {"scenarios", "runs", "logs", "failed", "slurm"}) {
     fs::create_directories(folder / sub);
   }
@@ -208,7 +210,6 @@ std::vector<BatchRun> PrepareBatchFolder(const BatchSpec& spec, const std::vecto
     const fs::path scenario = folder / "scenarios" / (run.id + ".yaml");
     if (!fs::exists(scenario, error)) WriteTextFileAtomically(scenario.string(), run.scenario_yaml);
   }
-  WriteTextFileAtomically(batch_path.string(), batch.dump(1) + "\n");
   std::vector<BatchRun> pending;
   for (const BatchRun& run : runs) {
     if (!Finished(folder, run.id)) pending.push_back(run);

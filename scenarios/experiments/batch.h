@@ -6,6 +6,7 @@
 
 #include "common/yaml_reader.h"
 #include "scenarios/experiments/job_array.h"
+#include "scenarios/run/output_folder.h"
 #include "scenarios/run/process_pool.h"
 
 namespace trav::scenarios {
@@ -83,12 +84,12 @@ struct LocalBatchOptions {
 /// CampaignFolder to remove).
 inline const std::vector<std::string> kBatchPartialSubfolders = {"runs", "scenarios", "failed"};
 
-/// Lays out `out_dir` (opened as a CampaignFolder of kind "batch") for the runs: batch.json (the
-/// runs and the limits), scenarios/<id>.yaml, runs/, logs/, failed/. Returns the runs not yet
-/// finished (no runs/<id>/summary.json). @throws common::InputError if `out_dir` holds another
-/// batch (other runs or scenarios).
+/// Lays out the folder of `campaign` (of kind "batch") for the runs: batch.json (the runs and the
+/// limits; the campaign's identity), scenarios/<id>.yaml, runs/, logs/, failed/. Returns the runs
+/// not yet finished (no runs/<id>/summary.json). @throws common::InputError if the folder holds
+/// another batch (other runs or scenarios).
 std::vector<BatchRun> PrepareBatchFolder(const BatchSpec& spec, const std::vector<BatchRun>& runs,
-                                         const std::string& out_dir);
+                                         const CampaignFolder& campaign);
 
 /// Runs the pending runs as local `trav run` processes (a crash, a hang past the time limit or a
 /// kill of one is recorded as that run's outcome under failed/<id>.json, and the others go on),

@@ -427,20 +427,15 @@ EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_d
   const CampaignFolder campaign(out_dir, "eval", "options.json", {"scenes"});
   const fs::path folder(out_dir);
   const fs::path options_path = folder / "options.json";
-  std::error_code error;
-  if (fs::exists(options_path, error)) {
-    const EvalOptions previous =
-        EvalOptionsFromJson(ReadJsonFile(options_path.string()), options_path.string());
-    if (!SameEvaluation(previous, options)) {
-      throw common::InputError(options_path.string(), "",
-                               "the folder holds an evaluation with other options; use another "
-                               "--out, or the same options to resume it");
-    }
-  } else {
-    nlohmann::json stored = EvalOptionsJson(options);
-    stored["command"] = command_line;
-    WriteTextFileAtomically(options_path, stored.dump(1) + "\n");
-  }
+  nlohmann::json stored = EvalOptionsJson(options);
+  stored["command"] = command_line;
+  campaign.Claim(
+      stored,
+      [&](const nlohmann::json& previous) {
+        return SameEvaluation(EvalOptionsFromJson(previous, options_path.string()), options);
+      },
+      "the folder holds an evaluation with other options; use another --out, or the same "
+      "options to resume it");
   for (const char* sub : {"scenes", "logs", "failed"}) fs::create_directories(folder / sub);
 
   EvalRunResult result;

@@ -300,17 +300,11 @@ TuneSpec LoadTuneFile(const std::string& path) {
 namespace {
 
 // The folder's identity: the tuning file it belongs to (a folder of another tuning is refused).
-void ClaimTuneFolder(const TuneSpec& spec, const fs::path& folder) {
-  const fs::path identity_path = folder / "tune.json";
+void ClaimTuneFolder(const TuneSpec& spec, const CampaignFolder& campaign) {
   const nlohmann::json identity = {{"source", spec.source}, {"tuning", ReadTextFile(spec.source)}};
-  if (const std::optional<nlohmann::json> previous = ReadJsonIfPresent(identity_path.string())) {
-    if (*previous != identity) {
-      throw common::InputError(identity_path.string(), "",
-                               "the folder holds another tuning; use another --out, or the same "
-                               "tuning file to resume it");
-    }
-  }
-  WriteTextFileAtomically(identity_path.string(), identity.dump(1) + "\n");
+  campaign.Claim(
+      identity, [&](const nlohmann::json& previous) { return previous == identity; },
+      "the folder holds another tuning; use another --out, or the same tuning file to resume it");
 }
 
 // The search: NLopt from the scenarios' own values over the unit cube of the parameters, every
@@ -506,7 +500,7 @@ TuneResult RunTuning(const TuneSpec& spec, const std::string& out_dir,
   const CampaignFolder campaign(out_dir, "tune", "tune.json", {});
   const fs::path folder = fs::absolute(out_dir);
   fs::create_directories(folder / "candidates");
-  ClaimTuneFolder(spec, folder);
+  ClaimTuneFolder(spec, campaign);
   TuneResult result;
   Search(spec, folder, execution, &result);
   if (result.interrupted) return result;

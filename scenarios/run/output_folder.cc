@@ -186,7 +186,8 @@ void OutputFolder::Commit() {
 
 CampaignFolder::CampaignFolder(const std::string& path, const std::string& kind,
                                const std::string& identity_file,
-                               const std::vector<std::string>& partial_subfolders, Use use) {
+                               const std::vector<std::string>& partial_subfolders, Use use)
+    : identity_file_(identity_file) {
   if (path.empty()) throw common::InputError("--out", "", "the output folder is empty");
   RequirePrintablePath(path);
   const fs::path folder = fs::absolute(fs::path(path)).lexically_normal();
@@ -244,6 +245,18 @@ CampaignFolder::CampaignFolder(const std::string& path, const std::string& kind,
         fs::remove_all(entry.path(), error);
       }
     }
+  }
+}
+
+void CampaignFolder::Claim(const nlohmann::json& identity,
+                           const std::function<bool(const nlohmann::json& previous)>& is_same,
+                           const std::string& refusal) const {
+  const std::string identity_path = (fs::path(path_) / identity_file_).string();
+  std::error_code error;
+  if (!fs::exists(identity_path, error)) {
+    WriteTextFileAtomically(identity_path, identity.dump(1) + "\n");
+  } else if (!is_same(ReadJsonFile(identity_path))) {
+    throw common::InputError(identity_path, "", refusal);
   }
 }
 

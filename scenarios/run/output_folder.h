@@ -1,5 +1,6 @@
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -79,8 +80,17 @@ class CampaignFolder {
   /// The folder's absolute path.
   const std::string& path() const { return path_; }
 
+  /// Claims the folder for one campaign, `identity` being what decides its results (the runs,
+  /// the options): a folder without an identity file gets one (written atomically); one whose
+  /// identity file `is_same` rejects holds another campaign and is refused with `refusal`.
+  /// @throws common::InputError naming the identity file.
+  void Claim(const nlohmann::json& identity,
+             const std::function<bool(const nlohmann::json& previous)>& is_same,
+             const std::string& refusal) const;
+
  private:
   std::string path_;
+  std::string identity_file_;
   int lock_fd_{-1};
 };
 

@@ -209,5 +209,26 @@ TEST_F(OutputFolderTest, ACampaignFolderIsUsedByOneProcessAtATime) {
       CampaignFolder(out.string(), "batch", "batch.json", {}, CampaignFolder::Use::kExisting));
 }
 
+TEST_F(OutputFolderTest, ACampaignFolderKeepsTheIdentityOfItsFirstCampaign) {
+  const fs::path out = root_ / "campaign";
+  const CampaignFolder folder(out.string(), "batch", "batch.json", {});
+  auto same_runs = [](const nlohmann::json& mine) {
+    return
+        [mine](const nlohmann::json& previous) { return previous.at("runs") == mine.at("runs"); };
+  };
+  const nlohmann::json first = {{"runs", {1, 2}}, {"source", "a.yaml"}};
+  folder.Claim(first, same_runs(first), "another batch");
+  EXPECT_EQ(ReadJsonFile((out / "batch.json").string()), first);
+  // the same runs from another file resume; the identity stays the first one's
+  const nlohmann::json again = {{"runs", {1, 2}}, {"source", "b.yaml"}};
+  EXPECT_NO_THROW(folder.Claim(again, same_runs(again), "another batch"));
+  EXPECT_EQ(ReadJsonFile((out / "batch.json").string()), first);
+  const nlohmann::json other = {{"runs", {3}}, {"source", "a.yaml"}};
+  EXPECT_THAT([&] { folder.Claim(other, same_runs(other), "another batch"); },
+              ::testing::ThrowsMessage<common::InputError>(
+                  ::testing::AllOf(::testing::HasSubstr((out / "batch.json").string()),
+                                   ::testing::HasSubstr("another batch"))));
+}
+
 }  // namespace
 }  // namespace trav::scenarios
