@@ -265,6 +265,37 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   return summary;
 }
 
+void to_json(nlohmann::json& json, const NavigationMetrics& n) {
+  json = {{"goal_reached", n.goal_reached},
+          {"time_to_goal_s", n.time_to_goal_s},
+          {"final_goal_distance_m", n.final_goal_distance_m},
+          {"optimal_path_length_m", n.optimal_path_length_m},
+          {"path_length_ratio", n.path_length_ratio},
+          {"barn_score", n.barn_score},
+          {"rms_vertical_acceleration_m_s2", n.rms_vertical_acceleration_m_s2},
+          {"plans", n.plans},
+          {"failed_plans", n.failed_plans},
+          {"replans_on_events", n.replans_on_events},
+          {"safety_stops", n.safety_stops},
+          {"last_planner_status", n.last_planner_status},
+          {"mover_tracking_error_m", n.mover_tracking_error_m},
+          {"perceived_mover_samples", n.perceived_mover_samples},
+          {"false_mover_samples", n.false_mover_samples},
+          {"near_misses", n.near_misses},
+          {"min_mover_clearance_m", std::isfinite(n.min_mover_clearance_m)
+                                        ? nlohmann::json(n.min_mover_clearance_m)
+                                        : nlohmann::json(nullptr)}};
+}
+
+void to_json(nlohmann::json& json, const CollisionRecord& c) {
+  json = {{"with", c.target},
+          {"mover", c.mover},
+          {"relative_speed_m_s", c.relative_speed_m_s},
+          {"robot_speed_m_s", c.robot_speed_m_s},
+          {"caused_by", c.caused_by},
+          {"time_s", c.time_s}};
+}
+
 std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
   nlohmann::json json;
   json["scenario"] = scenario.name;
@@ -304,59 +335,37 @@ std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
                        {"error_variance", summary.mapping_error_variance}};
   }
   if (summary.navigation) {
-    const NavigationMetrics& n = *summary.navigation;
-    json["navigation"] = {{"goal", {scenario.goal_W.x(), scenario.goal_W.y()}},
-                          {"goal_reached", n.goal_reached},
-                          {"time_to_goal_s", n.time_to_goal_s},
-                          {"final_goal_distance_m", n.final_goal_distance_m},
-                          {"path_length_m", summary.distance_m},
-                          {"optimal_path_length_m", n.optimal_path_length_m},
-                          {"path_length_ratio", n.path_length_ratio},
-                          {"barn_score", n.barn_score},
-                          {"rms_vertical_acceleration_m_s2", n.rms_vertical_acceleration_m_s2},
-                          {"plans", n.plans},
-                          {"failed_plans", n.failed_plans},
-                          {"replans_on_events", n.replans_on_events},
-                          {"safety_stops", n.safety_stops},
-                          {"last_planner_status", n.last_planner_status},
-                          {"mover_tracking_error_m", n.mover_tracking_error_m},
-                          {"perceived_mover_samples", n.perceived_mover_samples},
-                          {"false_mover_samples", n.false_mover_samples},
-                          {"near_misses", n.near_misses},
-                          {"min_mover_clearance_m", std::isfinite(n.min_mover_clearance_m)
-                                                        ? nlohmann::json(n.min_mover_clearance_m)
-                                                        : nlohmann::json(nullptr)}};
+    json["navigation"] = *summary.navigation;
+    json["navigation"]["goal"] = {scenario.goal_W.x(), scenario.goal_W.y()};
+    json["navigation"]["path_length_m"] = summary.distance_m;
   }
-  if (summary.collision) {
-    json["collision"] = {{"with", summary.collision->target},
-                         {"mover", summary.collision->mover},
-                         {"relative_speed_m_s", summary.collision->relative_speed_m_s},
-                         {"robot_speed_m_s", summary.collision->robot_speed_m_s},
-                         {"caused_by", summary.collision->caused_by},
-                         {"time_s", summary.collision->time_s}};
-  }
+  if (summary.collision) json["collision"] = *summary.collision;
   json["compute"] = summary.compute;
   if (summary.navigation) json["plots"] = summary.plots;
-  if (summary.tracking) {
-    const controller::TrackingMetrics& m = *summary.tracking;
-    json["tracking"] = {
-        {"rms_lateral_error_m", m.rms_lateral_error_m},
-        {"max_lateral_error_m", m.max_lateral_error_m},
-        {"rms_heading_error_rad", m.rms_heading_error_rad},
-        {"max_heading_error_rad", m.max_heading_error_rad},
-        {"rms_speed_error_m_s", m.rms_speed_error_m_s},
-        {"max_speed_error_m_s", m.max_speed_error_m_s},
-        {"rms_acceleration_command_m_s2", m.rms_acceleration_command_m_s2},
-        {"rms_yaw_acceleration_command_rad_s2", m.rms_yaw_acceleration_command_rad_s2},
-        {"solve_time_median_ms", m.solve_time_median_ms},
-        {"solve_time_p99_ms", m.solve_time_p99_ms},
-        {"solve_time_max_ms", m.solve_time_max_ms},
-        {"iterations_mean", m.iterations_mean},
-        {"solves", m.solves},
-        {"failures", m.failures},
-        {"iteration_limits", m.iteration_limits}};
-  }
+  if (summary.tracking) json["tracking"] = *summary.tracking;
   return json.dump(2) + "\n";
 }
 
 }  // namespace trav::scenarios
+
+namespace trav::controller {
+
+void to_json(nlohmann::json& json, const TrackingMetrics& m) {
+  json = {{"rms_lateral_error_m", m.rms_lateral_error_m},
+          {"max_lateral_error_m", m.max_lateral_error_m},
+          {"rms_heading_error_rad", m.rms_heading_error_rad},
+          {"max_heading_error_rad", m.max_heading_error_rad},
+          {"rms_speed_error_m_s", m.rms_speed_error_m_s},
+          {"max_speed_error_m_s", m.max_speed_error_m_s},
+          {"rms_acceleration_command_m_s2", m.rms_acceleration_command_m_s2},
+          {"rms_yaw_acceleration_command_rad_s2", m.rms_yaw_acceleration_command_rad_s2},
+          {"solve_time_median_ms", m.solve_time_median_ms},
+          {"solve_time_p99_ms", m.solve_time_p99_ms},
+          {"solve_time_max_ms", m.solve_time_max_ms},
+          {"iterations_mean", m.iterations_mean},
+          {"solves", m.solves},
+          {"failures", m.failures},
+          {"iteration_limits", m.iteration_limits}};
+}
+
+}  // namespace trav::controller

@@ -146,7 +146,21 @@ std::string RobotModelPath(const Scenario& scenario, const std::string& models_d
 /// @throws common::InputError if it is not.
 std::string CheckedRobotModelPath(const Scenario& scenario, const std::string& models_dir);
 
+/// summary.json's "navigation" object (without the goal and path length, which SummaryJson adds
+/// from the scenario and the run).
+void to_json(nlohmann::json& json, const NavigationMetrics& metrics);
+
+/// summary.json's "collision" object.
+void to_json(nlohmann::json& json, const CollisionRecord& record);
+
 /// summary.json text of a run.
 std::string SummaryJson(const Scenario& scenario, const RunSummary& summary);
 
 }  // namespace trav::scenarios
+
+namespace trav::controller {
+
+/// summary.json's "tracking" object.
+void to_json(nlohmann::json& json, const TrackingMetrics& metrics);
+
+}  // namespace trav::controller
