@@ -38,11 +38,26 @@ std::string QuotedExcerpt(const std::string& text, std::size_t max_length) {
   return "'" + Excerpt(text, max_length) + "'";
 }
 
-InputError::InputError(const std::string& message) : std::runtime_error(message) {}
+InputError::InputError(const std::string& message) : std::runtime_error(message), what_(message) {}
 
 InputError::InputError(const std::string& file, const std::string& key_path,
                        const std::string& what)
-    : std::runtime_error(Compose(file, key_path, what)) {}
+    : std::runtime_error(Compose(file, key_path, what)),
+      file_(file),
+      key_path_(key_path),
+      what_(what) {}
+
+InputError InputError::AtKey(const std::string& prefix) const {
+  if (prefix.empty()) return *this;
+  const bool joined_without_dot = key_path_.empty() || key_path_.front() == '[';
+  const std::string key = joined_without_dot ? prefix + key_path_ : prefix + "." + key_path_;
+  return InputError(file_, key, what_);
+}
+
+InputError InputError::InFile(const std::string& file) const {
+  if (!file_.empty()) return *this;
+  return InputError(file, key_path_, what_);
+}
 
 void RequireValue(bool condition, const std::string& key_path, double value,
                   const std::string& expectation) {

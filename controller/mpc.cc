@@ -20,32 +20,30 @@ constexpr double kRateLimitWeight = 30.0;
 }  // namespace
 
 void ValidateMpcConfig(const MpcConfig& c) {
-  common::RequireValue(c.horizon >= 2 && c.horizon <= 200, "controller.mpc.horizon", c.horizon,
+  common::RequireValue(c.horizon >= 2 && c.horizon <= 200, "horizon", c.horizon,
                        "must be in [2, 200]");
-  common::RequireValue(c.step_s >= 0.005 && c.step_s <= 0.2, "controller.mpc.step", c.step_s,
+  common::RequireValue(c.step_s >= 0.005 && c.step_s <= 0.2, "step", c.step_s,
                        "must be in [0.005, 0.2]");
-  common::RequireValue(c.control_period_s > 0.0 && c.control_period_s <= 0.2,
-                       "controller.mpc.control_period", c.control_period_s, "must be in (0, 0.2]");
-  common::RequireValue((c.state_weights.array() >= 0.0).all(), "controller.mpc.state_weights",
+  common::RequireValue(c.control_period_s > 0.0 && c.control_period_s <= 0.2, "control_period",
+                       c.control_period_s, "must be in (0, 0.2]");
+  common::RequireValue((c.state_weights.array() >= 0.0).all(), "state_weights",
                        c.state_weights.minCoeff(), "must be >= 0");
-  common::RequireValue((c.input_weights.array() >= 0.0).all(), "controller.mpc.input_weights",
+  common::RequireValue((c.input_weights.array() >= 0.0).all(), "input_weights",
                        c.input_weights.minCoeff(), "must be >= 0");
-  common::RequireValue((c.rate_weights.array() >= 0.0).all(), "controller.mpc.rate_weights",
+  common::RequireValue((c.rate_weights.array() >= 0.0).all(), "rate_weights",
                        c.rate_weights.minCoeff(), "must be >= 0");
-  common::RequireValue(c.max_speed_m_s > 0.0, "controller.mpc.max_speed", c.max_speed_m_s,
+  common::RequireValue(c.max_speed_m_s > 0.0, "max_speed", c.max_speed_m_s, "must be > 0");
+  common::RequireValue(c.min_speed_m_s <= 0.0, "min_speed", c.min_speed_m_s, "must be <= 0");
+  common::RequireValue(c.max_yaw_rate_rad_s > 0.0, "max_yaw_rate", c.max_yaw_rate_rad_s,
                        "must be > 0");
-  common::RequireValue(c.min_speed_m_s <= 0.0, "controller.mpc.min_speed", c.min_speed_m_s,
-                       "must be <= 0");
-  common::RequireValue(c.max_yaw_rate_rad_s > 0.0, "controller.mpc.max_yaw_rate",
-                       c.max_yaw_rate_rad_s, "must be > 0");
-  common::RequireValue(c.max_acceleration_m_s2 > 0.0, "controller.mpc.max_acceleration",
-                       c.max_acceleration_m_s2, "must be > 0");
-  common::RequireValue(c.max_yaw_acceleration_rad_s2 > 0.0, "controller.mpc.max_yaw_acceleration",
+  common::RequireValue(c.max_acceleration_m_s2 > 0.0, "max_acceleration", c.max_acceleration_m_s2,
+                       "must be > 0");
+  common::RequireValue(c.max_yaw_acceleration_rad_s2 > 0.0, "max_yaw_acceleration",
                        c.max_yaw_acceleration_rad_s2, "must be > 0");
-  common::RequireValue(c.actuator_time_constant_s >= 0.0, "controller.mpc.actuator_time_constant",
+  common::RequireValue(c.actuator_time_constant_s >= 0.0, "actuator_time_constant",
                        c.actuator_time_constant_s, "must be >= 0");
-  common::RequireValue(c.max_iterations >= 1 && c.max_iterations <= 1000,
-                       "controller.mpc.max_iterations", c.max_iterations, "must be in [1, 1000]");
+  common::RequireValue(c.max_iterations >= 1 && c.max_iterations <= 1000, "max_iterations",
+                       c.max_iterations, "must be in [1, 1000]");
 }
 
 std::string CeresVersion() { return CERES_VERSION_STRING; }

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "common/archive.h"
 #include "common/pose.h"
 #include "common/trajectory.h"
 
@@ -34,9 +35,27 @@ struct MpcConfig {
   /// Solver iteration cap, in [1, 1000]. The only cap: a wall-time budget would make a run
   /// depend on the machine's load.
   int max_iterations{15};
+
+  /// The keys of scenario section `controller.mpc` (common/archive.h); the control period is the
+  /// section above's `rate`.
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("horizon", &horizon, {1, 200});
+    a->Field("step", &step_s, {0.005, 1});
+    a->Field("state_weights", &state_weights, {0, 1000000.0});
+    a->Field("input_weights", &input_weights, {0, 1000000.0});
+    a->Field("rate_weights", &rate_weights, {0, 1000000.0});
+    a->Field("max_speed", &max_speed_m_s, {0.01, 30});
+    a->Field("min_speed", &min_speed_m_s, {-30, 0});
+    a->Field("max_yaw_rate", &max_yaw_rate_rad_s, {0.01, 30});
+    a->Field("max_acceleration", &max_acceleration_m_s2, {0.01, 100});
+    a->Field("max_yaw_acceleration", &max_yaw_acceleration_rad_s2, {0.01, 100});
+    a->Field("actuator_time_constant", &actuator_time_constant_s, {0, 10});
+    a->Field("max_iterations", &max_iterations, {1, 1000});
+  }
 };
 
-/// Checks a config. @throws common::InputError naming the field ("controller.mpc.<key>") and value.
+/// Checks a config. @throws common::InputError naming the key (relative: "horizon") and value.
 void ValidateMpcConfig(const MpcConfig& config);
 
 /// The version of the Ceres solver library the MPC uses ("2.1.0").

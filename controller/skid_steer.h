@@ -1,5 +1,6 @@
 #pragma once
 
+#include "common/archive.h"
 #include "common/pose.h"
 
 namespace trav::controller {
@@ -16,6 +17,17 @@ struct SkidSteerConfig {
   double max_speed_m_s{3.0};           ///< top forward speed [m/s]
   double max_yaw_rate_rad_s{2.5};      ///< top yaw rate [rad/s]
   double max_wheel_speed_rad_s{35.0};  ///< motor limit [rad/s]
+
+  /// The keys of scenario section `robot.skid_steer` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("wheel_radius", &wheel_radius_m, {0.01, 2.0});
+    a->Field("track", &track_m, {0.05, 10.0});
+    a->Field("effective_track_factor", &effective_track_factor, {1.0, 20.0});
+    a->Field("max_speed", &max_speed_m_s, {0.01, 30.0});
+    a->Field("max_yaw_rate", &max_yaw_rate_rad_s, {0.01, 30.0});
+    a->Field("max_wheel_speed", &max_wheel_speed_rad_s, {0.1, 1000.0});
+  }
 };
 
 /// Maps a body twist (v, omega) to the four wheel speeds [rad/s] with the effective track:

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include "common/archive.h"
 #include "common/enum_names.h"
 
 namespace trav::mapping {
@@ -32,6 +33,20 @@ struct GpHyperparameters {
   double signal_variance_ratio{1.0};  ///< s^2 as a multiple of the training heights' variance, > 0
   double noise_std_m{0.03};           ///< observation noise of a height [m], > 0 (also the jitter)
   double rq_alpha{1.0};               ///< rational-quadratic shape, > 0
+
+  /// The keys of scenario section `mapping.gp` (common/archive.h): the length scales as two pairs.
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Enum("kernel", &kernel);
+    Eigen::Vector2d xy = length_scales.head<2>();
+    Eigen::Vector2d features = length_scales.tail<2>();
+    a->Field("length_scales_xy", &xy, {0.01, 100});
+    a->Field("length_scales_features", &features, {0.0001, 10000.0});
+    length_scales << xy, features;
+    a->Field("signal_variance_ratio", &signal_variance_ratio, {1e-06, 1000.0});
+    a->Field("noise_std", &noise_std_m, {1e-05, 10});
+    a->Field("rq_alpha", &rq_alpha, {0.01, 100});
+  }
 };
 
 /// Where every mapper looks and what it keeps: the local window, the rolling map's grid, the height
@@ -66,6 +81,7 @@ struct FsgpConfig {
       0};                 ///< L-BFGS steps maximising the marginal likelihood per frame (0: fixed)
   int idw_neighbours{5};  ///< K for kappa*, g* at the test cells
   double support_radius_m{0.8};  ///< a cell is observed if a training point lies this close [m]
+
   /// The predictive variance (O(T M^2), the costliest part) is computed on every n-th cell
   /// along x and y and taken by the others from that cell; it only weighs the fusion. >= 1
   int variance_stride{4};
@@ -84,9 +100,44 @@ struct FsgpConfig {
   double smoothing_sigma_m{0.2};   ///< Gaussian smoothing [m] (0: none)
   double smoothing_radius_m{0.4};
   int accumulate_frames{1};  ///< FSGP-Accumulation: frames of clouds fed together (1: off)
+
+  /// The keys of scenario section `mapping` that configure the mapper (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("window", &area.window_m, {1, 100});
+    a->Field("resolution", &area.resolution_m, {0.02, 2});
+    a->Field("map_size", &area.map_size_m, {1, 1000});
+    a->Field("max_height_above_robot", &area.max_height_above_robot_m, {0, 100});
+    a->Field("max_height_above_ground", &max_height_above_ground_m, {0, 100});
+    a->Field("pre_voxel", &pre_voxel_m, {0, 1});
+    a->Field("neighbours", &neighbours, {3, 200});
+    a->Field("curvature_threshold", &curvature_threshold, {0, 10});
+    a->Field("gradient_threshold", &gradient_threshold_m, {0, 10});
+    a->Field("feature_voxel", &feature_voxel_m, {0, 2});
+    a->Field("max_training_points", &max_training_points, {1, 3000});
+    a->Field("seed", &seed);
+    a->Field("pca", &pca);
+    a->Map("gp", &gp);
+    a->Field("lbfgs_iterations", &lbfgs_iterations, {0, 1000});
+    a->Field("idw_neighbours", &idw_neighbours, {1, 100});
+    a->Field("support_radius", &support_radius_m, {0.01, 20});
+    a->Field("variance_stride", &variance_stride, {1, 100});
+    a->Field("weight_curvature", &weight_curvature, {0, 100});
+    a->Field("weight_gradient", &weight_gradient, {0, 100});
+    a->Field("weight_slope", &weight_slope, {0, 100});
+    a->Field("curvature_max", &curvature_max, {1e-06, 100});
+    a->Field("gradient_max", &gradient_max_m, {1e-06, 100});
+    a->Field("slope_max", &slope_max_rad, {0.001, 1.6});
+    a->Field("fuse", &fuse);
+    a->Field("decay_rate", &decay_rate, {0, 100});
+    a->Field("variance_epsilon", &variance_epsilon, {1e-09, 10});
+    a->Field("smoothing_sigma", &smoothing_sigma_m, {0, 5});
+    a->Field("smoothing_radius", &smoothing_radius_m, {0, 10});
+    a->Field("accumulate_frames", &accumulate_frames, {1, 100});
+  }
 };
 
-/// Checks a config. @throws common::InputError naming the field ("mapping.<key>") and value.
+/// Checks a config. @throws common::InputError naming the key (relative: "window") and value.
 void ValidateFsgpConfig(const FsgpConfig& config);
 
 }  // namespace trav::mapping

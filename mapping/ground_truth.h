@@ -1,5 +1,6 @@
 #pragma once
 
+#include "common/archive.h"
 #include "common/grid.h"
 #include "mapping/fsgp_config.h"
 
@@ -11,6 +12,14 @@ struct GroundTruthConfig {
       0.3};  ///< metric neighbourhood of the slope, curvature and gradient terms [m]
   double clearance_m{0.115};       ///< the Scout Mini's ground clearance [m]
   double footprint_radius_m{0.3};  ///< half the robot's width [m]
+
+  /// The keys of scenario section `ground_truth` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("neighbourhood_radius", &neighbourhood_radius_m, {0.01, 5.0});
+    a->Field("clearance", &clearance_m, {0.01, 5.0});
+    a->Field("footprint_radius", &footprint_radius_m, {0.01, 5.0});
+  }
 };
 
 /// Ground-truth traversability on `map_geometry` from the dense noise-free world: `ground_m`

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "common/archive.h"
 #include "common/check.h"
 #include "common/enum_names.h"
 #include "common/grid.h"
@@ -32,6 +33,16 @@ struct CostMapConfig {
   double inflation_radius_m{0.3};  ///< blocked cells grow by the robot's footprint radius [m]
   UnknownPolicy unknown_policy{UnknownPolicy::kCost};
   double unknown_cost{0.5};  ///< cost of an unknown cell under kCost
+
+  /// The keys of scenario section `planner.search` that configure the costs (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("cost_weight", &cost_weight, {0, 1000000.0});
+    a->Field("lethal_threshold", &lethal_threshold, {0, 1});
+    a->Field("inflation_radius", &inflation_radius_m, {0, 5});
+    a->Enum("unknown_policy", &unknown_policy);
+    a->Field("unknown_cost", &unknown_cost, {0, 1});
+  }
 };
 
 /// The lethal rule, the one every planner and safety check applies: a cell is lethal when its cost

@@ -40,18 +40,18 @@ std::optional<Eigen::Vector2d> NearestFreeCell(const SearchCostMap& costs,
 void ValidateNavigationPlannerConfig(const NavigationPlannerConfig& c) {
   using common::RequireValue;
   const CostMapConfig& s = c.search;
-  RequireValue(s.cost_weight >= 0.0, "planner.search.cost_weight", s.cost_weight, "must be >= 0");
-  RequireValue(s.lethal_threshold > 0.0 && s.lethal_threshold <= 1.0,
-               "planner.search.lethal_threshold", s.lethal_threshold, "must be in (0, 1]");
-  RequireValue(s.inflation_radius_m >= 0.0, "planner.search.inflation_radius", s.inflation_radius_m,
+  RequireValue(s.cost_weight >= 0.0, "search.cost_weight", s.cost_weight, "must be >= 0");
+  RequireValue(s.lethal_threshold > 0.0 && s.lethal_threshold <= 1.0, "search.lethal_threshold",
+               s.lethal_threshold, "must be in (0, 1]");
+  RequireValue(s.inflation_radius_m >= 0.0, "search.inflation_radius", s.inflation_radius_m,
                "must be >= 0");
-  RequireValue(s.unknown_cost >= 0.0 && s.unknown_cost <= 1.0, "planner.search.unknown_cost",
+  RequireValue(s.unknown_cost >= 0.0 && s.unknown_cost <= 1.0, "search.unknown_cost",
                s.unknown_cost, "must be in [0, 1]");
-  RequireValue(c.substitute_goal_reach_m > 0.0, "planner.search.substitute_goal_reach",
+  RequireValue(c.substitute_goal_reach_m > 0.0, "search.substitute_goal_reach",
                c.substitute_goal_reach_m, "must be > 0");
-  RequireValue(c.simplify_tolerance >= 0.0, "planner.search.simplify_tolerance",
-               c.simplify_tolerance, "must be >= 0");
-  ValidateTrajectoryOptimizerConfig(c.optimizer);
+  RequireValue(c.simplify_tolerance >= 0.0, "search.simplify_tolerance", c.simplify_tolerance,
+               "must be >= 0");
+  common::ValidateAt("optimizer", [&] { ValidateTrajectoryOptimizerConfig(c.optimizer); });
 }
 
 NavigationPlanner::NavigationPlanner(const NavigationPlannerConfig& config)

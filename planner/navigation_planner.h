@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "common/archive.h"
 #include "common/enum_names.h"
 #include "common/grid.h"
 #include "common/trajectory.h"
@@ -23,10 +24,21 @@ struct NavigationPlannerConfig {
   /// is this close to it [m], > 0.
   double substitute_goal_reach_m{3.0};
   TrajectoryOptimizerConfig optimizer;  ///< trajectory optimisation
+
+  /// The keys of scenario section `planner` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Map("search", [this](Archive& k) {
+      search.Serialize(&k);
+      k.Field("simplify_tolerance", &simplify_tolerance, {0, 10});
+      k.Field("substitute_goal_reach", &substitute_goal_reach_m, {0, 100});
+    });
+    a->Map("optimizer", &optimizer);
+  }
 };
 
-/// Checks a config. @throws common::InputError naming the field (`planner.search.<key>`,
-/// `planner.optimizer.<key>`) and the value.
+/// Checks a config. @throws common::InputError naming the key (relative: "search.cost_weight",
+/// "optimizer.clearance") and the value.
 void ValidateNavigationPlannerConfig(const NavigationPlannerConfig& config);
 
 /// How a planning call ended.

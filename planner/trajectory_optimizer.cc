@@ -351,17 +351,15 @@ OptimizedTrajectory Solve(const TrajectoryOptimizerConfig& config, const CostFie
 }  // namespace
 
 void ValidateTrajectoryOptimizerConfig(const TrajectoryOptimizerConfig& c) {
-  const std::string key = "planner.optimizer.";
   const DynamicLimits& l = c.limits;
-  RequireValue(l.max_speed_m_s > 0.0 && l.max_speed_m_s <= 3.0, key + "max_speed", l.max_speed_m_s,
+  RequireValue(l.max_speed_m_s > 0.0 && l.max_speed_m_s <= 3.0, "max_speed", l.max_speed_m_s,
                "must be in (0, 3] (the Scout Mini's top speed)");
-  RequireValue(l.max_yaw_rate_rad_s > 0.0, key + "max_yaw_rate", l.max_yaw_rate_rad_s,
+  RequireValue(l.max_yaw_rate_rad_s > 0.0, "max_yaw_rate", l.max_yaw_rate_rad_s, "must be > 0");
+  RequireValue(l.max_acceleration_m_s2 > 0.0, "max_acceleration", l.max_acceleration_m_s2,
                "must be > 0");
-  RequireValue(l.max_acceleration_m_s2 > 0.0, key + "max_acceleration", l.max_acceleration_m_s2,
-               "must be > 0");
-  RequireValue(l.max_yaw_acceleration_rad_s2 > 0.0, key + "max_yaw_acceleration",
+  RequireValue(l.max_yaw_acceleration_rad_s2 > 0.0, "max_yaw_acceleration",
                l.max_yaw_acceleration_rad_s2, "must be > 0");
-  RequireValue(l.max_centripetal_acceleration_m_s2 > 0.0, key + "max_centripetal_acceleration",
+  RequireValue(l.max_centripetal_acceleration_m_s2 > 0.0, "max_centripetal_acceleration",
                l.max_centripetal_acceleration_m_s2, "must be > 0");
   const TrajectoryCostWeights& w = c.weights;
   for (const auto& [name, value] : {std::pair{"yaw_jerk_weight", w.yaw_jerk},
@@ -371,34 +369,34 @@ void ValidateTrajectoryOptimizerConfig(const TrajectoryOptimizerConfig& c) {
                                     {"limits_weight", w.limits},
                                     {"clearance_weight", w.clearance},
                                     {"moving_obstacles_weight", w.moving_obstacles}}) {
-    RequireValue(value >= 0.0, key + name, value, "must be >= 0");
+    RequireValue(value >= 0.0, name, value, "must be >= 0");
   }
-  RequireValue(c.clearance_m >= 0.0, key + "clearance", c.clearance_m, "must be >= 0");
-  RequireValue(c.min_clearance_m >= 0.0 && c.min_clearance_m <= c.clearance_m,
-               key + "min_clearance", c.min_clearance_m, "must be in [0, clearance]");
-  RequireValue(c.robot_radius_m > 0.0, key + "robot_radius", c.robot_radius_m, "must be > 0");
-  RequireValue(c.obstacle_clearance_m >= 0.0, key + "obstacle_clearance", c.obstacle_clearance_m,
+  RequireValue(c.clearance_m >= 0.0, "clearance", c.clearance_m, "must be >= 0");
+  RequireValue(c.min_clearance_m >= 0.0 && c.min_clearance_m <= c.clearance_m, "min_clearance",
+               c.min_clearance_m, "must be in [0, clearance]");
+  RequireValue(c.robot_radius_m > 0.0, "robot_radius", c.robot_radius_m, "must be > 0");
+  RequireValue(c.obstacle_clearance_m >= 0.0, "obstacle_clearance", c.obstacle_clearance_m,
                "must be >= 0");
-  RequireValue(c.clearance_growth_m_s >= 0.0, key + "clearance_growth", c.clearance_growth_m_s,
+  RequireValue(c.clearance_growth_m_s >= 0.0, "clearance_growth", c.clearance_growth_m_s,
                "must be >= 0");
-  RequireValue(c.piece_length_m > 0.0, key + "piece_length", c.piece_length_m, "must be > 0");
+  RequireValue(c.piece_length_m > 0.0, "piece_length", c.piece_length_m, "must be > 0");
   RequireValue(
       c.samples_per_piece >= 2 && c.samples_per_piece <= 64 && c.samples_per_piece % 2 == 0,
-      key + "samples_per_piece", c.samples_per_piece, "must be even and in [2, 64]");
+      "samples_per_piece", c.samples_per_piece, "must be even and in [2, 64]");
   RequireValue(c.initial_speed_fraction > 0.0 && c.initial_speed_fraction <= 1.0,
-               key + "initial_speed_fraction", c.initial_speed_fraction, "must be in (0, 1]");
-  RequireValue(c.terminal_tolerance_m > 0.0, key + "terminal_tolerance", c.terminal_tolerance_m,
+               "initial_speed_fraction", c.initial_speed_fraction, "must be in (0, 1]");
+  RequireValue(c.terminal_tolerance_m > 0.0, "terminal_tolerance", c.terminal_tolerance_m,
                "must be > 0");
-  RequireValue(c.violation_tolerance >= 0.0, key + "violation_tolerance", c.violation_tolerance,
+  RequireValue(c.violation_tolerance >= 0.0, "violation_tolerance", c.violation_tolerance,
                "must be >= 0");
-  RequireValue(c.max_iterations >= 1, key + "max_iterations", c.max_iterations, "must be >= 1");
-  RequireValue(c.max_rounds >= 1, key + "max_rounds", c.max_rounds, "must be >= 1");
-  RequireValue(c.initial_penalty > 0.0, key + "initial_penalty", c.initial_penalty, "must be > 0");
-  RequireValue(c.penalty_growth > 1.0, key + "penalty_growth", c.penalty_growth, "must be > 1");
-  RequireValue(c.relative_cost_tolerance > 0.0, key + "relative_cost_tolerance",
+  RequireValue(c.max_iterations >= 1, "max_iterations", c.max_iterations, "must be >= 1");
+  RequireValue(c.max_rounds >= 1, "max_rounds", c.max_rounds, "must be >= 1");
+  RequireValue(c.initial_penalty > 0.0, "initial_penalty", c.initial_penalty, "must be > 0");
+  RequireValue(c.penalty_growth > 1.0, "penalty_growth", c.penalty_growth, "must be > 1");
+  RequireValue(c.relative_cost_tolerance > 0.0, "relative_cost_tolerance",
                c.relative_cost_tolerance, "must be > 0");
-  RequireValue(c.output_step_s > 0.0, key + "output_step", c.output_step_s, "must be > 0");
-  RequireValue(c.warm_start_goal_tolerance_m >= 0.0, key + "warm_start_goal_tolerance",
+  RequireValue(c.output_step_s > 0.0, "output_step", c.output_step_s, "must be > 0");
+  RequireValue(c.warm_start_goal_tolerance_m >= 0.0, "warm_start_goal_tolerance",
                c.warm_start_goal_tolerance_m, "must be >= 0");
 }
 

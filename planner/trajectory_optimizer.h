@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "common/archive.h"
 #include "common/enum_names.h"
 #include "common/trajectory.h"
 #include "planner/cost_field.h"
@@ -43,9 +44,37 @@ struct TrajectoryOptimizerConfig {
   double output_step_s{0.02};               ///< sample spacing of the output trajectory [s], > 0
   bool warm_start{true};                    ///< start from the previous plan when it applies
   double warm_start_goal_tolerance_m{0.3};  ///< the previous plan applies to goals this close [m]
+
+  /// The keys of scenario section `planner.optimizer` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("max_speed", &limits.max_speed_m_s, {0.01, 30});
+    a->Field("max_yaw_rate", &limits.max_yaw_rate_rad_s, {0.01, 30});
+    a->Field("max_acceleration", &limits.max_acceleration_m_s2, {0.01, 100});
+    a->Field("max_yaw_acceleration", &limits.max_yaw_acceleration_rad_s2, {0.01, 100});
+    a->Field("max_centripetal_acceleration", &limits.max_centripetal_acceleration_m_s2,
+             {0.01, 100});
+    a->Field("yaw_jerk_weight", &weights.yaw_jerk, {0, 1000000000.0});
+    a->Field("arc_length_jerk_weight", &weights.arc_length_jerk, {0, 1000000000.0});
+    a->Field("time_weight", &weights.time, {0, 1000000000.0});
+    a->Field("traversability_weight", &weights.traversability, {0, 1000000000.0});
+    a->Field("limits_weight", &weights.limits, {0, 1000000000.0});
+    a->Field("clearance_weight", &weights.clearance, {0, 1000000000.0});
+    a->Field("moving_obstacles_weight", &weights.moving_obstacles, {0, 1000000000.0});
+    a->Field("clearance", &clearance_m, {0, 5});
+    a->Field("min_clearance", &min_clearance_m, {0, 5});
+    a->Field("robot_radius", &robot_radius_m, {0, 5});
+    a->Field("obstacle_clearance", &obstacle_clearance_m, {0, 10});
+    a->Field("clearance_growth", &clearance_growth_m_s, {0, 10});
+    a->Field("piece_length", &piece_length_m, {0.1, 100});
+    a->Field("samples_per_piece", &samples_per_piece, {1, 100});
+    a->Field("max_iterations", &max_iterations, {1, 100000});
+    a->Field("max_rounds", &max_rounds, {1, 100});
+    a->Field("warm_start", &warm_start);
+  }
 };
 
-/// Checks a config. @throws common::InputError naming the field (`planner.optimizer.<key>`).
+/// Checks a config. @throws common::InputError naming the key (relative: "clearance").
 void ValidateTrajectoryOptimizerConfig(const TrajectoryOptimizerConfig& config);
 
 /// What to plan.

@@ -109,8 +109,7 @@ Eigen::Vector3f TraversabilityColor(float value, float low, float high) {
 void ValidateRenderConfig(const RenderConfig& config) {
   auto check = [](bool ok, const char* field, int value, const char* what) {
     if (!ok) {
-      throw common::InputError("", std::string("video.") + field,
-                               "value " + std::to_string(value) + " " + what);
+      throw common::InputError("", field, "value " + std::to_string(value) + " " + what);
     }
   };
   check(config.width >= 16 && config.width <= 4096, "width", config.width, "must be in [16, 4096]");

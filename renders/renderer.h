@@ -2,6 +2,7 @@
 
 #include <memory>
 
+#include "common/archive.h"
 #include "renders/camera.h"
 #include "renders/gl_context.h"
 #include "renders/image.h"
@@ -23,6 +24,16 @@ struct RenderConfig {
   bool reflections{false};
   int msaa_samples{0};   ///< multisampling, 0 = off
   int max_geoms{30000};  ///< capacity for scene plus overlay geoms
+
+  /// The frame keys of scenario section `video` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("width", &width, {16, 4096});
+    a->Field("height", &height, {16, 4096});
+    a->Enum("backend", &backend);
+    a->Field("shadows", &shadows);
+    a->Field("msaa", &msaa_samples, {0, 16});
+  }
 };
 
 /// Checks the ranges of a render config. @throws common::InputError naming the field and value.

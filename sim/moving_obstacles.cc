@@ -12,24 +12,21 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-// RequireValue for `<key_path>.<field>` or `<key_path>.<field>[<index>]` (index >= 0); the key path
-// is composed only on failure (every MoverTrack validates its mover).
-void Require(bool condition, const std::string& key_path, const char* field, int index,
-             double value, const char* expectation) {
+// RequireValue for `<field>` or `<field>[<index>]` (index >= 0); the key is composed only on
+// failure (every MoverTrack validates its mover).
+void Require(bool condition, const char* field, int index, double value, const char* expectation) {
   if (condition) return;
-  std::string key = key_path + "." + field;
+  std::string key = field;
   if (index >= 0) key += "[" + std::to_string(index) + "]";
   common::RequireValue(false, key, value, expectation);
 }
 
-void Require(bool condition, const std::string& key_path, const char* field, double value,
-             const char* expectation) {
-  Require(condition, key_path, field, -1, value, expectation);
+void Require(bool condition, const char* field, double value, const char* expectation) {
+  Require(condition, field, -1, value, expectation);
 }
 
-void RequireFinite(const Eigen::Vector2d& v, const std::string& key_path, const char* field) {
-  for (int i = 0; i < 2; ++i)
-    Require(std::isfinite(v[i]), key_path, field, i, v[i], "must be finite");
+void RequireFinite(const Eigen::Vector2d& v, const char* field) {
+  for (int i = 0; i < 2; ++i) Require(std::isfinite(v[i]), field, i, v[i], "must be finite");
 }
 
 bool IsValidName(const std::string& name) {
@@ -39,38 +36,36 @@ bool IsValidName(const std::string& name) {
   });
 }
 
-void ValidateMotion(const WaypointMotion& motion, const std::string& key_path) {
+void ValidateMotion(const WaypointMotion& motion) {
   if (motion.waypoints_W.empty()) {
-    throw common::InputError("", key_path + ".waypoints",
-                             "is empty: at least one point is required");
+    throw common::InputError("", "waypoints", "is empty: at least one point is required");
   }
   for (std::size_t j = 0; j < motion.waypoints_W.size(); ++j) {
     const Eigen::Vector2d& p = motion.waypoints_W[j];
-    if (!p.allFinite())
-      RequireFinite(p, key_path, ("waypoints[" + std::to_string(j) + "]").c_str());
+    if (!p.allFinite()) RequireFinite(p, ("waypoints[" + std::to_string(j) + "]").c_str());
   }
-  Require(motion.speed_m_s > 0.0 && std::isfinite(motion.speed_m_s), key_path, "speed",
-          motion.speed_m_s, "must be > 0 and finite");
-  Require(motion.start_delay_s >= 0.0 && std::isfinite(motion.start_delay_s), key_path,
-          "start_delay", motion.start_delay_s, "must be >= 0 and finite");
+  Require(motion.speed_m_s > 0.0 && std::isfinite(motion.speed_m_s), "speed", motion.speed_m_s,
+          "must be > 0 and finite");
+  Require(motion.start_delay_s >= 0.0 && std::isfinite(motion.start_delay_s), "start_delay",
+          motion.start_delay_s, "must be >= 0 and finite");
 }
 
-void ValidateMotion(const ConstantVelocityMotion& motion, const std::string& key_path) {
-  RequireFinite(motion.start_W, key_path, "start");
-  RequireFinite(motion.velocity_W, key_path, "velocity");
-  Require(motion.start_time_s >= 0.0 && std::isfinite(motion.start_time_s), key_path, "start_time",
+void ValidateMotion(const ConstantVelocityMotion& motion) {
+  RequireFinite(motion.start_W, "start");
+  RequireFinite(motion.velocity_W, "velocity");
+  Require(motion.start_time_s >= 0.0 && std::isfinite(motion.start_time_s), "start_time",
           motion.start_time_s, "must be >= 0 and finite");
 }
 
-void ValidateMotion(const RandomWalkMotion& motion, const std::string& key_path) {
-  RequireFinite(motion.area_centre_W, key_path, "area_centre");
-  Require(motion.area_radius_m > 0.0 && std::isfinite(motion.area_radius_m), key_path,
-          "area_radius", motion.area_radius_m, "must be > 0 and finite");
-  Require(motion.speed_m_s > 0.0 && std::isfinite(motion.speed_m_s), key_path, "speed",
-          motion.speed_m_s, "must be > 0 and finite");
-  Require(motion.pause_s[0] >= 0.0, key_path, "pause[0]", motion.pause_s[0], "must be >= 0");
-  Require(motion.pause_s[1] >= motion.pause_s[0] && std::isfinite(motion.pause_s[1]), key_path,
-          "pause[1]", motion.pause_s[1], "must be finite and >= pause[0]");
+void ValidateMotion(const RandomWalkMotion& motion) {
+  RequireFinite(motion.area_centre_W, "area_centre");
+  Require(motion.area_radius_m > 0.0 && std::isfinite(motion.area_radius_m), "area_radius",
+          motion.area_radius_m, "must be > 0 and finite");
+  Require(motion.speed_m_s > 0.0 && std::isfinite(motion.speed_m_s), "speed", motion.speed_m_s,
+          "must be > 0 and finite");
+  Require(motion.pause_s[0] >= 0.0, "pause[0]", motion.pause_s[0], "must be >= 0");
+  Require(motion.pause_s[1] >= motion.pause_s[0] && std::isfinite(motion.pause_s[1]), "pause[1]",
+          motion.pause_s[1], "must be finite and >= pause[0]");
 }
 
 double Heading(const Eigen::Vector2d& direction) {
@@ -79,61 +74,60 @@ double Heading(const Eigen::Vector2d& direction) {
 
 }  // namespace
 
-void ValidateMovingObstacle(const MovingObstacle& mover, const std::string& key_path) {
+void ValidateMovingObstacle(const MovingObstacle& mover) {
   if (mover.personal_distance_m < 0.0 ||
       (mover.personal_distance_m > 0.0 && !std::holds_alternative<WaypointMotion>(mover.motion))) {
-    throw common::InputError("", key_path + ".personal_distance",
+    throw common::InputError("", "personal_distance",
                              "value " + std::to_string(mover.personal_distance_m) +
                                  " must be >= 0, and > 0 only with motion waypoints");
   }
   if (!IsValidName(mover.name)) {
     throw common::InputError(
-        "", key_path + ".name",
+        "", "name",
         "'" + mover.name + "' must be non-empty and use only letters, digits, '_' and '-'");
   }
-  Require(mover.half_height_m > 0.0 && std::isfinite(mover.half_height_m), key_path, "half_height",
+  Require(mover.half_height_m > 0.0 && std::isfinite(mover.half_height_m), "half_height",
           mover.half_height_m, "must be > 0 and finite");
   switch (mover.shape) {
     case MoverShape::kBox:
       for (int i = 0; i < 2; ++i) {
         Require(mover.box_half_extents_m[i] > 0.0 && std::isfinite(mover.box_half_extents_m[i]),
-                key_path, "box_half_extents", i, mover.box_half_extents_m[i],
-                "must be > 0 and finite");
+                "box_half_extents", i, mover.box_half_extents_m[i], "must be > 0 and finite");
       }
       break;
     case MoverShape::kCylinder:
-      Require(mover.radius_m > 0.0 && std::isfinite(mover.radius_m), key_path, "radius",
-              mover.radius_m, "must be > 0 and finite");
+      Require(mover.radius_m > 0.0 && std::isfinite(mover.radius_m), "radius", mover.radius_m,
+              "must be > 0 and finite");
       break;
     case MoverShape::kCapsule:
-      Require(mover.radius_m > 0.0 && std::isfinite(mover.radius_m), key_path, "radius",
-              mover.radius_m, "must be > 0 and finite");
+      Require(mover.radius_m > 0.0 && std::isfinite(mover.radius_m), "radius", mover.radius_m,
+              "must be > 0 and finite");
       if (mover.half_height_m <= mover.radius_m) {
         const std::string expectation =
             "must be > the radius (" + std::to_string(mover.radius_m) + ") for a capsule";
-        Require(false, key_path, "half_height", mover.half_height_m, expectation.c_str());
+        Require(false, "half_height", mover.half_height_m, expectation.c_str());
       }
       break;
   }
   for (int i = 0; i < 4; ++i) {
-    Require(mover.rgba[i] >= 0.0f && mover.rgba[i] <= 1.0f, key_path, "rgba", i, mover.rgba[i],
+    Require(mover.rgba[i] >= 0.0f && mover.rgba[i] <= 1.0f, "rgba", i, mover.rgba[i],
             "must be in [0, 1]");
   }
-  std::visit([&](const auto& motion) { ValidateMotion(motion, key_path); }, mover.motion);
+  std::visit([&](const auto& motion) { ValidateMotion(motion); }, mover.motion);
 }
 
-void ValidateMovingObstacles(const std::vector<MovingObstacle>& movers,
-                             const std::string& key_path) {
+void ValidateMovingObstacles(const std::vector<MovingObstacle>& movers) {
   for (std::size_t i = 0; i < movers.size(); ++i) {
-    const std::string key = key_path + "[" + std::to_string(i) + "]";
-    ValidateMovingObstacle(movers[i], key);
-    for (std::size_t j = 0; j < i; ++j) {
-      if (movers[j].name == movers[i].name) {
-        throw common::InputError("", key + ".name",
-                                 "'" + movers[i].name + "' is already the name of " + key_path +
-                                     "[" + std::to_string(j) + "]");
+    common::ValidateAt("[" + std::to_string(i) + "]", [&] {
+      ValidateMovingObstacle(movers[i]);
+      for (std::size_t j = 0; j < i; ++j) {
+        if (movers[j].name == movers[i].name) {
+          throw common::InputError(
+              "", "name",
+              "'" + movers[i].name + "' is already the name of item " + std::to_string(j));
+        }
       }
-    }
+    });
   }
 }
 
@@ -171,7 +165,7 @@ Eigen::Isometry3d MoverPose(const MovingObstacle& mover, const MoverPlanarState&
 }
 
 MoverTrack::MoverTrack(MovingObstacle mover) : mover_(std::move(mover)) {
-  ValidateMovingObstacle(mover_, "moving_obstacle");
+  ValidateMovingObstacle(mover_);
   if (const auto* waypoints = std::get_if<WaypointMotion>(&mover_.motion)) {
     std::vector<Eigen::Vector2d> path = waypoints->waypoints_W;
     if (waypoints->loop == WaypointLoop::kCycle) {

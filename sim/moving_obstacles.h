@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include "common/archive.h"
 #include "common/enum_names.h"
 #include "common/mesh.h"
 #include "common/random.h"
@@ -75,6 +76,29 @@ struct RandomWalkMotion {
 
 /// One of the three behaviours.
 using MoverMotion = std::variant<WaypointMotion, ConstantVelocityMotion, RandomWalkMotion>;
+/// How a mover moves, as a scenario file names it (the alternative MoverMotion holds).
+enum class MotionKind { kWaypoints, kConstantVelocity, kRandomWalk };
+
+/// The names of MotionKind's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<MotionKind>, 3> kMotionKindNames{
+    {{MotionKind::kWaypoints, "waypoints"},
+     {MotionKind::kConstantVelocity, "constant_velocity"},
+     {MotionKind::kRandomWalk, "random_walk"}}};
+constexpr const auto& EnumNames(MotionKind) { return kMotionKindNames; }
+
+/// The kind of `motion`.
+inline MotionKind KindOf(const MoverMotion& motion) {
+  if (std::holds_alternative<WaypointMotion>(motion)) return MotionKind::kWaypoints;
+  if (std::holds_alternative<RandomWalkMotion>(motion)) return MotionKind::kRandomWalk;
+  return MotionKind::kConstantVelocity;
+}
+
+/// The motion `motion` holds as `Motion`, made so (with defaults) if it holds another.
+template <typename Motion>
+Motion& EmplaceMotion(MoverMotion* motion) {
+  if (!std::holds_alternative<Motion>(*motion)) *motion = Motion{};
+  return std::get<Motion>(*motion);
+}
 
 /// A moving obstacle: a kinematic shape that follows its motion regardless of contacts. Its own
 /// frame O has its origin at the centre of the shape, z up and x along the direction of motion.
@@ -94,19 +118,67 @@ struct MovingObstacle {
   /// this gap from the other movers and the robot (a social-force model run by the scenario,
   /// scenarios/social_force.h); its MoverTrack is then the path it would walk alone [m].
   double personal_distance_m{0.0};
+
+  /// The keys of an item of scenario section `moving_obstacles` (common/archive.h): the shape, and
+  /// the keys of the motion that `motion` names.
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("name", &name);
+    a->Enum("shape", &shape);
+    a->Field("radius", &radius_m, {0.01, 10});
+    a->Field("half_height", &half_height_m, {0.01, 10});
+    a->Field("box_half_extents", &box_half_extents_m, {0.01, 10});
+    MotionKind kind = KindOf(motion);
+    a->Enum("motion", &kind);
+    switch (kind) {
+      case MotionKind::kWaypoints: {
+        auto& w = EmplaceMotion<WaypointMotion>(&motion);
+        a->Field("waypoints", &w.waypoints_W, {-1000.0, 1000.0});
+        a->Field("speed", &w.speed_m_s, {0, 20});
+        a->Enum("loop", &w.loop);
+        a->Field("start_delay", &w.start_delay_s, {0, 86400});
+        a->Field("personal_distance", &personal_distance_m, {0, 20});
+        break;
+      }
+      case MotionKind::kConstantVelocity: {
+        auto& c = EmplaceMotion<ConstantVelocityMotion>(&motion);
+        a->Field("start", &c.start_W, {-1000.0, 1000.0});
+        a->Field("velocity", &c.velocity_W, {-20, 20});
+        a->Field("start_time", &c.start_time_s, {0, 86400});
+        break;
+      }
+      case MotionKind::kRandomWalk: {
+        auto& r = EmplaceMotion<RandomWalkMotion>(&motion);
+        a->Field("seed", &r.seed);
+        a->Field("area_centre", &r.area_centre_W, {-1000.0, 1000.0});
+        a->Field("area_radius", &r.area_radius_m, {0, 1000.0});
+        a->Field("speed", &r.speed_m_s, {0, 20});
+        a->Field("pause", &r.pause_s, {0, 3600});
+        break;
+      }
+    }
+  }
+
+  /// One mover per kind of motion: together they reach every key of Serialize.
+  static std::vector<MovingObstacle> KeyExamples() {
+    std::vector<MovingObstacle> movers(3);
+    movers[0].motion = WaypointMotion{};
+    movers[1].motion = ConstantVelocityMotion{};
+    movers[2].motion = RandomWalkMotion{};
+    return movers;
+  }
 };
 
-/// Checks one mover. Key paths are `<key_path>.<field>` with the field names of the structs above
-/// without unit suffixes: name, half_height, radius, box_half_extents[i], rgba[i], and for the
-/// motions waypoints, waypoints[j], speed, start_delay, start, velocity, start_time, area_centre,
-/// area_radius, pause[i].
+/// Checks one mover. Key paths are relative to the mover, with the field names of the structs
+/// above without unit suffixes: name, half_height, radius, box_half_extents[i], rgba[i], and for
+/// the motions waypoints, waypoints[j], speed, start_delay, start, velocity, start_time,
+/// area_centre, area_radius, pause[i].
 /// @throws common::InputError naming the key path and the value.
-void ValidateMovingObstacle(const MovingObstacle& mover, const std::string& key_path);
+void ValidateMovingObstacle(const MovingObstacle& mover);
 
-/// Checks every mover (`<key_path>[i].<field>`, see ValidateMovingObstacle) and that their names
-/// are unique. @throws common::InputError naming the key path and the value.
-void ValidateMovingObstacles(const std::vector<MovingObstacle>& movers,
-                             const std::string& key_path = "moving_obstacles");
+/// Checks every mover (`[i].<field>`, see ValidateMovingObstacle) and that their names are unique.
+/// @throws common::InputError naming the key path and the value.
+void ValidateMovingObstacles(const std::vector<MovingObstacle>& movers);
 
 /// The mover's shape in its own frame O (X_WO of the result is the identity), with sizes in the
 /// conventions of common::Primitive (a capsule's size is its radius and the half-length of its
@@ -137,7 +209,7 @@ Eigen::Isometry3d MoverPose(const MovingObstacle& mover, const MoverPlanarState&
 /// 0 give the state at 0.
 class MoverTrack {
  public:
-  /// @throws common::InputError if the mover is invalid (key path "moving_obstacle").
+  /// @throws common::InputError if the mover is invalid (ValidateMovingObstacle).
   explicit MoverTrack(MovingObstacle mover);
 
   const MovingObstacle& mover() const { return mover_; }

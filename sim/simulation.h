@@ -96,7 +96,8 @@ class Simulation {
   /// Builds the world of `terrain` with `movers` (mocap bodies at their pose at t = 0) and places
   /// the robot with its base B at `start_W` (x, y, yaw), aligned with the ground under its wheels
   /// and dropped from 1 cm above it.
-  /// @throws common::InputError for invalid movers (key paths "moving_obstacles[i]...").
+  /// @throws common::InputError for invalid movers (key paths "[i].<field>",
+  /// ValidateMovingObstacles).
   /// @throws std::runtime_error if the robot model cannot be loaded or the world does not compile.
   Simulation(const TerrainWorld& terrain, const common::Pose2& start_W, const WorldOptions& options,
              const std::vector<MovingObstacle>& movers = {});

@@ -98,66 +98,62 @@ namespace {
 
 void ValidateHilly(const TerrainConfig& c) {
   const HillyParams& h = c.hilly;
-  common::RequireValue(h.fractal.octaves >= 1 && h.fractal.octaves <= 12,
-                       "terrain.parameters.octaves", h.fractal.octaves, "must be in [1, 12]");
-  common::RequireValue(h.fractal.lacunarity > 1.0, "terrain.parameters.lacunarity",
-                       h.fractal.lacunarity, "must be > 1");
-  common::RequireValue(h.fractal.gain > 0.0 && h.fractal.gain < 1.0, "terrain.parameters.gain",
+  common::RequireValue(h.fractal.octaves >= 1 && h.fractal.octaves <= 12, "parameters.octaves",
+                       h.fractal.octaves, "must be in [1, 12]");
+  common::RequireValue(h.fractal.lacunarity > 1.0, "parameters.lacunarity", h.fractal.lacunarity,
+                       "must be > 1");
+  common::RequireValue(h.fractal.gain > 0.0 && h.fractal.gain < 1.0, "parameters.gain",
                        h.fractal.gain, "must be in (0, 1)");
-  common::RequireValue(h.fractal.warp >= 0.0, "terrain.parameters.warp", h.fractal.warp,
-                       "must be >= 0");
-  common::RequireValue(h.wavelength_m > 0.0, "terrain.parameters.wavelength", h.wavelength_m,
+  common::RequireValue(h.fractal.warp >= 0.0, "parameters.warp", h.fractal.warp, "must be >= 0");
+  common::RequireValue(h.wavelength_m > 0.0, "parameters.wavelength", h.wavelength_m,
                        "must be > 0");
-  common::RequireValue(h.slope_p95_deg >= 0.0 && h.slope_p95_deg < 45.0,
-                       "terrain.parameters.slope_p95_deg", h.slope_p95_deg, "must be in [0, 45)");
-  common::RequireValue(h.roughness_m >= 0.0, "terrain.parameters.roughness", h.roughness_m,
-                       "must be >= 0");
-  common::RequireValue(h.roughness_cell_m >= c.resolution_m, "terrain.parameters.roughness_cell",
+  common::RequireValue(h.slope_p95_deg >= 0.0 && h.slope_p95_deg < 45.0, "parameters.slope_p95_deg",
+                       h.slope_p95_deg, "must be in [0, 45)");
+  common::RequireValue(h.roughness_m >= 0.0, "parameters.roughness", h.roughness_m, "must be >= 0");
+  common::RequireValue(h.roughness_cell_m >= c.resolution_m, "parameters.roughness_cell",
                        h.roughness_cell_m, "must be >= the resolution");
 }
 
 void ValidateForest(const ForestParams& f) {
   common::RequireValue(f.tree_density_per_m2 > 0.0 && f.tree_density_per_m2 <= 1.0,
-                       "terrain.parameters.tree_density", f.tree_density_per_m2,
-                       "must be in (0, 1]");
+                       "parameters.tree_density", f.tree_density_per_m2, "must be in (0, 1]");
   common::RequireValue(f.trunk_radius_m[0] > 0.0 && f.trunk_radius_m[0] <= f.trunk_radius_m[1],
-                       "terrain.parameters.trunk_radius", f.trunk_radius_m[0],
+                       "parameters.trunk_radius", f.trunk_radius_m[0],
                        "must be a range [min, max] with min > 0");
   common::RequireValue(f.trunk_height_m[0] > 0.0 && f.trunk_height_m[0] <= f.trunk_height_m[1],
-                       "terrain.parameters.trunk_height", f.trunk_height_m[0],
+                       "parameters.trunk_height", f.trunk_height_m[0],
                        "must be a range [min, max] with min > 0");
 }
 
 void ValidateRuin(const RuinParams& r) {
   common::RequireValue(
-      r.num_boxes >= 0 && r.num_columns >= 0 && r.num_walls >= 0 && r.num_rubble >= 0,
-      "terrain.parameters", std::min({r.num_boxes, r.num_columns, r.num_walls, r.num_rubble}),
+      r.num_boxes >= 0 && r.num_columns >= 0 && r.num_walls >= 0 && r.num_rubble >= 0, "parameters",
+      std::min({r.num_boxes, r.num_columns, r.num_walls, r.num_rubble}),
       "obstacle counts must be >= 0");
   common::RequireValue(r.burial_fraction_max >= 0.0 && r.burial_fraction_max <= 0.9,
-                       "terrain.parameters.burial_fraction_max", r.burial_fraction_max,
+                       "parameters.burial_fraction_max", r.burial_fraction_max,
                        "must be in [0, 0.9]");
 }
 
 void ValidateRoad(const RoadParams& road) {
-  common::RequireValue(road.street_width_m > 0.0, "terrain.parameters.street_width",
-                       road.street_width_m, "must be > 0");
+  common::RequireValue(road.street_width_m > 0.0, "parameters.street_width", road.street_width_m,
+                       "must be > 0");
   common::RequireValue(road.block_size_m > road.street_width_m + 2.0 * road.sidewalk_width_m + 1.0,
-                       "terrain.parameters.block_size", road.block_size_m,
+                       "parameters.block_size", road.block_size_m,
                        "must exceed street_width + 2 sidewalk_width + 1 m");
-  common::RequireValue(road.curb_height_m >= 0.0, "terrain.parameters.curb_height",
-                       road.curb_height_m, "must be >= 0");
+  common::RequireValue(road.curb_height_m >= 0.0, "parameters.curb_height", road.curb_height_m,
+                       "must be >= 0");
 }
 
 void ValidateIndoor(const IndoorParams& in) {
-  common::RequireValue(in.door_width_m >= 0.8, "terrain.parameters.door_width", in.door_width_m,
+  common::RequireValue(in.door_width_m >= 0.8, "parameters.door_width", in.door_width_m,
                        "must be >= 0.8 m (the robot is 0.58 m wide)");
-  common::RequireValue(in.min_room_size_m >= 2.0 * in.door_width_m,
-                       "terrain.parameters.min_room_size", in.min_room_size_m,
-                       "must be >= twice the door width");
-  common::RequireValue(in.wall_height_m > 0.5, "terrain.parameters.wall_height", in.wall_height_m,
+  common::RequireValue(in.min_room_size_m >= 2.0 * in.door_width_m, "parameters.min_room_size",
+                       in.min_room_size_m, "must be >= twice the door width");
+  common::RequireValue(in.wall_height_m > 0.5, "parameters.wall_height", in.wall_height_m,
                        "must be > 0.5 m");
-  common::RequireValue(in.wall_thickness_m > 0.0, "terrain.parameters.wall_thickness",
-                       in.wall_thickness_m, "must be > 0");
+  common::RequireValue(in.wall_thickness_m > 0.0, "parameters.wall_thickness", in.wall_thickness_m,
+                       "must be > 0");
 }
 
 }  // namespace
@@ -165,45 +161,45 @@ void ValidateIndoor(const IndoorParams& in) {
 void ValidateTerrainConfig(const TerrainConfig& c) {
   for (std::size_t i = 0; i < c.boxes.size(); ++i) {
     const PlacedBox& b = c.boxes[i];
-    const std::string key = "terrain.boxes[" + std::to_string(i) + "].";
+    const std::string key = "boxes[" + std::to_string(i) + "].";
     common::RequireValue(b.half_extents_m.minCoeff() > 0.0, key + "half_extents",
                          b.half_extents_m.minCoeff(), "must be > 0");
     common::RequireValue(b.height_m > 0.0, key + "height", b.height_m, "must be > 0");
     for (std::size_t j = 0; j < i; ++j) {
       if (c.boxes[j].name == b.name) {
-        throw common::InputError(key + "name: '" + b.name + "' is used twice");
+        throw common::InputError("", key + "name", "'" + b.name + "' is used twice");
       }
     }
   }
-  common::RequireValue(c.resolution_m > 0.0, "terrain.resolution", c.resolution_m, "must be > 0");
-  common::RequireValue(c.size_m.x() >= c.resolution_m, "terrain.size[0]", c.size_m.x(),
+  common::RequireValue(c.resolution_m > 0.0, "resolution", c.resolution_m, "must be > 0");
+  common::RequireValue(c.size_m.x() >= c.resolution_m, "size[0]", c.size_m.x(),
                        "must be at least one cell");
-  common::RequireValue(c.size_m.y() >= c.resolution_m, "terrain.size[1]", c.size_m.y(),
+  common::RequireValue(c.size_m.y() >= c.resolution_m, "size[1]", c.size_m.y(),
                        "must be at least one cell");
   // what one run may hold in memory: 2048^2 height samples (with the ray-casting mesh and the
   // MuJoCo height field about 0.5 GB), and 20,000 generated obstacles
   const double samples =
       (c.size_m.x() / c.resolution_m + 1.0) * (c.size_m.y() / c.resolution_m + 1.0);
-  common::RequireValue(samples <= 2048.0 * 2048.0, "terrain.resolution", c.resolution_m,
-                       "gives more than 2048 x 2048 height samples for terrain.size");
+  common::RequireValue(samples <= 2048.0 * 2048.0, "resolution", c.resolution_m,
+                       "gives more than 2048 x 2048 height samples for the terrain's size");
   const double area_m2 = c.size_m.x() * c.size_m.y();
   constexpr double kMaxObstacles = 20000.0;
   if (c.type == TerrainType::kForest) {
     common::RequireValue(c.forest.tree_density_per_m2 * area_m2 <= kMaxObstacles,
-                         "terrain.parameters.tree_density", c.forest.tree_density_per_m2,
-                         "gives more than 20000 trees on terrain.size");
+                         "parameters.tree_density", c.forest.tree_density_per_m2,
+                         "gives more than 20000 trees on the terrain's size");
   }
   if (c.type == TerrainType::kRoad) {
     const double blocks = area_m2 / (c.road.block_size_m * c.road.block_size_m) + 4.0;
     common::RequireValue(blocks * c.road.poles_per_block <= kMaxObstacles,
-                         "terrain.parameters.poles_per_block", c.road.poles_per_block,
-                         "gives more than 20000 poles on terrain.size");
+                         "parameters.poles_per_block", c.road.poles_per_block,
+                         "gives more than 20000 poles on the terrain's size");
   }
   if (c.type == TerrainType::kIndoor) {
     const double rooms = area_m2 / (c.indoor.min_room_size_m * c.indoor.min_room_size_m) + 4.0;
     common::RequireValue(rooms * c.indoor.furniture_per_room <= kMaxObstacles,
-                         "terrain.parameters.furniture_per_room", c.indoor.furniture_per_room,
-                         "gives more than 20000 pieces of furniture on terrain.size");
+                         "parameters.furniture_per_room", c.indoor.furniture_per_room,
+                         "gives more than 20000 pieces of furniture on the terrain's size");
   }
   const bool hilly = c.type == TerrainType::kHilly || c.type == TerrainType::kForest ||
                      c.type == TerrainType::kRuin;
@@ -214,18 +210,18 @@ void ValidateTerrainConfig(const TerrainConfig& c) {
   if (c.type == TerrainType::kIndoor) ValidateIndoor(c.indoor);
   if (c.type == TerrainType::kSlope) {
     common::RequireValue(c.slope.angle_deg >= 0.0 && c.slope.angle_deg <= 60.0,
-                         "terrain.parameters.angle_deg", c.slope.angle_deg, "must be in [0, 60]");
+                         "parameters.angle_deg", c.slope.angle_deg, "must be in [0, 60]");
   }
   if (c.type == TerrainType::kStep) {
-    common::RequireValue(c.step.height_m >= 0.0, "terrain.parameters.height", c.step.height_m,
+    common::RequireValue(c.step.height_m >= 0.0, "parameters.height", c.step.height_m,
                          "must be >= 0");
   }
   if (c.type == TerrainType::kStairs) {
-    common::RequireValue(c.stairs.step_depth_m > 0.0, "terrain.parameters.step_depth",
+    common::RequireValue(c.stairs.step_depth_m > 0.0, "parameters.step_depth",
                          c.stairs.step_depth_m, "must be > 0");
-    common::RequireValue(c.stairs.num_steps >= 1, "terrain.parameters.num_steps",
-                         c.stairs.num_steps, "must be >= 1");
-    common::RequireValue(c.stairs.step_height_m >= 0.0, "terrain.parameters.step_height",
+    common::RequireValue(c.stairs.num_steps >= 1, "parameters.num_steps", c.stairs.num_steps,
+                         "must be >= 1");
+    common::RequireValue(c.stairs.step_height_m >= 0.0, "parameters.step_height",
                          c.stairs.step_height_m, "must be >= 0");
   }
 }

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "common/archive.h"
 #include "common/enum_names.h"
 #include "common/grid.h"
 #include "common/mesh.h"
@@ -40,6 +41,20 @@ struct HillyParams {
       12.0};  ///< 95th percentile of the ground slope after rescaling [deg], in [0, 45)
   double roughness_m{0.02};      ///< amplitude of the fine uniform bumps added on top [m], >= 0
   double roughness_cell_m{0.2};  ///< size of a roughness bump [m], >= resolution
+
+  /// The keys of `terrain.parameters` for hilly, forest and ruin ground (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Enum("family", &fractal.family);
+    a->Field("octaves", &fractal.octaves, {1, 16});
+    a->Field("lacunarity", &fractal.lacunarity, {1, 8});
+    a->Field("gain", &fractal.gain, {0, 1});
+    a->Field("warp", &fractal.warp, {0, 100});
+    a->Field("wavelength", &wavelength_m, {0.5, 1000});
+    a->Field("slope_p95_deg", &slope_p95_deg, {0, 80});
+    a->Field("roughness", &roughness_m, {0, 2});
+    a->Field("roughness_cell", &roughness_cell_m, {0.01, 10});
+  }
 };
 
 /// Forest: trees (trunk cylinders that collide, canopies that only the LiDAR and the camera see) on
@@ -49,6 +64,15 @@ struct ForestParams {
   std::array<double, 2> trunk_radius_m{0.08, 0.3};  ///< [min, max] [m]
   std::array<double, 2> trunk_height_m{3.0, 8.0};   ///< [min, max] above ground [m]
   bool canopy{true};                                ///< add canopy spheres
+
+  /// The forest's own keys of `terrain.parameters` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("tree_density", &tree_density_per_m2, {0, 0.5});
+    a->Field("trunk_radius", &trunk_radius_m, {0.01, 2});
+    a->Field("trunk_height", &trunk_height_m, {0.1, 50});
+    a->Field("canopy", &canopy);
+  }
 };
 
 /// Ruin: boxes (random yaw, tilted, partly buried), standing and fallen columns, low walls with
@@ -59,6 +83,16 @@ struct RuinParams {
   int num_walls{10};
   int num_rubble{60};
   double burial_fraction_max{0.4};  ///< largest buried fraction of a box's height, in [0, 0.9]
+
+  /// The ruin's own keys of `terrain.parameters` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("num_boxes", &num_boxes, {0, 2000});
+    a->Field("num_columns", &num_columns, {0, 2000});
+    a->Field("num_walls", &num_walls, {0, 2000});
+    a->Field("num_rubble", &num_rubble, {0, 20000});
+    a->Field("burial_fraction_max", &burial_fraction_max, {0, 1});
+  }
 };
 
 /// Road: a street grid with raised sidewalks behind curbs, building blocks and poles.
@@ -69,6 +103,17 @@ struct RoadParams {
   double curb_height_m{0.12};  ///< sidewalk height above the road [m]
   double camber{0.02};         ///< cross slope of the road surface (rise over run)
   int poles_per_block{4};
+
+  /// The keys of `terrain.parameters` for roads (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("block_size", &block_size_m, {5, 500});
+    a->Field("street_width", &street_width_m, {1, 100});
+    a->Field("sidewalk_width", &sidewalk_width_m, {0, 50});
+    a->Field("curb_height", &curb_height_m, {0, 1});
+    a->Field("camber", &camber, {0, 0.5});
+    a->Field("poles_per_block", &poles_per_block, {0, 100});
+  }
 };
 
 /// Indoor: rooms split by binary space partitioning, walls with doorways, furniture and a ceiling.
@@ -78,22 +123,55 @@ struct IndoorParams {
   double wall_thickness_m{0.1};
   double door_width_m{1.0};  ///< >= 0.8 so the robot fits
   int furniture_per_room{2};
+
+  /// The keys of `terrain.parameters` for indoor worlds (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("min_room_size", &min_room_size_m, {1, 100});
+    a->Field("wall_height", &wall_height_m, {0.1, 20});
+    a->Field("wall_thickness", &wall_thickness_m, {0.02, 5});
+    a->Field("door_width", &door_width_m, {0.2, 50});
+    a->Field("furniture_per_room", &furniture_per_room, {0, 50});
+  }
 };
 
 /// Test terrains.
 struct SlopeParams {
   double angle_deg{20.0};  ///< incline of the ramp rising along +x [deg], in [0, 60]
   double start_x_m{2.0};   ///< x where the ramp starts [m]; flat before it
+
+  /// The keys of `terrain.parameters` for a slope (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("angle_deg", &angle_deg, {-60, 60});
+    a->Field("start_x", &start_x_m, {-1000.0, 1000.0});
+  }
 };
 struct StepParams {
   double height_m{0.2};  ///< height of the step [m]
   double x_m{2.0};       ///< x of the step edge [m]; the ground is higher for x > x_m
+
+  /// The keys of `terrain.parameters` for a step (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("height", &height_m, {-5, 5});
+    a->Field("x", &x_m, {-1000.0, 1000.0});
+  }
 };
 struct StairsParams {
   double step_height_m{0.05};
   double step_depth_m{0.6};
   int num_steps{5};
   double start_x_m{2.0};
+
+  /// The keys of `terrain.parameters` for stairs (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("step_height", &step_height_m, {0.005, 2});
+    a->Field("step_depth", &step_depth_m, {0.05, 20});
+    a->Field("num_steps", &num_steps, {1, 1000});
+    a->Field("start_x", &start_x_m, {-1000.0, 1000.0});
+  }
 };
 
 /// A box placed by hand on the generated ground (walls, closed rooms, barriers of purpose-built
@@ -104,6 +182,16 @@ struct PlacedBox {
   Eigen::Vector2d half_extents_m{Eigen::Vector2d(0.5, 0.1)};  ///< along its x and y [m], > 0
   double height_m{1.0};                                       ///< above the ground [m], > 0
   double yaw_rad{0.0};                                        ///< [rad]
+
+  /// The keys of an item of scenario section `terrain.boxes` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("name", &name);
+    a->Field("centre", &centre_W, {-1000.0, 1000.0});
+    a->Field("half_extents", &half_extents_m, {0.005, 500.0});
+    a->Field("height", &height_m, {0.005, 100.0});
+    a->Field("yaw", &yaw_rad, {-10.0, 10.0});
+  }
 };
 
 /// Everything that defines a procedural world; the same config and seed give a bit-identical world.
@@ -121,6 +209,53 @@ struct TerrainConfig {
   StepParams step{};
   StairsParams stairs{};
   std::vector<PlacedBox> boxes;  ///< added after generation, not kept clear of start and goal
+
+  /// The keys of scenario section `terrain` (common/archive.h); `parameters` holds the keys of the
+  /// chosen type only.
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Enum("type", &type);
+    a->Field("seed", &seed);
+    a->Field("size", &size_m, {2, 500});
+    a->Field("resolution", &resolution_m, {0.02, 1.0});
+    a->Map("parameters", [this](Archive& p) { SerializeParameters(&p); });
+    a->Sequence("boxes", &boxes, 10000);
+  }
+
+  /// The keys of `terrain.parameters` for `type`.
+  template <typename Archive>
+  void SerializeParameters(Archive* a) {
+    switch (type) {
+      case TerrainType::kFlat:
+        break;
+      case TerrainType::kSlope:
+        slope.Serialize(a);
+        break;
+      case TerrainType::kStep:
+        step.Serialize(a);
+        break;
+      case TerrainType::kStairs:
+        stairs.Serialize(a);
+        break;
+      case TerrainType::kRoad:
+        road.Serialize(a);
+        break;
+      case TerrainType::kIndoor:
+        indoor.Serialize(a);
+        break;
+      case TerrainType::kHilly:
+        hilly.Serialize(a);
+        break;
+      case TerrainType::kForest:
+        hilly.Serialize(a);
+        forest.Serialize(a);
+        break;
+      case TerrainType::kRuin:
+        hilly.Serialize(a);
+        ruin.Serialize(a);
+        break;
+    }
+  }
 };
 
 // Obstacles are common primitives.

@@ -28,24 +28,20 @@ double YawOf(const common::RobotState& state) {
 
 void ValidateNavigationSettings(const NavigationSettings& s) {
   using common::RequireValue;
-  RequireValue(s.goal_radius_m > 0.0, "navigation.goal_radius", s.goal_radius_m, "must be > 0");
-  RequireValue(s.planning_rate_hz > 0.0 && s.planning_rate_hz <= 50.0, "navigation.planning_rate",
+  RequireValue(s.goal_radius_m > 0.0, "goal_radius", s.goal_radius_m, "must be > 0");
+  RequireValue(s.planning_rate_hz > 0.0 && s.planning_rate_hz <= 50.0, "planning_rate",
                s.planning_rate_hz, "must be in (0, 50] Hz");
-  RequireValue(s.replan_deviation_m > 0.0, "navigation.replan_deviation", s.replan_deviation_m,
-               "must be > 0");
-  RequireValue(s.safety_horizon_s >= 0.0, "navigation.safety_horizon", s.safety_horizon_s,
+  RequireValue(s.replan_deviation_m > 0.0, "replan_deviation", s.replan_deviation_m, "must be > 0");
+  RequireValue(s.safety_horizon_s >= 0.0, "safety_horizon", s.safety_horizon_s, "must be >= 0");
+  RequireValue(s.stuck_time_s > 0.0, "stuck_time", s.stuck_time_s, "must be > 0");
+  RequireValue(s.stuck_distance_m > 0.0, "stuck_distance", s.stuck_distance_m, "must be > 0");
+  RequireValue(s.near_miss_clearance_m >= 0.0, "near_miss_clearance", s.near_miss_clearance_m,
                "must be >= 0");
-  RequireValue(s.stuck_time_s > 0.0, "navigation.stuck_time", s.stuck_time_s, "must be > 0");
-  RequireValue(s.stuck_distance_m > 0.0, "navigation.stuck_distance", s.stuck_distance_m,
+  RequireValue(s.mover_sensing_range_m > 0.0, "mover_sensing_range", s.mover_sensing_range_m,
                "must be > 0");
-  RequireValue(s.near_miss_clearance_m >= 0.0, "navigation.near_miss_clearance",
-               s.near_miss_clearance_m, "must be >= 0");
-  RequireValue(s.mover_sensing_range_m > 0.0, "navigation.mover_sensing_range",
-               s.mover_sensing_range_m, "must be > 0");
-  RequireValue(s.mapping_latency_s >= 0.0, "navigation.mapping_latency", s.mapping_latency_s,
-               "must be >= 0");
-  RequireValue(s.planning_failure_time_s > 0.0, "navigation.planning_failure_time",
-               s.planning_failure_time_s, "must be > 0");
+  RequireValue(s.mapping_latency_s >= 0.0, "mapping_latency", s.mapping_latency_s, "must be >= 0");
+  RequireValue(s.planning_failure_time_s > 0.0, "planning_failure_time", s.planning_failure_time_s,
+               "must be > 0");
 }
 
 namespace {

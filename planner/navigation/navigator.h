@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "common/archive.h"
 #include "common/grid.h"
 #include "common/pose.h"
 #include "common/trajectory.h"
@@ -25,15 +26,33 @@ struct NavigationSettings {
   double stuck_distance_m{0.3};    ///< [m]
   double planning_failure_time_s{5.0};  ///< no valid plan for this long is a planning failure [s]
   double near_miss_clearance_m{0.3};    ///< a mover closer than this is a near miss [m], >= 0
+
   /// The planner knows every mover's true position and velocity; else it gets the movers it
   /// perceives in the scans within `mover_sensing_range_m` (mapping::MoverTracker).
   bool movers_from_ground_truth{true};
   double mover_sensing_range_m{15.0};  ///< [m], > 0
+
   /// The map reaches the planner this long after the frame it comes from [s], >= 0.
   double mapping_latency_s{0.0};
+
+  /// The keys of scenario section `navigation` that configure the loop (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("movers_from_ground_truth", &movers_from_ground_truth);
+    a->Field("mover_sensing_range", &mover_sensing_range_m, {0, 500});
+    a->Field("mapping_latency", &mapping_latency_s, {0, 10});
+    a->Field("goal_radius", &goal_radius_m, {0.01, 100});
+    a->Field("planning_rate", &planning_rate_hz, {0.1, 100});
+    a->Field("replan_deviation", &replan_deviation_m, {0.01, 100});
+    a->Field("safety_horizon", &safety_horizon_s, {0, 60});
+    a->Field("stuck_time", &stuck_time_s, {0.1, 86400});
+    a->Field("stuck_distance", &stuck_distance_m, {0, 100});
+    a->Field("planning_failure_time", &planning_failure_time_s, {0.1, 86400});
+    a->Field("near_miss_clearance", &near_miss_clearance_m, {0, 10});
+  }
 };
 
-/// Checks settings. @throws common::InputError naming `navigation.<key>` and the value.
+/// Checks settings. @throws common::InputError naming the key (relative: "goal_radius") and value.
 void ValidateNavigationSettings(const NavigationSettings& settings);
 
 /// Why the navigator replanned.

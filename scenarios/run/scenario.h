@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "common/archive.h"
 #include "common/enum_names.h"
 #include "common/pose.h"
 #include "common/yaml_reader.h"
@@ -90,6 +91,13 @@ struct DriveSegment {
   double v_m_s{0.0};        ///< forward speed [m/s]
   double omega_rad_s{0.0};  ///< yaw rate [rad/s]
   double duration_s{1.0};   ///< [s], > 0
+  /// The keys of an item of scenario section `drive` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("v", &v_m_s, {-30, 30});
+    a->Field("omega", &omega_rad_s, {-30, 30});
+    a->Field("duration", &duration_s, {0.001, 86400.0});
+  }
 };
 
 /// Video settings of a run.
@@ -98,6 +106,14 @@ struct VideoSettings {
   renders::RenderConfig render{};
   double fps{30.0};  ///< frames per second of simulation time, in (0, 120]
   renders::CameraMode camera{renders::CameraMode::kChase};
+  /// The keys of scenario section `video` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("enabled", &enabled);
+    a->Field("fps", &fps, {1.0, 120.0});
+    a->Enum("camera", &camera);
+    render.Serialize(a);
+  }
 };
 
 /// A scenario file, schema version 1 (docs/scenario-format.md lists every key).
@@ -161,6 +177,11 @@ std::string ResolvedScenarioYaml(const Scenario& scenario);
 /// The bounds of every numeric scenario key, as a Markdown table ("| `key.path` | min | max |"),
 /// sorted by key; "[i]" stands for any item of a sequence. docs/scenario-format.md holds it.
 std::string ScenarioBoundsTable();
+
+/// Every key path a scenario file can hold, sorted ("terrain.parameters.octaves",
+/// "moving_obstacles[i].speed"; "[i]" stands for any item of a sequence). A test checks that
+/// docs/scenario-format.md (and docs/terrains.md for terrain parameters) names each.
+std::vector<std::string> ScenarioKeys();
 
 /// The pose X_BL of a mount given as [x, y, z, roll, pitch, yaw].
 Eigen::Isometry3d MountPose(const Eigen::Matrix<double, 6, 1>& mount);

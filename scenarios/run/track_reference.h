@@ -3,6 +3,7 @@
 #include <array>
 #include <string>
 
+#include "common/archive.h"
 #include "common/enum_names.h"
 #include "common/pose.h"
 #include "common/trajectory.h"
@@ -32,6 +33,17 @@ struct TrackSettings {
   double acceleration_m_s2{1.0};  ///< start and stop ramps [m/s^2], > 0
   /// kFile: CSV with header `t,x,y,yaw,v,omega` (W frame, times strictly increasing).
   std::string file;
+  /// The keys of scenario section `track` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Enum("reference", &reference);
+    a->Field("size", &size_m, {0.5, 1000.0});
+    a->Field("amplitude", &amplitude_m, {0, 500});
+    a->Field("wavelength", &wavelength_m, {0.5, 1000.0});
+    a->Field("speed", &speed_m_s, {0.01, 10.0});
+    a->Field("acceleration", &acceleration_m_s2, {0.01, 50.0});
+    a->Field("file", &file);
+  }
 };
 
 /// The reference trajectory: generated shapes start at `start_W` with their initial tangent along

@@ -11,11 +11,9 @@ namespace trav::sim {
 
 void ValidatePoseNoiseConfig(const PoseNoiseConfig& c) {
   using common::RequireValue;
-  RequireValue(c.position_noise_m >= 0.0, "navigation.position_noise", c.position_noise_m,
-               "must be >= 0");
-  RequireValue(c.yaw_noise_rad >= 0.0, "navigation.yaw_noise", c.yaw_noise_rad, "must be >= 0");
-  RequireValue(c.drift_m_per_sqrt_s >= 0.0, "navigation.drift", c.drift_m_per_sqrt_s,
-               "must be >= 0");
+  RequireValue(c.position_noise_m >= 0.0, "position_noise", c.position_noise_m, "must be >= 0");
+  RequireValue(c.yaw_noise_rad >= 0.0, "yaw_noise", c.yaw_noise_rad, "must be >= 0");
+  RequireValue(c.drift_m_per_sqrt_s >= 0.0, "drift", c.drift_m_per_sqrt_s, "must be >= 0");
 }
 
 PoseNoise::PoseNoise(const PoseNoiseConfig& config) : config_(config), random_(config.seed) {}

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 
+#include "common/archive.h"
 #include "common/pose.h"
 #include "common/random.h"
 
@@ -18,9 +19,18 @@ struct PoseNoiseConfig {
   double yaw_noise_rad{0.0};
   double drift_m_per_sqrt_s{0.0};
   std::uint64_t seed{1};
+
+  /// The localisation keys of scenario section `navigation` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("position_noise", &position_noise_m, {0, 10});
+    a->Field("yaw_noise", &yaw_noise_rad, {0, 3.15});
+    a->Field("drift", &drift_m_per_sqrt_s, {0, 10});
+    a->Field("localization_seed", &seed);
+  }
 };
 
-/// Checks a config. @throws common::InputError naming `navigation.<key>` and the value.
+/// Checks a config. @throws common::InputError naming the key (relative: "drift") and value.
 void ValidatePoseNoiseConfig(const PoseNoiseConfig& config);
 
 /// The pose the robot believes: the true one with the config's noise and drift. Seeded and

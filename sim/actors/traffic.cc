@@ -74,12 +74,12 @@ bool Fits(const MovingObstacle& mover, const Eigen::Vector2d& start_W,
 }  // namespace
 
 void ValidateTrafficSettings(const TrafficSettings& traffic) {
-  common::RequireValue(traffic.count >= 0, "traffic.count", traffic.count, "must be >= 0");
-  common::RequireValue(traffic.speed_m_s > 0.0 && traffic.speed_m_s <= 3.0, "traffic.speed",
+  common::RequireValue(traffic.count >= 0, "count", traffic.count, "must be >= 0");
+  common::RequireValue(traffic.speed_m_s > 0.0 && traffic.speed_m_s <= 3.0, "speed",
                        traffic.speed_m_s, "must be in (0, 3] m/s");
-  common::RequireValue(traffic.area_radius_m > 0.0, "traffic.area_radius", traffic.area_radius_m,
+  common::RequireValue(traffic.area_radius_m > 0.0, "area_radius", traffic.area_radius_m,
                        "must be > 0");
-  common::RequireValue(traffic.keep_clear_m >= 0.0, "traffic.keep_clear", traffic.keep_clear_m,
+  common::RequireValue(traffic.keep_clear_m >= 0.0, "keep_clear", traffic.keep_clear_m,
                        "must be >= 0");
 }
 

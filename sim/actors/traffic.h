@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "common/archive.h"
 #include "common/enum_names.h"
 #include "sim/moving_obstacles.h"
 
@@ -59,9 +60,21 @@ struct TrafficSettings {
   double area_radius_m{2.5};
   /// No mover is closer than this to the start or the goal at time 0 [m] (plus its own radius).
   double keep_clear_m{2.0};
+
+  /// The keys of scenario section `traffic` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("count", &count, {0, 200});
+    a->Field("speed", &speed_m_s, {0, 5});
+    a->Enum("behaviour", &behaviour);
+    a->Enum("shape", &shape);
+    a->Field("seed", &seed);
+    a->Field("area_radius", &area_radius_m, {0, 500});
+    a->Field("keep_clear", &keep_clear_m, {0, 100});
+  }
 };
 
-/// Checks the settings. @throws common::InputError naming the `traffic.<field>` key and value.
+/// Checks the settings. @throws common::InputError naming the key (relative: "speed") and value.
 void ValidateTrafficSettings(const TrafficSettings& traffic);
 
 /// Whether a disc (centre [m], radius [m]) in W is free of static obstacles.

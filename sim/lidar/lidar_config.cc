@@ -4,25 +4,23 @@
 
 namespace trav::lidar {
 void ValidateLidarConfig(const LidarConfig& c) {
-  common::RequireValue(c.points_per_second > 0.0, "lidar.rate", c.points_per_second, "must be > 0");
-  common::RequireValue(c.frame_period_s > 0.0, "lidar.frame_period", c.frame_period_s,
-                       "must be > 0");
-  common::RequireValue(c.points_per_second * c.frame_period_s >= 1.0, "lidar.frame_period",
+  common::RequireValue(c.points_per_second > 0.0, "rate", c.points_per_second, "must be > 0");
+  common::RequireValue(c.frame_period_s > 0.0, "frame_period", c.frame_period_s, "must be > 0");
+  common::RequireValue(c.points_per_second * c.frame_period_s >= 1.0, "frame_period",
                        c.frame_period_s, "must hold at least one point at the configured rate");
-  common::RequireValue(c.range_min_m >= 0.0, "lidar.range_min", c.range_min_m, "must be >= 0");
-  common::RequireValue(c.range_max_m > c.range_min_m, "lidar.range_max", c.range_max_m,
+  common::RequireValue(c.range_min_m >= 0.0, "range_min", c.range_min_m, "must be >= 0");
+  common::RequireValue(c.range_max_m > c.range_min_m, "range_max", c.range_max_m,
                        "must be > range_min");
-  common::RequireValue(c.range_noise_m >= 0.0, "lidar.range_noise", c.range_noise_m,
+  common::RequireValue(c.range_noise_m >= 0.0, "range_noise", c.range_noise_m, "must be >= 0");
+  common::RequireValue(c.angular_noise_deg >= 0.0, "angular_noise_deg", c.angular_noise_deg,
                        "must be >= 0");
-  common::RequireValue(c.angular_noise_deg >= 0.0, "lidar.angular_noise_deg", c.angular_noise_deg,
-                       "must be >= 0");
-  common::RequireValue(c.dropout >= 0.0 && c.dropout < 1.0, "lidar.dropout", c.dropout,
+  common::RequireValue(c.dropout >= 0.0 && c.dropout < 1.0, "dropout", c.dropout,
                        "must be in [0, 1)");
-  common::RequireValue(c.occlusion >= 0.0 && c.occlusion < 1.0, "lidar.occlusion", c.occlusion,
+  common::RequireValue(c.occlusion >= 0.0 && c.occlusion < 1.0, "occlusion", c.occlusion,
                        "must be in [0, 1)");
-  common::RequireValue(c.occlusion_sectors >= 1, "lidar.occlusion_sectors", c.occlusion_sectors,
+  common::RequireValue(c.occlusion_sectors >= 1, "occlusion_sectors", c.occlusion_sectors,
                        "must be >= 1");
-  common::RequireValue(c.threads >= 1 && c.threads <= 64, "lidar.threads", c.threads,
+  common::RequireValue(c.threads >= 1 && c.threads <= 64, "threads", c.threads,
                        "must be in [1, 64]");
 }
 

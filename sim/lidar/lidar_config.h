@@ -3,6 +3,8 @@
 #include <cstdint>
 #include <string>
 
+#include "common/archive.h"
+
 namespace trav::lidar {
 
 /// Settings of the emulated LiDAR (defaults: Livox MID-360, reference/simulation.md section 3).
@@ -24,10 +26,28 @@ struct LidarConfig {
   int occlusion_sectors{3};
   std::uint64_t seed{1};  ///< noise, dropout and occlusion draws
   int threads{1};         ///< threads for casting large batches
+
+  /// The keys of scenario section `lidar` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("enabled", &enabled);
+    a->Field("table", &pattern_table);
+    a->Field("rate", &points_per_second, {1, 1000000.0});
+    a->Field("frame_period", &frame_period_s, {0.005, 1});
+    a->Field("range_min", &range_min_m, {0, 10});
+    a->Field("range_max", &range_max_m, {0.1, 500});
+    a->Field("range_noise", &range_noise_m, {0, 1});
+    a->Field("angular_noise_deg", &angular_noise_deg, {0, 10});
+    a->Field("dropout", &dropout, {0, 0.99});
+    a->Field("occlusion", &occlusion, {0, 0.99});
+    a->Field("occlusion_sectors", &occlusion_sectors, {1, 360});
+    a->Field("seed", &seed);
+    a->Field("threads", &threads, {1, 64});
+  }
 };
 
-/// Checks the ranges of a LiDAR config. @throws common::InputError naming the field ("lidar.<key>")
-/// and value.
+/// Checks the ranges of a LiDAR config. @throws common::InputError naming the key (relative:
+/// "range_max") and value.
 void ValidateLidarConfig(const LidarConfig& config);
 
 }  // namespace trav::lidar

@@ -1,5 +1,12 @@
 #include "scenarios/run/scenario.h"
 
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -168,6 +175,112 @@ TEST(ScenarioBoundsTest, TheDocumentedBoundsAreTheCheckedOnes) {
   ASSERT_NE(to, std::string::npos);
   EXPECT_EQ(docs.substr(from + begin.size(), to - from - begin.size()), ScenarioBoundsTable())
       << "update docs/scenario-format.md with the table above";
+}
+
+// The backticked names in `text`, a `prefix.{a, b}` group expanded to prefix.a and prefix.b.
+std::vector<std::string> BacktickedNames(const std::string& text) {
+  std::vector<std::string> names;
+  static const std::regex kTicked("`([^`]*)`");
+  for (std::sregex_iterator it(text.begin(), text.end(), kTicked), end; it != end; ++it) {
+    const std::string name = (*it)[1];
+    const std::size_t brace = name.find(".{");
+    if (brace == std::string::npos || name.back() != '}') {
+      names.push_back(name.substr(0, name.find(' ')));
+      continue;
+    }
+    std::stringstream group(name.substr(brace + 2, name.size() - brace - 3));
+    for (std::string leaf; std::getline(group >> std::ws, leaf, ',');) {
+      names.push_back(name.substr(0, brace + 1) + leaf);
+    }
+  }
+  return names;
+}
+
+// A key path matches a documented name with '*' standing for any text.
+bool Matches(const std::string& pattern, const std::string& key) {
+  const std::size_t star = pattern.find('*');
+  if (star == std::string::npos) return pattern == key;
+  const std::string head = pattern.substr(0, star), tail = pattern.substr(star + 1);
+  return key.size() >= head.size() + tail.size() && key.compare(0, head.size(), head) == 0 &&
+         key.compare(key.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// What the key table of docs/scenario-format.md documents: every key its rows name ("`a.b.c`,
+// `d`" names a.b.c and a.b.d), the leaves a wildcard row ("`mapping.*`") lists in its meaning,
+// and per sequence row ("`drive`") the words of its meaning, for the keys of its items.
+struct DocumentedKeys {
+  std::set<std::string> keys;
+  std::map<std::string, std::string> sequence_rows;  // first key -> the row's meaning
+};
+
+DocumentedKeys ReadKeyTable(const std::string& docs) {
+  DocumentedKeys documented;
+  std::stringstream lines(docs.substr(0, docs.find("\n## ")));
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("| `", 0) != 0) continue;
+    const std::size_t key_end = line.find(" | ", 2);
+    const std::string key_cell = line.substr(2, key_end - 2);
+    const std::string meaning = line.substr(line.rfind(" | ", line.size() - 3));
+    const std::vector<std::string> names = BacktickedNames(key_cell);
+    const std::string& first = names.front();
+    const std::string parent =
+        first.substr(0, first.rfind('.') == std::string::npos ? 0 : first.rfind('.') + 1);
+    documented.sequence_rows[first] = meaning;
+    for (const std::string& name : names) {
+      const std::string key = name.find('.') != std::string::npos ? name : parent + name;
+      if (key.find('*') == std::string::npos) {
+        documented.keys.insert(key);
+        continue;
+      }
+      for (const std::string& leaf : BacktickedNames(meaning)) {
+        if (Matches(key, parent + leaf)) documented.keys.insert(parent + leaf);
+      }
+    }
+  }
+  return documented;
+}
+
+bool MentionsWord(const std::string& text, const std::string& word) {
+  return std::regex_search(text, std::regex("\\b" + word + "\\b"));
+}
+
+// Every key the loader accepts is documented, so that a key cannot be added without its docs:
+// docs/scenario-format.md names it in its key table, or (an item of a sequence) in its sequence's
+// row, or (a terrain parameter) docs/terrains.md names it.
+TEST(ScenarioKeysTest, EveryKeyIsDocumented) {
+  const std::string docs_dir = std::string(TRAV_SOURCE_DIR) + "/docs/";
+  const DocumentedKeys documented =
+      ReadKeyTable(test_util::ReadFile(docs_dir + "scenario-format.md"));
+  const std::string terrains = test_util::ReadFile(docs_dir + "terrains.md");
+  const std::string parameters = "terrain.parameters.";
+  std::vector<std::string> undocumented;
+  for (const std::string& key : ScenarioKeys()) {
+    bool found = documented.keys.count(key) > 0;
+    if (key.rfind(parameters, 0) == 0) {
+      found = terrains.find("`" + key.substr(parameters.size()) + "`") != std::string::npos;
+    }
+    const std::size_t item = key.find("[i].");
+    if (!found && item != std::string::npos) {
+      const auto row = documented.sequence_rows.find(key.substr(0, item));
+      found =
+          row != documented.sequence_rows.end() && MentionsWord(row->second, key.substr(item + 4));
+    }
+    if (!found) undocumented.push_back(key);
+  }
+  EXPECT_THAT(undocumented, testing::IsEmpty()) << "document these keys in docs/";
+  EXPECT_GT(ScenarioKeys().size(), 200u);
+}
+
+// The check above has teeth: a key the docs do not name is found.
+TEST(ScenarioKeysTest, TheDocsCheckFindsAnUndocumentedKey) {
+  const DocumentedKeys documented = ReadKeyTable(
+      "| `lidar.rate`, `frame_period` | 1 | x |\n| `mapping.*` | - | `window` 10, "
+      "`gp.{kernel, noise_std}` |\n| `drive` | [] | `{v: [m/s], omega}` |\n");
+  EXPECT_EQ(documented.keys,
+            (std::set<std::string>{"drive", "lidar.rate", "lidar.frame_period", "mapping.window",
+                                   "mapping.gp.kernel", "mapping.gp.noise_std"}));
+  EXPECT_TRUE(MentionsWord(documented.sequence_rows.at("drive"), "omega"));
+  EXPECT_FALSE(MentionsWord(documented.sequence_rows.at("drive"), "duration"));
 }
 
 TEST(ScenarioBoundsTest, EveryNumberOutsideItsBoundsOrNotFiniteIsBadInput) {

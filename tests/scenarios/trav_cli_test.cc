@@ -150,7 +150,8 @@ TEST_F(TravCliTest, MissingFilesAreBadInput) {
                    (root_ / "run").string());
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_THAT(result.output,
-              HasSubstr("nothere.xml: cannot open robot model: No such file or directory"));
+              HasSubstr("nothere.xml: robot.model: cannot open robot model: No such file or "
+                        "directory"));
   ExpectNoOutputFolder();
 }
 

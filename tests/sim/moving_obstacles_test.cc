@@ -213,59 +213,59 @@ TEST(MoverValidationTest, BadParametersNameTheKeyPathAndTheValue) {
   };
   EXPECT_EQ(
       error_with([](MovingObstacle* m) { std::get<WaypointMotion>(m->motion).speed_m_s = -1.0; }),
-      "moving_obstacles[1].speed: value -1.000000 must be > 0 and finite");
+      "[1].speed: value -1.000000 must be > 0 and finite");
   EXPECT_EQ(error_with(
                 [](MovingObstacle* m) { std::get<WaypointMotion>(m->motion).waypoints_W.clear(); }),
-            "moving_obstacles[1].waypoints: is empty: at least one point is required");
+            "[1].waypoints: is empty: at least one point is required");
   EXPECT_THAT(error_with([](MovingObstacle* m) {
                 std::get<WaypointMotion>(m->motion).waypoints_W[1].y() = INFINITY;
               }),
-              HasSubstr("moving_obstacles[1].waypoints[1][1]: value inf must be finite"));
+              HasSubstr("[1].waypoints[1][1]: value inf must be finite"));
   EXPECT_THAT(error_with([](MovingObstacle* m) {
                 std::get<WaypointMotion>(m->motion).start_delay_s = -2.0;
               }),
-              HasSubstr("moving_obstacles[1].start_delay: value -2.000000"));
+              HasSubstr("[1].start_delay: value -2.000000"));
   EXPECT_THAT(error_with([](MovingObstacle* m) {
                 m->shape = MoverShape::kBox;
                 m->box_half_extents_m.y() = 0.0;
               }),
-              HasSubstr("moving_obstacles[1].box_half_extents[1]: value 0.000000 must be > 0"));
+              HasSubstr("[1].box_half_extents[1]: value 0.000000 must be > 0"));
   EXPECT_THAT(error_with([](MovingObstacle* m) {
                 m->shape = MoverShape::kCylinder;
                 m->radius_m = -0.1;
               }),
-              HasSubstr("moving_obstacles[1].radius: value -0.100000"));
+              HasSubstr("[1].radius: value -0.100000"));
   EXPECT_THAT(error_with([](MovingObstacle* m) { m->half_height_m = 0.2; }),
-              HasSubstr("moving_obstacles[1].half_height: value 0.200000 must be > the radius "
+              HasSubstr("[1].half_height: value 0.200000 must be > the radius "
                         "(0.250000) for a capsule"));
   EXPECT_THAT(error_with([](MovingObstacle* m) { m->rgba[3] = 1.5f; }),
-              HasSubstr("moving_obstacles[1].rgba[3]: value 1.500000 must be in [0, 1]"));
+              HasSubstr("[1].rgba[3]: value 1.500000 must be in [0, 1]"));
   EXPECT_THAT(error_with([](MovingObstacle* m) {
                 m->motion = ConstantVelocityMotion{{0, 0}, {NAN, 0}, 0.0};
               }),
-              HasSubstr("moving_obstacles[1].velocity[0]: value nan must be finite"));
+              HasSubstr("[1].velocity[0]: value nan must be finite"));
   EXPECT_THAT(error_with([](MovingObstacle* m) {
                 m->motion = ConstantVelocityMotion{{0, 0}, {1, 0}, -1.0};
               }),
-              HasSubstr("moving_obstacles[1].start_time: value -1.000000"));
+              HasSubstr("[1].start_time: value -1.000000"));
   EXPECT_THAT(error_with([](MovingObstacle* m) {
                 RandomWalkMotion walk;
                 walk.area_radius_m = 0.0;
                 m->motion = walk;
               }),
-              HasSubstr("moving_obstacles[1].area_radius: value 0.000000 must be > 0"));
+              HasSubstr("[1].area_radius: value 0.000000 must be > 0"));
   EXPECT_THAT(error_with([](MovingObstacle* m) {
                 RandomWalkMotion walk;
                 walk.pause_s = {2.0, 1.0};
                 m->motion = walk;
               }),
-              HasSubstr("moving_obstacles[1].pause[1]: value 1.000000 must be finite and >= "
+              HasSubstr("[1].pause[1]: value 1.000000 must be finite and >= "
                         "pause[0]"));
   EXPECT_EQ(error_with([](MovingObstacle* m) { m->name = "a b"; }),
-            "moving_obstacles[1].name: 'a b' must be non-empty and use only letters, digits, '_' "
+            "[1].name: 'a b' must be non-empty and use only letters, digits, '_' "
             "and '-'");
   EXPECT_EQ(error_with([](MovingObstacle* m) { m->name = "first"; }),
-            "moving_obstacles[1].name: 'first' is already the name of moving_obstacles[0]");
+            "[1].name: 'first' is already the name of item 0");
 }
 
 TEST(MoverValidationTest, ATrackRejectsAnInvalidMover) {

@@ -362,8 +362,7 @@ TEST(SimulationMoverTest, InvalidMoversAreInputErrors) {
     Simulation dut(SmallFlatWorld(), common::Pose2{}, Options(), {crate});
     FAIL() << "no error";
   } catch (const common::InputError& error) {
-    EXPECT_STREQ(error.what(),
-                 "moving_obstacles[0].half_height: value -1.000000 must be > 0 and finite");
+    EXPECT_STREQ(error.what(), "[0].half_height: value -1.000000 must be > 0 and finite");
   }
 }
 

@@ -14,6 +14,7 @@ namespace trav::sim {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::StartsWith;
 using ::testing::ThrowsMessage;
 
 TerrainConfig Config(TerrainType type, std::uint64_t seed = 1) {
@@ -192,12 +193,12 @@ TEST(TerrainConfigTest, RejectsBadValuesNamingTheField) {
   TerrainConfig config;
   config.resolution_m = -0.1;
   EXPECT_THAT([&] { GenerateTerrain(config); },
-              ThrowsMessage<common::InputError>(HasSubstr("terrain.resolution: value -0.1")));
+              ThrowsMessage<common::InputError>(StartsWith("resolution: value -0.1")));
   config = TerrainConfig();
   config.type = TerrainType::kIndoor;
   config.indoor.door_width_m = 0.5;
   EXPECT_THAT([&] { GenerateTerrain(config); },
-              ThrowsMessage<common::InputError>(HasSubstr("terrain.parameters.door_width")));
+              ThrowsMessage<common::InputError>(StartsWith("parameters.door_width")));
 }
 
 TEST(TerrainGeometryTest, GroundMeshHasTwoTrianglesPerCellAtTheSampleHeights) {
