@@ -1,13 +1,9 @@
 #include "common/text.h"
 
-#include <cstdio>
+#include <fmt/printf.h>
 
 namespace trav::common {
 
-std::string FormatNumber(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof(text), format, value);
-  return text;
-}
+std::string FormatNumber(const char* format, double value) { return fmt::sprintf(format, value); }
 
 }  // namespace trav::common

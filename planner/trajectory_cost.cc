@@ -183,6 +183,95 @@ void AddIntegrationGradient(const Eigen::VectorXd& durations, const Eigen::Matri
   }
 }
 
+// What the forward pass records for the backward pass through the integration: dK/dp and dK/dt
+// at each node (times its trapezoidal weight) and each Simpson step's position increment.
+struct IntegrationTape {
+  IntegrationTape(int n, int k_max)
+      : node_position_gradient(n * (k_max + 1), Eigen::Vector2d::Zero()),
+        node_time_gradient(n * (k_max + 1), 0.0),
+        step_increment(n * k_max) {}
+
+  std::vector<Eigen::Vector2d> node_position_gradient;
+  std::vector<double> node_time_gradient;
+  std::vector<Eigen::Vector2d> step_increment;
+};
+
+// The penalty integrand's terms at one node (position_W at absolute time t_abs), with their
+// partials added to `partials`.
+CostTerms NodePenalties(const CostField& field, const TrajectoryCostSetup& s,
+                        const FlatState& state, const Eigen::Vector2d& position, double t_abs,
+                        Partials* partials) {
+  CostTerms g;
+  g.limits = LimitsPenalty(state, s.limits, s.weights.limits, s.smoothing, partials);
+  const FieldTerms field_terms = FieldPenalties(field, s, position, state.ds, partials);
+  g.clearance = field_terms.clearance;
+  g.traversability = field_terms.traversability;
+  g.moving_obstacles = ObstaclesPenalty(s, position, t_abs, partials);
+  return g;
+}
+
+// The forward pass: integrates the position from the start and the penalties at the interval ends
+// into `terms`, adds their partials over c and T to dK/dc and dK/dT, and fills `tape`. Returns the
+// end position [m].
+Eigen::Vector2d IntegratePenalties(const CostField& field, const TrajectoryCostSetup& s,
+                                   const Eigen::VectorXd& durations,
+                                   const Eigen::MatrixXd& coefficients, CostTerms* terms,
+                                   Eigen::MatrixXd* dK_dc_out, Eigen::VectorXd* dK_dT_out,
+                                   IntegrationTape* tape) {
+  CostTerms& local = *terms;
+  Eigen::MatrixXd& dK_dc = *dK_dc_out;
+  Eigen::VectorXd& dK_dT = *dK_dT_out;
+  const auto n = static_cast<int>(durations.size());
+  const int k_max = s.samples_per_piece;
+  const int nodes_per_piece = k_max + 1;
+  Eigen::Vector2d position = s.start_W;
+  double piece_start_s = s.start_time_s;
+  for (int i = 0; i < n; ++i) {
+    const double duration = durations(i);
+    const double h = duration / k_max;
+    const Eigen::Matrix<double, 6, 2> c = coefficients.middleRows<6>(6 * i);
+    FlatState previous;
+    for (int k = 0; k <= k_max; ++k) {
+      const double t = k * h;
+      const Bases bases(t);
+      const FlatState state = StateAt(c, bases);
+      if (k > 0) {
+        const FlatState middle = StateAt(c, Bases(t - 0.5 * h));
+        const Eigen::Vector2d increment =
+            h / 6.0 * (Velocity(previous) + 4.0 * Velocity(middle) + Velocity(state));
+        tape->step_increment[i * k_max + k - 1] = increment;
+        position += increment;
+      }
+      previous = state;
+
+      // penalty integrand g and its partial derivatives
+      Partials p;
+      const CostTerms node = NodePenalties(field, s, state, position, piece_start_s + t, &p);
+
+      // trapezoidal weight of the node: the integral is sum weight * g
+      const double weight = (k == 0 || k == k_max ? 0.5 : 1.0) * h;
+      const double g = node.limits + node.clearance + node.traversability + node.moving_obstacles;
+      local.limits += weight * node.limits;
+      local.clearance += weight * node.clearance;
+      local.traversability += weight * node.traversability;
+      local.moving_obstacles += weight * node.moving_obstacles;
+      dK_dc.block<6, 1>(6 * i, 0) +=
+          weight * (p.dtheta * bases.b1 + p.ddtheta * bases.b2).transpose();
+      dK_dc.block<6, 1>(6 * i, 1) += weight * (p.ds * bases.b1 + p.dds * bases.b2).transpose();
+      // the node's time k/K T_i and its weight (T_i / K) move with T_i
+      const double fraction = static_cast<double>(k) / k_max;
+      dK_dT(i) += weight * fraction *
+                      (p.dtheta * state.ddtheta + p.ddtheta * state.dddtheta + p.ds * state.dds +
+                       p.dds * state.ddds) +
+                  weight / duration * g;
+      tape->node_position_gradient[i * nodes_per_piece + k] = weight * p.position;
+      tape->node_time_gradient[i * nodes_per_piece + k] = weight * p.time;
+    }
+    piece_start_s += duration;
+  }
+  return position;
+}
+
 }  // namespace
 
 double SmoothedL1(double x, double mu, double* slope) {
@@ -257,7 +346,6 @@ double TrajectoryCost::Evaluate(const Eigen::VectorXd& z, Eigen::VectorXd* gradi
   const int k_max = setup_.samples_per_piece;
   const TrajectoryCostSetup& s = setup_;
   const TrajectoryCostWeights& w = s.weights;
-  const DynamicLimits& lim = s.limits;
   const Eigen::VectorXd& durations = polynomial_.durations();
   const Eigen::MatrixXd& coefficients = polynomial_.coefficients();
   const Eigen::Vector2d energy_weights(w.yaw_jerk, w.arc_length_jerk);
@@ -271,72 +359,17 @@ double TrajectoryCost::Evaluate(const Eigen::VectorXd& z, Eigen::VectorXd* gradi
   dK_dT.array() += w.time;
 
   // forward pass: integrate the position and evaluate the penalties at the interval ends
-  const int nodes_per_piece = k_max + 1;
-  std::vector<Eigen::Vector2d> node_position_gradient(n * nodes_per_piece, Eigen::Vector2d::Zero());
-  std::vector<double> node_time_gradient(n * nodes_per_piece, 0.0);
-  std::vector<Eigen::Vector2d> step_increment(n * k_max);
-  Eigen::Vector2d position = s.start_W;
-  double piece_start_s = s.start_time_s;
-  const double mu = s.smoothing;
-  for (int i = 0; i < n; ++i) {
-    const double duration = durations(i);
-    const double h = duration / k_max;
-    const Eigen::Matrix<double, 6, 2> c = coefficients.middleRows<6>(6 * i);
-    FlatState previous;
-    for (int k = 0; k <= k_max; ++k) {
-      const double t = k * h;
-      const Bases bases(t);
-      const FlatState state = StateAt(c, bases);
-      if (k > 0) {
-        const FlatState middle = StateAt(c, Bases(t - 0.5 * h));
-        const Eigen::Vector2d increment =
-            h / 6.0 * (Velocity(previous) + 4.0 * Velocity(middle) + Velocity(state));
-        step_increment[i * k_max + k - 1] = increment;
-        position += increment;
-      }
-      previous = state;
-
-      // penalty integrand g and its partial derivatives
-      Partials p;
-      const double limits = LimitsPenalty(state, lim, w.limits, mu, &p);
-
-      const FieldTerms field = FieldPenalties(*field_, s, position, state.ds, &p);
-      const double clearance = field.clearance;
-      const double traversability = field.traversability;
-
-      const double obstacles = ObstaclesPenalty(s, position, piece_start_s + t, &p);
-
-      // trapezoidal weight of the node: the integral is sum weight * g
-      const double weight = (k == 0 || k == k_max ? 0.5 : 1.0) * h;
-      const double g = limits + clearance + traversability + obstacles;
-      local.limits += weight * limits;
-      local.clearance += weight * clearance;
-      local.traversability += weight * traversability;
-      local.moving_obstacles += weight * obstacles;
-      dK_dc.block<6, 1>(6 * i, 0) +=
-          weight * (p.dtheta * bases.b1 + p.ddtheta * bases.b2).transpose();
-      dK_dc.block<6, 1>(6 * i, 1) += weight * (p.ds * bases.b1 + p.dds * bases.b2).transpose();
-      // the node's time k/K T_i and its weight (T_i / K) move with T_i
-      const double fraction = static_cast<double>(k) / k_max;
-      dK_dT(i) += weight * fraction *
-                      (p.dtheta * state.ddtheta + p.ddtheta * state.dddtheta + p.ds * state.dds +
-                       p.dds * state.ddds) +
-                  weight / duration * g;
-      node_position_gradient[i * nodes_per_piece + k] = weight * p.position;
-      node_time_gradient[i * nodes_per_piece + k] = weight * p.time;
-    }
-    piece_start_s += duration;
-  }
-  end_W_ = position;
+  IntegrationTape tape(n, k_max);
+  end_W_ = IntegratePenalties(*field_, s, durations, coefficients, &local, &dK_dc, &dK_dT, &tape);
 
   // the end position by augmented Lagrangian
   const Eigen::Vector2d shifted = end_W_ - s.goal_W + lambda_ / rho_;
   local.terminal = 0.5 * rho_ * shifted.squaredNorm();
-  node_position_gradient.back() += rho_ * shifted;
+  tape.node_position_gradient.back() += rho_ * shifted;
 
   if (gradient != nullptr) {
-    AddIntegrationGradient(durations, coefficients, k_max, node_position_gradient,
-                           node_time_gradient, step_increment, &dK_dc, &dK_dT);
+    AddIntegrationGradient(durations, coefficients, k_max, tape.node_position_gradient,
+                           tape.node_time_gradient, tape.step_increment, &dK_dc, &dK_dT);
     ChainToVariables(z, dK_dc, dK_dT, gradient);
   }
   if (terms != nullptr) *terms = local;

@@ -3,13 +3,13 @@
 #include <dlfcn.h>
 
 #include <atomic>
-#include <cstdio>
 #include <stdexcept>
 #include <vector>
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #include <GL/osmesa.h>
+#include <fmt/format.h>
 
 #include "common/enum_names.h"
 
@@ -145,9 +145,7 @@ class EglContext final : public GlContext {
 
  private:
   static std::string ToHex(EGLint value) {
-    char text[16];
-    std::snprintf(text, sizeof(text), "%x", static_cast<unsigned>(value));
-    return text;
+    return fmt::format("{:x}", static_cast<unsigned>(value));
   }
   void* library_{nullptr};
   EGLDisplay display_{EGL_NO_DISPLAY};

@@ -13,20 +13,12 @@
 #include <stdexcept>
 #include <vector>
 
+#include <fmt/format.h>
 #include <sys/wait.h>
 
 extern char** environ;
 
 namespace trav::renders {
-namespace {
-
-std::string FormatNumber(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
-}
-
-}  // namespace
 
 bool FfmpegAvailable() {
   const char* path = std::getenv("PATH");
@@ -47,7 +39,7 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height, double 
   if (pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error("cannot create a pipe to ffmpeg");
 
   const std::string size = std::to_string(width) + "x" + std::to_string(height);
-  const std::string rate = FormatNumber(fps);
+  const std::string rate = fmt::format("{:g}", fps);
   // absolute, so that no file name (one starting with '-') can reach ffmpeg as an option
   const std::string output = std::filesystem::absolute(path).string();
   std::vector<std::string> args = {

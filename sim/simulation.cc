@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <memory>
@@ -110,15 +109,17 @@ void ValidateRobotModel(const std::string& robot_model_path) {
   InstallMujocoHandlers();
   common::RequireRegularFile(robot_model_path, "robot model");
   char error[1024] = "";
+  std::string reason;
   std::unique_ptr<mjModel, decltype(&mj_deleteModel)> model(nullptr, mj_deleteModel);
   try {
     model.reset(mj_loadXML(robot_model_path.c_str(), nullptr, error, sizeof(error)));
+    reason = error;
   } catch (const std::runtime_error& e) {
-    std::snprintf(error, sizeof(error), "%s", e.what());
+    reason = e.what();
   }
   if (!model) {
-    throw common::InputError(robot_model_path, "robot.model",
-                             "is not a MuJoCo model that loads: " + common::Excerpt(error, 300));
+    throw common::InputError(robot_model_path, "",
+                             "is not a MuJoCo model that loads: " + common::Excerpt(reason, 300));
   }
   std::vector<std::string> missing;
   auto require = [&](mjtObj type, const std::string& name) {
@@ -137,13 +138,13 @@ void ValidateRobotModel(const std::string& robot_model_path) {
     std::string list;
     for (const std::string& name : missing) list += (list.empty() ? "" : ", ") + name;
     throw common::InputError(
-        robot_model_path, "robot.model",
-        "lacks what trav drives and senses: " + list + " (docs/scenario-format.md, robot.model)");
+        robot_model_path, "",
+        "lacks what trav drives and senses: " + list + " (docs/scenario-format.md)");
   }
   for (int w = 0; w < 4; ++w) {
     if (mj_name2id(model.get(), mjOBJ_ACTUATOR, kWheelActuators[w]) != w) {
       throw common::InputError(
-          robot_model_path, "robot.model",
+          robot_model_path, "",
           std::string("actuator ") + kWheelActuators[w] + " must be number " + std::to_string(w));
     }
   }

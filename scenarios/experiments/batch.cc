@@ -36,16 +36,25 @@ std::vector<Job> RunJobs(const fs::path& folder, const std::vector<BatchRun>& ru
                          const std::string& trav) {
   std::vector<Job> jobs;
   for (const BatchRun& run : runs) {
-    jobs.push_back({run.id,
-                    {trav, "run", (folder / "scenarios" / (run.id + ".yaml")).string(), "--out",
-                     (folder / "runs" / run.id).string()},
-                    (folder / "logs" / (run.id + ".log")).string(),
-                    (folder / "runs" / run.id / "summary.json").string()});
+    jobs.push_back(FolderJob(folder.string(), run.id,
+                             {trav, "run", (folder / "scenarios" / (run.id + ".yaml")).string(),
+                              "--out", (folder / "runs" / run.id).string()},
+                             (folder / "runs" / run.id / "summary.json").string()));
   }
   return jobs;
 }
 
 }  // namespace
+
+void to_json(nlohmann::json& json, const BatchRunEntry& entry) {
+  json = {{"id", entry.id}, {"scenario", entry.scenario}, {"parameters", entry.parameters}};
+}
+
+void from_json(const nlohmann::json& json, BatchRunEntry& entry) {
+  json.at("id").get_to(entry.id);
+  json.at("scenario").get_to(entry.scenario);
+  json.at("parameters").get_to(entry.parameters);
+}
 
 RunFileHeader ReadRunFileHeader(common::YamlReader* root, const std::string& path) {
   RunFileHeader header;
@@ -176,16 +185,15 @@ std::vector<BatchRun> ExpandBatch(const BatchSpec& spec) {
 std::vector<BatchRun> PrepareBatchFolder(const BatchSpec& spec, const std::vector<BatchRun>& runs,
                                          const CampaignFolder& campaign) {
   const fs::path folder(campaign.path());
+  std::vector<BatchRunEntry> entries;
+  for (const BatchRun& run : runs) {
+    BatchRunEntry& entry = entries.emplace_back(BatchRunEntry{run.id, run.scenario_name, {}});
+    for (const auto& [label, value] : run.parameters) entry.parameters[label] = value;
+  }
   nlohmann::json batch = {{"name", spec.name},
                           {"source", spec.source},
                           {"time_limit_s", spec.time_limit_s},
-                          {"runs", nlohmann::json::array()}};
-  for (const BatchRun& run : runs) {
-    nlohmann::json parameters = nlohmann::json::object();
-    for (const auto& [label, value] : run.parameters) parameters[label] = value;
-    batch["runs"].push_back(
-        {{"id", run.id}, {"scenario", run.scenario_name}, {"parameters", parameters}});
-  }
+                          {"runs", entries}};
   campaign.Claim(
       batch,
       [&](const nlohmann::json& previous) {
@@ -228,8 +236,9 @@ BatchProgress RunBatchLocally(const BatchSpec& spec, const std::vector<BatchRun>
   }
   ProgressLine progress(static_cast<int>(runs.size()), resumed, "run", options.progress_bar);
   const JobsProgress jobs =
-      RunJobsLocally(folder.string(), RunJobs(folder, pending, options.trav_executable),
-                     options.jobs, spec.time_limit_s, &progress);
+      DispatchJobs(folder.string(), RunJobs(folder, pending, options.trav_executable),
+                   spec.time_limit_s, {options.jobs, std::nullopt, &progress})
+          .jobs;
   BatchProgress result;
   result.finished = jobs.finished;
   result.failed = jobs.failed;
@@ -243,23 +252,19 @@ BatchProgress RunBatchLocally(const BatchSpec& spec, const std::vector<BatchRun>
 std::string SubmitBatchToSlurm(const BatchSpec& spec, const std::vector<BatchRun>& pending,
                                const std::string& out_dir, const SlurmOptions& options) {
   const fs::path folder = fs::absolute(out_dir);
-  if (pending.empty()) {
-    WriteBatchReport(folder.string());
-    return "";
-  }
-  const std::string job =
-      SubmitJobArray(folder.string(), RunJobs(folder, pending, options.trav_executable),
-                     spec.time_limit_s, options);
-  if (options.wait) WriteBatchReport(folder.string());
-  return job;
+  const DispatchEnd end =
+      DispatchJobs(folder.string(), RunJobs(folder, pending, options.trav_executable),
+                   spec.time_limit_s, {1, options, nullptr});
+  if (end.waited) WriteBatchReport(folder.string());
+  return end.slurm_job;
 }
 
 int CollectBatch(const std::string& out_dir) {
   const fs::path folder = fs::absolute(out_dir);
   const nlohmann::json batch = ReadJsonFile((folder / "batch.json").string());
   int finished = 0;
-  for (const nlohmann::json& run : batch.at("runs")) {
-    finished += Finished(folder, run.at("id").get<std::string>()) ? 1 : 0;
+  for (const BatchRunEntry& run : batch.at("runs").get<std::vector<BatchRunEntry>>()) {
+    finished += Finished(folder, run.id) ? 1 : 0;
   }
   WriteBatchReport(folder.string());
   return finished;

@@ -1,8 +1,11 @@
 #pragma once
 
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <nlohmann/json_fwd.hpp>
 
 #include "common/yaml_reader.h"
 #include "scenarios/experiments/job_array.h"
@@ -40,6 +43,18 @@ struct BatchRun {
   std::vector<std::pair<std::string, std::string>> parameters;  ///< (label, value) per axis
   std::string scenario_yaml;                                    ///< the fully resolved scenario
 };
+
+/// A run as batch.json lists it: its id, scenario name and swept values.
+struct BatchRunEntry {
+  std::string id;
+  std::string scenario;                           ///< the scenario's name
+  std::map<std::string, std::string> parameters;  ///< label: value, per axis
+};
+
+/// batch.json's object of a run, and back. @throws nlohmann::json::exception on a missing field or
+/// a field of another type.
+void to_json(nlohmann::json& json, const BatchRunEntry& entry);
+void from_json(const nlohmann::json& json, BatchRunEntry& entry);
 
 /// What batch and tuning files share: `schema_version` (1), `name` (default the file's stem),
 /// `scenarios` (files resolved against the file's folder, at least one) and `set` (overrides of

@@ -17,6 +17,7 @@
 #include "common/input_error.h"
 #include "common/statistics.h"
 #include "common/text.h"
+#include "scenarios/experiments/batch.h"
 #include "scenarios/run/output_folder.h"
 #include "scenarios/run/plots.h"
 #include "scenarios/run/run_metrics.h"
@@ -26,15 +27,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// One run's row.
-struct Row {
-  std::string id;
-  std::string scenario;
-  std::vector<std::pair<std::string, std::string>> parameters;  // label, value
-  std::string outcome;
-  bool success{false};
-  std::map<std::string, double> metrics;  // flattened summary.json numbers
-  std::string log;                        // failed runs only
+// One run's row, with the log of a run that failed to finish.
+struct Row : BatchResult {
+  std::string log;  // failed runs only
 };
 
 // The metrics of the group table: summary key, column title, successful runs only.
@@ -205,14 +200,14 @@ bool IsSeedLabel(const std::string& label) {
 std::vector<Row> ReadRows(const fs::path& folder, const nlohmann::json& batch,
                           std::vector<std::string>* labels, int* pending) {
   std::vector<Row> rows;
-  for (const nlohmann::json& run : batch.at("runs")) {
+  for (const BatchRunEntry& run : batch.at("runs").get<std::vector<BatchRunEntry>>()) {
     Row row;
-    row.id = run.at("id").get<std::string>();
-    row.scenario = run.at("scenario").get<std::string>();
-    for (auto it = run.at("parameters").begin(); it != run.at("parameters").end(); ++it) {
-      row.parameters.emplace_back(it.key(), it->get<std::string>());
-      if (std::find(labels->begin(), labels->end(), it.key()) == labels->end()) {
-        labels->push_back(it.key());
+    row.id = run.id;
+    row.scenario = run.scenario;
+    row.parameters = run.parameters;
+    for (const auto& [label, value] : run.parameters) {
+      if (std::find(labels->begin(), labels->end(), label) == labels->end()) {
+        labels->push_back(label);
       }
     }
     if (const auto summary =
@@ -241,21 +236,20 @@ void WriteResults(const fs::path& folder, const std::vector<Row>& rows,
   for (const Row& row : rows) {
     for (const auto& [key, value] : row.metrics) metric_keys.insert(key);
   }
-  nlohmann::json results = nlohmann::json::array();
+  std::vector<BatchResult> results;
   std::string csv = "id,scenario";
   for (const std::string& label : labels) csv += "," + label;
   csv += ",outcome,success";
   for (const std::string& key : metric_keys) csv += "," + key;
   csv += "\n";
   for (const Row& row : rows) {
-    nlohmann::json parameters = nlohmann::json::object();
+    BatchResult& result = results.emplace_back(
+        BatchResult{row.id, row.scenario, {}, row.outcome, row.success, row.metrics});
     csv += row.id + "," + row.scenario;
     for (const std::string& label : labels) {
-      std::string value;
-      for (const auto& [l, v] : row.parameters) {
-        if (l == label) value = v;
-      }
-      parameters[label] = value;
+      const auto it = row.parameters.find(label);
+      const std::string value = it == row.parameters.end() ? std::string() : it->second;
+      result.parameters[label] = value;
       csv += "," + (value.find(',') == std::string::npos ? value : "\"" + value + "\"");
     }
     csv += "," + row.outcome + "," + (row.success ? "1" : "0");
@@ -265,14 +259,9 @@ void WriteResults(const fs::path& folder, const std::vector<Row>& rows,
              (it == row.metrics.end() ? std::string() : common::FormatNumber("%.9g", it->second));
     }
     csv += "\n";
-    results.push_back({{"id", row.id},
-                       {"scenario", row.scenario},
-                       {"parameters", parameters},
-                       {"outcome", row.outcome},
-                       {"success", row.success},
-                       {"metrics", row.metrics}});
   }
-  WriteTextFileAtomically((folder / "results.json").string(), results.dump(1) + "\n");
+  WriteTextFileAtomically((folder / "results.json").string(),
+                          nlohmann::json(results).dump(1) + "\n");
   WriteTextFileAtomically((folder / "results.csv").string(), csv);
 }
 
@@ -351,6 +340,21 @@ std::string PlotsSection(const fs::path& folder, const std::vector<Row>& rows,
 }
 
 }  // namespace
+
+void to_json(nlohmann::json& json, const BatchResult& result) {
+  json = {
+      {"id", result.id},           {"scenario", result.scenario}, {"parameters", result.parameters},
+      {"outcome", result.outcome}, {"success", result.success},   {"metrics", result.metrics}};
+}
+
+void from_json(const nlohmann::json& json, BatchResult& result) {
+  json.at("id").get_to(result.id);
+  json.at("scenario").get_to(result.scenario);
+  json.at("parameters").get_to(result.parameters);
+  json.at("outcome").get_to(result.outcome);
+  json.at("success").get_to(result.success);
+  json.at("metrics").get_to(result.metrics);
+}
 
 std::map<std::string, double> FlattenSummary(const nlohmann::json& summary) {
   std::map<std::string, double> values;

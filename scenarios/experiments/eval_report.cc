@@ -8,6 +8,8 @@
 #include <optional>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "common/statistics.h"
 #include "common/text.h"
 #include "scenarios/run/output_folder.h"
@@ -35,21 +37,16 @@ constexpr PaperRow kPaperTableI[] = {
 };
 
 // A method's record in a scene, or null.
-const nlohmann::json* MethodRecord(const nlohmann::json& scene, const std::string& method) {
-  const nlohmann::json& methods = scene.at("methods");
-  const auto it = methods.find(method);
-  return it == methods.end() ? nullptr : &*it;
+const EvalMethodRecord* MethodRecord(const EvalSceneRecord& scene, const std::string& method) {
+  const auto it = scene.methods.find(method);
+  return it == scene.methods.end() ? nullptr : &it->second;
 }
 
 // An aggregate over every terrain type (Tables II and III), computed like a row.
-std::optional<EvalAggregate> OverAllTerrains(const std::vector<nlohmann::json>& scenes,
+std::optional<EvalAggregate> OverAllTerrains(const std::vector<EvalSceneRecord>& scenes,
                                              const std::string& method) {
-  std::vector<std::string> all_terrains;
-  for (const nlohmann::json& scene : scenes) {
-    all_terrains.push_back(scene.at("terrain").get<std::string>());
-  }
-  std::vector<nlohmann::json> relabelled = scenes;
-  for (nlohmann::json& scene : relabelled) scene["terrain"] = "all";
+  std::vector<EvalSceneRecord> relabelled = scenes;
+  for (EvalSceneRecord& scene : relabelled) scene.terrain = "all";
   const std::vector<EvalAggregate> rows = AggregateScenes(relabelled, {"all"}, {method});
   if (rows.empty()) return std::nullopt;
   return rows.front();
@@ -58,14 +55,14 @@ std::optional<EvalAggregate> OverAllTerrains(const std::vector<nlohmann::json>& 
 // error_over_time_<terrain>.csv: t and one column per method, each the mean over the type's
 // scenes of the frame's mean error (frames are indexed alike in every scene: one per LiDAR
 // period); empty fields where no scene scored that frame.
-std::string ErrorOverTimeCsv(const std::vector<nlohmann::json>& scenes, const std::string& terrain,
+std::string ErrorOverTimeCsv(const std::vector<EvalSceneRecord>& scenes, const std::string& terrain,
                              const std::vector<std::string>& methods) {
   std::size_t frames = 0;
-  std::vector<const nlohmann::json*> of_type;
-  for (const nlohmann::json& scene : scenes) {
-    if (scene.at("terrain") != terrain) continue;
+  std::vector<const EvalSceneRecord*> of_type;
+  for (const EvalSceneRecord& scene : scenes) {
+    if (scene.terrain != terrain) continue;
     of_type.push_back(&scene);
-    frames = std::max(frames, scene.at("drive").at("frames").get<std::size_t>());
+    frames = std::max(frames, scene.drive.frames);
   }
   std::string csv = "t";
   for (const std::string& method : methods) csv += "," + method;
@@ -77,18 +74,17 @@ std::string ErrorOverTimeCsv(const std::vector<nlohmann::json>& scenes, const st
     for (const std::string& method : methods) {
       double sum = 0.0;
       int count = 0;
-      for (const nlohmann::json* scene : of_type) {
-        const nlohmann::json* record = MethodRecord(*scene, method);
+      for (const EvalSceneRecord* scene : of_type) {
+        const EvalMethodRecord* record = MethodRecord(*scene, method);
         if (record == nullptr) continue;
-        const nlohmann::json& per_frame = record->at("frames");
-        if (k >= per_frame.at("t_s").size()) continue;
+        const EvalFrames& per_frame = record->frames;
+        if (k >= per_frame.t_s.size()) continue;
         if (method == methods.front()) {
-          t_sum += per_frame.at("t_s")[k].get<double>();
+          t_sum += per_frame.t_s[k];
           ++t_count;
         }
-        const nlohmann::json& error = per_frame.at("mean_error")[k];
-        if (error.is_number()) {
-          sum += error.get<double>();
+        if (k < per_frame.mean_error.size() && per_frame.mean_error[k]) {
+          sum += *per_frame.mean_error[k];
           ++count;
         }
       }
@@ -166,7 +162,7 @@ std::string TableOne(const std::vector<EvalAggregate>& rows, const EvalOptions& 
 }
 
 // A two-method comparison over every terrain type (Tables II and III).
-std::string Comparison(const std::vector<nlohmann::json>& scenes, const std::string& title,
+std::string Comparison(const std::vector<EvalSceneRecord>& scenes, const std::string& title,
                        const std::vector<std::pair<std::string, std::string>>& methods_and_paper,
                        const std::string& paper_header) {
   std::ostringstream md;
@@ -187,12 +183,9 @@ std::string Comparison(const std::vector<nlohmann::json>& scenes, const std::str
 }
 
 // "Drives ...: success 9, planning_failure 1 (indoor-2)." from the scenes' drive outcomes.
-std::string DriveOutcomes(const std::vector<nlohmann::json>& scenes) {
+std::string DriveOutcomes(const std::vector<EvalSceneRecord>& scenes) {
   std::map<std::string, std::vector<std::string>> by_outcome;
-  for (const nlohmann::json& scene : scenes) {
-    by_outcome[scene.at("drive").at("outcome").get<std::string>()].push_back(
-        scene.value("id", std::string()));
-  }
+  for (const EvalSceneRecord& scene : scenes) by_outcome[scene.drive.outcome].push_back(scene.id);
   std::string text =
       "Drives (the closed loop on the ground-truth oracle; every frame until the "
       "drive ends is scored):";
@@ -210,7 +203,31 @@ std::string DriveOutcomes(const std::vector<nlohmann::json>& scenes) {
 
 }  // namespace
 
-std::vector<EvalAggregate> AggregateScenes(const std::vector<nlohmann::json>& scenes,
+void to_json(nlohmann::json& json, const EvalAggregate& row) {
+  json = {{"terrain", row.terrain},
+          {"method", row.method},
+          {"mean_error", row.mean_error},
+          {"error_variance", row.error_variance},
+          {"runtime_ms_median", row.runtime_ms_median},
+          {"peak_memory_mb", row.peak_memory_mb},
+          {"scenes", row.scenes},
+          {"frames", row.frames},
+          {"coverage", row.coverage}};
+}
+
+void from_json(const nlohmann::json& json, EvalAggregate& row) {
+  json.at("terrain").get_to(row.terrain);
+  json.at("method").get_to(row.method);
+  json.at("mean_error").get_to(row.mean_error);
+  json.at("error_variance").get_to(row.error_variance);
+  json.at("runtime_ms_median").get_to(row.runtime_ms_median);
+  json.at("peak_memory_mb").get_to(row.peak_memory_mb);
+  json.at("scenes").get_to(row.scenes);
+  json.at("frames").get_to(row.frames);
+  json.at("coverage").get_to(row.coverage);
+}
+
+std::vector<EvalAggregate> AggregateScenes(const std::vector<EvalSceneRecord>& scenes,
                                            const std::vector<std::string>& terrains,
                                            const std::vector<std::string>& methods) {
   std::vector<EvalAggregate> rows;
@@ -220,19 +237,17 @@ std::vector<EvalAggregate> AggregateScenes(const std::vector<nlohmann::json>& sc
       row.terrain = terrain;
       row.method = method;
       std::vector<double> runtimes;
-      for (const nlohmann::json& scene : scenes) {
-        if (scene.at("terrain") != terrain) continue;
-        const nlohmann::json* record = MethodRecord(scene, method);
-        if (record == nullptr || !record->at("mean_error").is_number()) continue;
+      for (const EvalSceneRecord& scene : scenes) {
+        if (scene.terrain != terrain) continue;
+        const EvalMethodRecord* record = MethodRecord(scene, method);
+        if (record == nullptr || !record->mean_error) continue;
         ++row.scenes;
-        row.mean_error += record->at("mean_error").get<double>();
-        row.error_variance += record->at("error_variance").get<double>();
-        row.coverage += record->at("coverage").get<double>();
-        row.peak_memory_mb =
-            std::max(row.peak_memory_mb, record->at("peak_memory_mb").get<double>());
-        for (const nlohmann::json& ms : record->at("frames").at("runtime_ms")) {
-          runtimes.push_back(ms.get<double>());
-        }
+        row.mean_error += *record->mean_error;
+        row.error_variance += record->error_variance.value();
+        row.coverage += record->coverage;
+        row.peak_memory_mb = std::max(row.peak_memory_mb, record->peak_memory_mb);
+        runtimes.insert(runtimes.end(), record->frames.runtime_ms.begin(),
+                        record->frames.runtime_ms.end());
       }
       if (row.scenes == 0) continue;
       row.mean_error /= row.scenes;
@@ -250,20 +265,10 @@ namespace {
 
 // results.json and results.csv: one row per terrain type and method.
 void WriteEvalResults(const fs::path& folder, const std::vector<EvalAggregate>& rows) {
-  nlohmann::json results = nlohmann::json::array();
   std::string csv =
       "terrain,method,mean_error,error_variance,runtime_ms_median,peak_memory_mb,scenes,frames,"
       "coverage\n";
   for (const EvalAggregate& row : rows) {
-    results.push_back({{"terrain", row.terrain},
-                       {"method", row.method},
-                       {"mean_error", row.mean_error},
-                       {"error_variance", row.error_variance},
-                       {"runtime_ms_median", row.runtime_ms_median},
-                       {"peak_memory_mb", row.peak_memory_mb},
-                       {"scenes", row.scenes},
-                       {"frames", row.frames},
-                       {"coverage", row.coverage}});
     csv += row.terrain + "," + row.method + "," + common::FormatNumber("%.6g", row.mean_error) +
            "," + common::FormatNumber("%.6g", row.error_variance) + "," +
            common::FormatNumber("%.6g", row.runtime_ms_median) + "," +
@@ -271,13 +276,13 @@ void WriteEvalResults(const fs::path& folder, const std::vector<EvalAggregate>& 
            "," + std::to_string(row.frames) + "," + common::FormatNumber("%.4f", row.coverage) +
            "\n";
   }
-  WriteTextFileAtomically((folder / "results.json").string(), results.dump(1) + "\n");
+  WriteTextFileAtomically((folder / "results.json").string(), nlohmann::json(rows).dump(1) + "\n");
   WriteTextFileAtomically((folder / "results.csv").string(), csv);
 }
 
 // The error-over-time CSV and plot of each terrain type (notes on missing plots to `notes`).
 void WriteErrorOverTime(const fs::path& folder, const EvalOptions& options,
-                        const std::vector<nlohmann::json>& scenes,
+                        const std::vector<EvalSceneRecord>& scenes,
                         std::vector<std::string>* notes) {
   std::vector<PlotSeries> method_series;
   for (const std::string& method : options.methods) method_series.push_back({method, method});
@@ -348,7 +353,7 @@ std::string WriteAblation(const fs::path& folder, const EvalOptions& options,
 }  // namespace
 
 void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
-                     int base_inducing_points, const std::vector<nlohmann::json>& scenes,
+                     int base_inducing_points, const std::vector<EvalSceneRecord>& scenes,
                      const std::vector<nlohmann::json>& failures, const std::string& command) {
   const fs::path folder(out_dir);
   const std::vector<std::string> methods = EvalMethods(options);

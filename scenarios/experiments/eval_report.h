@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "scenarios/experiments/evaluation.h"
 
@@ -22,9 +22,14 @@ struct EvalAggregate {
   double coverage{0.0};  ///< mean over scenes of the observed cells the map knows at the end
 };
 
+/// results.json's object of a row, and back. @throws nlohmann::json::exception on a missing field
+/// or a field of another type.
+void to_json(nlohmann::json& json, const EvalAggregate& row);
+void from_json(const nlohmann::json& json, EvalAggregate& row);
+
 /// Aggregates finished scene records (RunEvalScene) per terrain type and method, in the order of
 /// `terrains` and `methods`; pairs without a scored scene are left out.
-std::vector<EvalAggregate> AggregateScenes(const std::vector<nlohmann::json>& scenes,
+std::vector<EvalAggregate> AggregateScenes(const std::vector<EvalSceneRecord>& scenes,
                                            const std::vector<std::string>& terrains,
                                            const std::vector<std::string>& methods);
 
@@ -40,7 +45,7 @@ std::vector<EvalAggregate> AggregateScenes(const std::vector<nlohmann::json>& sc
 /// - ablation.csv, ablation_error.png and ablation_runtime.png when the ablation ran.
 /// Plots are skipped (and the markdown says so) where gnuplot is missing.
 void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
-                     int base_inducing_points, const std::vector<nlohmann::json>& scenes,
+                     int base_inducing_points, const std::vector<EvalSceneRecord>& scenes,
                      const std::vector<nlohmann::json>& failures, const std::string& command);
 
 }  // namespace trav::scenarios

@@ -12,6 +12,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <nlohmann/json.hpp>
+
 #include "common/enum_names.h"
 #include "common/input_error.h"
 #include "common/logging.h"
@@ -177,10 +179,15 @@ class FrameRecorder : public LoopObserver {
   std::vector<RecordedFrame>* frames_;
 };
 
+// A number, or none if it is NaN.
+std::optional<double> NumberOrNone(double value) {
+  return std::isnan(value) ? std::nullopt : std::optional<double>(value);
+}
+
 // Feeds the frames to one method, scoring its map after every frame.
-nlohmann::json EvaluateMethod(const std::string& method, const Scenario& scene,
-                              const common::GridLayers& truth_W,
-                              const std::vector<RecordedFrame>& frames) {
+EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene,
+                                const common::GridLayers& truth_W,
+                                const std::vector<RecordedFrame>& frames) {
   const double heap_before = HeapInUseBytes();
   double peak_heap = 0.0;
   std::unique_ptr<mapping::TraversabilityMapper> mapper = MakeEvalMapper(method, scene, truth_W);
@@ -210,33 +217,27 @@ nlohmann::json EvaluateMethod(const std::string& method, const Scenario& scene,
       ++scored;
     }
   }
-  // JSON has no NaN: unscored frames are null
-  auto number_or_null = [](double value) {
-    return std::isnan(value) ? nlohmann::json() : nlohmann::json(value);
-  };
-  auto with_nulls = [&](const std::vector<double>& values) {
-    nlohmann::json array = nlohmann::json::array();
-    for (const double v : values) array.push_back(number_or_null(v));
-    return array;
-  };
+  // unscored frames have no error
+  EvalMethodRecord record;
+  record.mean_error = NumberOrNone(scored > 0 ? mean_sum / scored : std::nan(""));
+  record.error_variance = NumberOrNone(scored > 0 ? variance_sum / scored : std::nan(""));
+  record.scored_frames = scored;
+  record.runtime_ms_median = common::Quantile(runtime, 0.5);
+  record.runtime_ms_max = runtime.empty() ? 0.0 : *std::max_element(runtime.begin(), runtime.end());
+  record.peak_memory_mb = peak_heap / kBytesPerMiB;
   const double last_observed = observed_count.empty() ? 0.0 : observed_count.back();
-  return {
-      {"mean_error", number_or_null(scored > 0 ? mean_sum / scored : std::nan(""))},
-      {"error_variance", number_or_null(scored > 0 ? variance_sum / scored : std::nan(""))},
-      {"scored_frames", scored},
-      {"runtime_ms_median", common::Quantile(runtime, 0.5)},
-      {"runtime_ms_max", runtime.empty() ? 0.0 : *std::max_element(runtime.begin(), runtime.end())},
-      {"peak_memory_mb", peak_heap / kBytesPerMiB},
-      {"coverage", last_observed > 0 ? compared.back() / last_observed : 0.0},
-      {"frames",
-       {{"t_s", t},
-        {"mean_error", with_nulls(mean)},
-        {"error_variance", with_nulls(variance)},
-        {"compared_cells", compared},
-        {"observed_cells", observed_count},
-        {"runtime_ms", runtime},
-        {"heap_mb", heap_mb}}},
-  };
+  record.coverage = last_observed > 0 ? compared.back() / last_observed : 0.0;
+  EvalFrames& f = record.frames;
+  for (std::size_t i = 0; i < mean.size(); ++i) {
+    f.mean_error.push_back(NumberOrNone(mean[i]));
+    f.error_variance.push_back(NumberOrNone(variance[i]));
+  }
+  f.t_s = std::move(t);
+  f.compared_cells = std::move(compared);
+  f.observed_cells = std::move(observed_count);
+  f.runtime_ms = std::move(runtime);
+  f.heap_mb = std::move(heap_mb);
+  return record;
 }
 
 // Draws the route of a scene: start and goal `length` apart through the world's centre at a
@@ -259,11 +260,37 @@ common::GridLayers DrawRoute(Scenario* scene, double length_m, std::uint64_t see
                            "ground truth in " + std::to_string(kRouteDraws) + " draws");
 }
 
-// A finished scene's record, or nothing if it is absent or unreadable (then it is redone).
-std::optional<nlohmann::json> FinishedScene(const fs::path& path) {
-  std::optional<nlohmann::json> record = ReadJsonIfPresent(path.string());
-  if (record && !record->contains("methods")) return std::nullopt;
-  return record;
+// A finished scene's record, or nothing if it is absent or does not read as one (then it is
+// redone).
+std::optional<EvalSceneRecord> FinishedScene(const fs::path& path) {
+  const std::optional<nlohmann::json> json = ReadJsonIfPresent(path.string());
+  if (!json) return std::nullopt;
+  try {
+    return json->get<EvalSceneRecord>();
+  } catch (const nlohmann::json::exception&) {
+    return std::nullopt;
+  }
+}
+
+// A number or null, and back; an array of them, and back.
+nlohmann::json NumberOrNull(const std::optional<double>& value) {
+  return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+std::optional<double> OptionalNumber(const nlohmann::json& json) {
+  if (json.is_null()) return std::nullopt;
+  return json.get<double>();
+}
+nlohmann::json NumbersOrNulls(const std::vector<std::optional<double>>& values) {
+  nlohmann::json array = nlohmann::json::array();
+  for (const std::optional<double>& value : values) array.push_back(NumberOrNull(value));
+  return array;
+}
+std::vector<std::optional<double>> OptionalNumbers(const nlohmann::json& json) {
+  std::vector<std::optional<double>> values;
+  for (const nlohmann::json& value : json.get<std::vector<nlohmann::json>>()) {
+    values.push_back(OptionalNumber(value));
+  }
+  return values;
 }
 
 }  // namespace
@@ -374,8 +401,90 @@ std::vector<std::string> EvalMethods(const EvalOptions& options) {
   return methods;
 }
 
-nlohmann::json RunEvalScene(const EvalOptions& options, const EvalScene& scene,
-                            const std::string& robot_model_path) {
+void to_json(nlohmann::json& json, const EvalFrames& f) {
+  json = {{"t_s", f.t_s},
+          {"mean_error", NumbersOrNulls(f.mean_error)},
+          {"error_variance", NumbersOrNulls(f.error_variance)},
+          {"compared_cells", f.compared_cells},
+          {"observed_cells", f.observed_cells},
+          {"runtime_ms", f.runtime_ms},
+          {"heap_mb", f.heap_mb}};
+}
+
+void from_json(const nlohmann::json& json, EvalFrames& f) {
+  json.at("t_s").get_to(f.t_s);
+  f.mean_error = OptionalNumbers(json.at("mean_error"));
+  f.error_variance = OptionalNumbers(json.at("error_variance"));
+  json.at("compared_cells").get_to(f.compared_cells);
+  json.at("observed_cells").get_to(f.observed_cells);
+  json.at("runtime_ms").get_to(f.runtime_ms);
+  json.at("heap_mb").get_to(f.heap_mb);
+}
+
+void to_json(nlohmann::json& json, const EvalMethodRecord& r) {
+  json = {{"mean_error", NumberOrNull(r.mean_error)},
+          {"error_variance", NumberOrNull(r.error_variance)},
+          {"scored_frames", r.scored_frames},
+          {"runtime_ms_median", r.runtime_ms_median},
+          {"runtime_ms_max", r.runtime_ms_max},
+          {"peak_memory_mb", r.peak_memory_mb},
+          {"coverage", r.coverage},
+          {"frames", r.frames}};
+}
+
+void from_json(const nlohmann::json& json, EvalMethodRecord& r) {
+  r.mean_error = OptionalNumber(json.at("mean_error"));
+  r.error_variance = OptionalNumber(json.at("error_variance"));
+  json.at("scored_frames").get_to(r.scored_frames);
+  json.at("runtime_ms_median").get_to(r.runtime_ms_median);
+  json.at("runtime_ms_max").get_to(r.runtime_ms_max);
+  json.at("peak_memory_mb").get_to(r.peak_memory_mb);
+  json.at("coverage").get_to(r.coverage);
+  json.at("frames").get_to(r.frames);
+}
+
+void to_json(nlohmann::json& json, const EvalRoute& r) {
+  json = {{"start", r.start}, {"goal", r.goal}, {"optimal_length_m", r.optimal_length_m}};
+}
+
+void from_json(const nlohmann::json& json, EvalRoute& r) {
+  json.at("start").get_to(r.start);
+  json.at("goal").get_to(r.goal);
+  json.at("optimal_length_m").get_to(r.optimal_length_m);
+}
+
+void to_json(nlohmann::json& json, const EvalDrive& d) {
+  json = {{"outcome", d.outcome},
+          {"sim_time_s", d.sim_time_s},
+          {"distance_m", d.distance_m},
+          {"frames", d.frames},
+          {"ground_truth_cells", d.ground_truth_cells}};
+}
+
+void from_json(const nlohmann::json& json, EvalDrive& d) {
+  json.at("outcome").get_to(d.outcome);
+  json.at("sim_time_s").get_to(d.sim_time_s);
+  json.at("distance_m").get_to(d.distance_m);
+  json.at("frames").get_to(d.frames);
+  json.at("ground_truth_cells").get_to(d.ground_truth_cells);
+}
+
+void to_json(nlohmann::json& json, const EvalSceneRecord& r) {
+  json = {{"id", r.id},       {"terrain", r.terrain}, {"seed", r.seed},
+          {"route", r.route}, {"drive", r.drive},     {"methods", r.methods}};
+}
+
+void from_json(const nlohmann::json& json, EvalSceneRecord& r) {
+  json.at("id").get_to(r.id);
+  json.at("terrain").get_to(r.terrain);
+  json.at("seed").get_to(r.seed);
+  json.at("route").get_to(r.route);
+  json.at("drive").get_to(r.drive);
+  json.at("methods").get_to(r.methods);
+}
+
+EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
+                             const std::string& robot_model_path) {
   Scenario scenario = SceneScenario(options, scene);
   const common::GridLayers truth_W = DrawRoute(&scenario, options.route_length_m, scene.seed);
 
@@ -385,27 +494,20 @@ nlohmann::json RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   ClosedLoop loop(scenario, {robot_model_path, options.max_frames});
   const RunSummary drive = RunLoop(&loop, {&recorder});
 
-  nlohmann::json methods = nlohmann::json::object();
+  EvalSceneRecord record;
   for (const std::string& method : EvalMethods(options)) {
-    methods[method] = EvaluateMethod(method, scenario, truth_W, frames);
+    record.methods[method] = EvaluateMethod(method, scenario, truth_W, frames);
   }
-  return {
-      {"id", scene.Id()},
-      {"terrain", scene.terrain},
-      {"seed", scene.seed},
-      {"route",
-       {{"start",
-         {scenario.start_W.position.x(), scenario.start_W.position.y(), scenario.start_W.yaw}},
-        {"goal", {scenario.goal_W.x(), scenario.goal_W.y()}},
-        {"optimal_length_m", drive.navigation ? drive.navigation->optimal_path_length_m : 0.0}}},
-      {"drive",
-       {{"outcome", common::NameOf(drive.outcome)},
-        {"sim_time_s", drive.sim_time_s},
-        {"distance_m", drive.distance_m},
-        {"frames", frames.size()},
-        {"ground_truth_cells",
-         static_cast<long long>(truth_W.geometry().num_x) * truth_W.geometry().num_y}}},
-      {"methods", methods}};
+  record.id = scene.Id();
+  record.terrain = scene.terrain;
+  record.seed = scene.seed;
+  record.route = {
+      {scenario.start_W.position.x(), scenario.start_W.position.y(), scenario.start_W.yaw},
+      {scenario.goal_W.x(), scenario.goal_W.y()},
+      drive.navigation ? drive.navigation->optimal_path_length_m : 0.0};
+  record.drive = {common::NameOf(drive.outcome), drive.sim_time_s, drive.distance_m, frames.size(),
+                  static_cast<long long>(truth_W.geometry().num_x) * truth_W.geometry().num_y};
+  return record;
 }
 
 void RunEvalSceneInFolder(const std::string& out_dir, const EvalScene& scene,
@@ -415,8 +517,9 @@ void RunEvalSceneInFolder(const std::string& out_dir, const EvalScene& scene,
   const EvalOptions options =
       EvalOptionsFromJson(ReadJsonFile(options_path.string()), options_path.string());
   const Scenario scenario = SceneScenario(options, scene);
-  const nlohmann::json record = RunEvalScene(options, scene, RobotModelPath(scenario, models_dir));
-  WriteTextFileAtomically(folder / "scenes" / (scene.Id() + ".json"), record.dump(1) + "\n");
+  const EvalSceneRecord record = RunEvalScene(options, scene, RobotModelPath(scenario, models_dir));
+  WriteTextFileAtomically(folder / "scenes" / (scene.Id() + ".json"),
+                          nlohmann::json(record).dump(1) + "\n");
 }
 
 EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_dir,
@@ -449,30 +552,24 @@ EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_d
       ++result.resumed;
       continue;
     }
-    jobs.push_back({scene.Id(),
-                    {trav_executable, "eval-scene", absolute.string(), scene.terrain,
-                     std::to_string(scene.seed)},
-                    (absolute / "logs" / (scene.Id() + ".log")).string(),
-                    record.string()});
+    jobs.push_back(FolderJob(absolute.string(), scene.Id(),
+                             {trav_executable, "eval-scene", absolute.string(), scene.terrain,
+                              std::to_string(scene.seed)},
+                             record.string()));
   }
   if (result.resumed > 0) {
     common::LogStream(common::LogLevel::kInfo)
         << result.resumed << " of " << result.scenes << " scenes already finished in " << out_dir
         << ": kept";
   }
-  if (slurm && !jobs.empty()) {
-    result.slurm_job = SubmitJobArray(absolute.string(), jobs, options.scene_time_limit_s, *slurm);
-    if (!slurm->wait) return result;
-    for (const Job& job : jobs) ++(ResultExists(job.result_path) ? result.finished : result.failed);
-  } else {
-    ProgressLine progress(result.scenes, result.resumed, "scene", progress_bar);
-    const JobsProgress ended = RunJobsLocally(absolute.string(), jobs, options.jobs,
-                                              options.scene_time_limit_s, &progress);
-    result.finished = ended.finished;
-    result.failed = ended.failed;
-    result.interrupted = ended.interrupted;
-    if (result.interrupted) return result;
-  }
+  ProgressLine progress(result.scenes, result.resumed, "scene", progress_bar);
+  const DispatchEnd ended = DispatchJobs(absolute.string(), jobs, options.scene_time_limit_s,
+                                         {options.jobs, slurm, &progress});
+  result.slurm_job = ended.slurm_job;
+  result.finished = ended.jobs.finished;
+  result.failed = ended.jobs.failed;
+  result.interrupted = ended.jobs.interrupted;
+  if (!ended.waited || result.interrupted) return result;
   WriteEvalReportFromFolder(out_dir, options, command_line);
   return result;
 }
@@ -482,10 +579,10 @@ void WriteEvalReportFromFolder(const std::string& out_dir, const EvalOptions& op
   const fs::path folder(out_dir);
   const std::vector<EvalScene> scenes = EvalScenes(options);
   std::error_code error;
-  std::vector<nlohmann::json> records;
+  std::vector<EvalSceneRecord> records;
   std::vector<nlohmann::json> failures;
   for (const EvalScene& scene : scenes) {
-    if (std::optional<nlohmann::json> record =
+    if (std::optional<EvalSceneRecord> record =
             FinishedScene(folder / "scenes" / (scene.Id() + ".json"))) {
       records.push_back(std::move(*record));
     } else if (fs::exists(folder / "failed" / (scene.Id() + ".json"), error)) {

@@ -1,11 +1,14 @@
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "scenarios/experiments/job_array.h"
 
@@ -64,6 +67,79 @@ std::vector<std::string> EvalMethods(const EvalOptions& options);
 /// The inducing-point count of FSGP-BGK in the scenes (the mapping default unless overridden).
 int BaseInducingPoints(const EvalOptions& options);
 
+/// One method's frames in a scene, frame by frame (every vector has one value per frame).
+struct EvalFrames {
+  std::vector<double> t_s;  ///< simulation time of the frame [s]
+  /// Mean and variance of the error over the compared cells (none: no cell compared yet).
+  std::vector<std::optional<double>> mean_error;
+  std::vector<std::optional<double>> error_variance;
+  std::vector<int> compared_cells;  ///< observed cells the map knows
+  std::vector<int> observed_cells;  ///< cells observed so far
+  std::vector<double> runtime_ms;   ///< wall time of the update [ms]
+  std::vector<double> heap_mb;      ///< heap growth since the method was built [MiB]
+};
+
+/// The record's "frames" object (a missing error is null), and back.
+void to_json(nlohmann::json& json, const EvalFrames& frames);
+void from_json(const nlohmann::json& json, EvalFrames& frames);
+
+/// One method's record in a scene.
+struct EvalMethodRecord {
+  /// Mean over the scored frames (those with a compared cell) of the frame's mean error and of its
+  /// error variance (none: no frame scored).
+  std::optional<double> mean_error;
+  std::optional<double> error_variance;
+  int scored_frames{0};
+  double runtime_ms_median{0.0};  ///< median update time [ms]
+  double runtime_ms_max{0.0};
+  double peak_memory_mb{0.0};  ///< largest heap growth [MiB]
+  double coverage{0.0};        ///< compared / observed cells after the last frame
+  EvalFrames frames;
+};
+
+/// The record's object of a method (a missing error is null), and back.
+void to_json(nlohmann::json& json, const EvalMethodRecord& record);
+void from_json(const nlohmann::json& json, EvalMethodRecord& record);
+
+/// The route of a scene, drawn on its ground truth.
+struct EvalRoute {
+  std::array<double, 3> start{};  ///< x, y [m], yaw [rad]
+  std::array<double, 2> goal{};   ///< x, y [m]
+  double optimal_length_m{0.0};   ///< the simplified A* path on the ground truth
+};
+
+/// The record's "route" object, and back.
+void to_json(nlohmann::json& json, const EvalRoute& route);
+void from_json(const nlohmann::json& json, EvalRoute& route);
+
+/// How the drive of a scene ended.
+struct EvalDrive {
+  std::string outcome;  ///< the Outcome's name
+  double sim_time_s{0.0};
+  double distance_m{0.0};
+  std::size_t frames{0};            ///< LiDAR frames recorded
+  long long ground_truth_cells{0};  ///< cells of the ground truth's grid
+};
+
+/// The record's "drive" object, and back.
+void to_json(nlohmann::json& json, const EvalDrive& drive);
+void from_json(const nlohmann::json& json, EvalDrive& drive);
+
+/// A finished scene: scenes/<id>.json.
+struct EvalSceneRecord {
+  std::string id;  ///< EvalScene::Id
+  std::string terrain;
+  std::uint64_t seed{0};
+  EvalRoute route;
+  EvalDrive drive;
+  std::map<std::string, EvalMethodRecord> methods;  ///< by method name
+};
+
+/// scenes/<id>.json's object, and back (how a resumed evaluation reads its finished scenes).
+/// @throws nlohmann::json::exception on a missing field or a field of another type.
+void to_json(nlohmann::json& json, const EvalSceneRecord& record);
+void from_json(const nlohmann::json& json, EvalSceneRecord& record);
+
 /// Runs one scene and returns its record: the route, the drive's outcome, and per method the
 /// per-frame error, observed and compared cells, update time and heap growth, with the scene's
 /// summary (mean over frames of the mean error and of the error variance, median update time, peak
@@ -71,8 +147,8 @@ int BaseInducingPoints(const EvalOptions& options);
 /// its memory is its own.
 /// @throws common::InputError on a bad override or terrain; std::runtime_error if no route is
 /// found on the ground truth in 16 draws.
-nlohmann::json RunEvalScene(const EvalOptions& options, const EvalScene& scene,
-                            const std::string& robot_model_path);
+EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
+                             const std::string& robot_model_path);
 
 /// How an evaluation ended.
 struct EvalRunResult {
@@ -89,7 +165,8 @@ struct EvalRunResult {
 /// logs/<id>.log), failed/<id>.json per failed scene (RecordJobEnd), then the report. The jobs run
 /// as local processes, options.jobs at a time, or with `slurm` as a Slurm job array (without
 /// `slurm->wait` it returns once submitted, and `trav eval --collect` writes the report later).
-/// Finished scenes are kept: rerunning into the same folder redoes only the others.
+/// Finished scenes (records that read back as EvalSceneRecord) are kept: rerunning into the same
+/// folder redoes only the others.
 /// `progress_bar`: redraw one line on stderr, else one line per scene.
 /// @throws common::InputError if the options are invalid or `out_dir` holds an evaluation with
 /// other options; std::runtime_error if Slurm refuses the job.

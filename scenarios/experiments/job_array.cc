@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -116,6 +117,28 @@ JobsProgress RunJobsLocally(const std::string& folder, const std::vector<Job>& j
     return end.end == ProcessEnd::kCancelled;
   });
   return result;
+}
+
+Job FolderJob(const std::string& folder, const std::string& id, std::vector<std::string> argv,
+              std::string result_path) {
+  return {id, std::move(argv), (fs::path(folder) / "logs" / (id + ".log")).string(),
+          std::move(result_path)};
+}
+
+DispatchEnd DispatchJobs(const std::string& folder, const std::vector<Job>& jobs,
+                         double time_limit_s, const JobDispatch& dispatch) {
+  DispatchEnd end;
+  if (jobs.empty()) return end;
+  if (!dispatch.slurm) {
+    end.jobs = RunJobsLocally(folder, jobs, dispatch.parallel, time_limit_s, dispatch.progress);
+    return end;
+  }
+  end.slurm_job = SubmitJobArray(folder, jobs, time_limit_s, *dispatch.slurm);
+  end.waited = dispatch.slurm->wait;
+  if (!end.waited) return end;
+  for (const Job& job : jobs)
+    ++(ResultExists(job.result_path) ? end.jobs.finished : end.jobs.failed);
+  return end;
 }
 
 void ValidateSlurmOptions(const SlurmOptions& options) {

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,30 @@ void ValidateSlurmOptions(const SlurmOptions& options);
 /// @throws std::runtime_error if sbatch is missing or refuses the job.
 std::string SubmitJobArray(const std::string& folder, const std::vector<Job>& jobs,
                            double time_limit_s, const SlurmOptions& options);
+
+/// A job of `folder` with its log at <folder>/logs/<id>.log.
+Job FolderJob(const std::string& folder, const std::string& id, std::vector<std::string> argv,
+              std::string result_path);
+
+/// Where a campaign's jobs run.
+struct JobDispatch {
+  int parallel{1};                    ///< local processes at a time, >= 1
+  std::optional<SlurmOptions> slurm;  ///< set: one Slurm job array instead of local processes
+  ProgressLine* progress{nullptr};    ///< told of each local job's end (may be null)
+};
+
+/// How a dispatch ended.
+struct DispatchEnd {
+  JobsProgress jobs;      ///< with Slurm counted from the results once the array has ended
+  std::string slurm_job;  ///< the job array's id (Slurm only)
+  bool waited{true};      ///< false: submitted to Slurm without waiting, nothing counted yet
+};
+
+/// Runs `jobs` in `folder` as `dispatch` says (RunJobsLocally or SubmitJobArray): the one way
+/// eval, batch and tune run their jobs. Nothing to run returns at once.
+/// @throws std::runtime_error if sbatch is missing or refuses the job.
+DispatchEnd DispatchJobs(const std::string& folder, const std::vector<Job>& jobs,
+                         double time_limit_s, const JobDispatch& dispatch);
 
 /// One array task of a Slurm tasks file.
 struct JobTask {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -10,6 +9,7 @@
 #include <sstream>
 #include <utility>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <nlopt.hpp>
 
@@ -44,21 +44,10 @@ nlopt::algorithm NloptAlgorithm(TuneAlgorithm algorithm) {
   return nlopt::LN_BOBYQA;
 }
 
-// Every metric summary.json can have: the keys of a summary with every section present.
+// Every metric summary.json can have: the numbers of a summary with every section.
 std::set<std::string> KnownMetrics() {
-  Scenario scenario;
-  RunSummary summary;
-  summary.tracking = controller::TrackingMetrics{};
-  summary.navigation = NavigationMetrics{};
-  summary.navigation->min_mover_clearance_m = 0.0;
-  summary.collision = CollisionRecord{};
-  summary.mapping_updates = 1;
-  for (const char* module : {"lidar", "mapping", "planning", "control", "physics", "render"}) {
-    summary.compute[module] = {{"calls", 0}, {"median_ms", 0.0}, {"max_ms", 0.0}, {"total_s", 0.0}};
-  }
   std::set<std::string> metrics;
-  for (const auto& [key, value] :
-       FlattenSummary(nlohmann::json::parse(SummaryJson(scenario, summary)))) {
+  for (const auto& [key, value] : FlattenSummary(nlohmann::json(SummaryWithEverySection()))) {
     metrics.insert(key);
   }
   return metrics;
@@ -88,11 +77,7 @@ double CoordinateOf(const TunedParameter& p, double value) {
                : (value - p.min) / (p.max - p.min);
 }
 
-std::string Number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.9g", value);
-  return text;
-}
+std::string Number(double value) { return fmt::format("{:.9g}", value); }
 
 // A short stable name for a set of values (FNV-1a of their text).
 std::string HashOf(const std::vector<double>& values) {
@@ -102,9 +87,7 @@ std::string HashOf(const std::vector<double>& values) {
       hash = (hash ^ static_cast<unsigned char>(c)) * 1099511628211ull;
     }
   }
-  char text[17];
-  std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(hash));
-  return text;
+  return fmt::format("{:016x}", hash);
 }
 
 // The objective of one candidate over a set of seeds, and its terms' means.
@@ -143,24 +126,17 @@ Evaluation Evaluate(const TuneSpec& spec, const std::vector<double>& values,
       if (ResultExists(summary.string())) continue;
       const fs::path scenario_file = candidate / "scenarios" / (id + ".yaml");
       WriteTextFileAtomically(scenario_file.string(), ResolvedScenarioYaml(scenario));
-      jobs.push_back({id,
-                      {execution.trav_executable, "run", scenario_file.string(), "--out",
-                       (candidate / "runs" / id).string()},
-                      (candidate / "logs" / (id + ".log")).string(),
-                      summary.string()});
+      jobs.push_back(FolderJob(candidate.string(), id,
+                               {execution.trav_executable, "run", scenario_file.string(), "--out",
+                                (candidate / "runs" / id).string()},
+                               summary.string()));
     }
   }
   Evaluation evaluation;
-  if (!jobs.empty()) {
-    if (execution.slurm) {
-      SubmitJobArray(candidate.string(), jobs, spec.time_limit_s, *execution.slurm);
-    } else {
-      evaluation.interrupted =
-          RunJobsLocally(candidate.string(), jobs, execution.jobs, spec.time_limit_s, nullptr)
-              .interrupted;
-      if (evaluation.interrupted) return evaluation;
-    }
-  }
+  evaluation.interrupted = DispatchJobs(candidate.string(), jobs, spec.time_limit_s,
+                                        {execution.jobs, execution.slurm, nullptr})
+                               .jobs.interrupted;
+  if (evaluation.interrupted) return evaluation;
 
   std::map<std::string, int> metric_counts;
   for (const std::string& id : ids) {
@@ -359,11 +335,10 @@ void Search(const TuneSpec& spec, const fs::path& folder, const TuneExecution& e
     }
     csv += "\n";
     WriteTextFileAtomically((folder / "evaluations.csv").string(), csv);
-    char line[160];
-    std::snprintf(line, sizeof(line), "evaluation %d/%d: objective %.6g (best %.6g)%s",
-                  result.evaluations, spec.budget, evaluation.objective, result.best_objective,
-                  cached ? " [from the folder]" : "");
-    common::Log(common::LogLevel::kInfo, line);
+    common::Log(common::LogLevel::kInfo,
+                fmt::format("evaluation {}/{}: objective {:.6g} (best {:.6g}){}",
+                            result.evaluations, spec.budget, evaluation.objective,
+                            result.best_objective, cached ? " [from the folder]" : ""));
     return evaluation.objective;
   };
   optimiser.set_min_objective(

@@ -6,13 +6,13 @@
 
 #include <cerrno>
 #include <cstdint>
-#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <system_error>
 
+#include <fmt/format.h>
 #include <sys/file.h>
 
 #include "common/input_error.h"
@@ -276,9 +276,7 @@ std::string SafeFileName(const std::string& text) {
   if (out.size() > kMaxLength) {
     std::uint64_t hash = 1469598103934665603ull;  // FNV-1a of the whole text
     for (const char c : text) hash = (hash ^ static_cast<unsigned char>(c)) * 1099511628211ull;
-    char suffix[18];
-    std::snprintf(suffix, sizeof(suffix), "-%016llx", static_cast<unsigned long long>(hash));
-    out = out.substr(0, kMaxLength - 17) + suffix;
+    out = fmt::format("{}-{:016x}", out.substr(0, kMaxLength - 17), hash);
   }
   return out;
 }

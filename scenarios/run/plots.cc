@@ -6,17 +6,18 @@
 
 #include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
 
+#include <fmt/format.h>
 #include <sys/wait.h>
 
 #include "common/input_error.h"
@@ -106,14 +107,13 @@ std::string DataBlock(const Table& table, const LinePlot& spec) {
   std::vector<std::size_t> indices = {*table.Column(spec.x_column)};
   for (const PlotSeries& series : spec.series) indices.push_back(*table.Column(series.column));
   std::string block;
-  char number[32];
   for (const std::vector<double>& row : table.rows) {
     bool finite = true;
     for (const std::size_t i : indices) finite = finite && std::isfinite(row[i]);
     if (!finite) continue;
     for (std::size_t k = 0; k < indices.size(); ++k) {
-      std::snprintf(number, sizeof(number), k == 0 ? "%.6g" : " %.6g", row[indices[k]]);
-      block += number;
+      if (k > 0) block += ' ';
+      fmt::format_to(std::back_inserter(block), "{:.6g}", row[indices[k]]);
     }
     block += '\n';
   }
@@ -128,9 +128,7 @@ std::string ComputeLabel(const Table& table) {
   const double interval_s =
       (table.rows.back()[*t] - table.rows.front()[*t]) / static_cast<double>(table.rows.size() - 1);
   if (!std::isfinite(interval_s) || interval_s <= 0.0) return "wall time per row interval [ms]";
-  char label[96];
-  std::snprintf(label, sizeof(label), "wall time per %.3g s of simulation [ms]", interval_s);
-  return label;
+  return fmt::format("wall time per {:.3g} s of simulation [ms]", interval_s);
 }
 
 // The plots of timeseries.csv: speed, roll and pitch, mapping error, and compute when the file

@@ -8,11 +8,11 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
-#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <utility>
 
+#include <fmt/format.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 
@@ -172,14 +172,9 @@ double NowSeconds() {
 }
 
 std::string Duration(double seconds) {
-  char text[32];
   const int s = static_cast<int>(std::lround(seconds));
-  if (s >= 3600) {
-    std::snprintf(text, sizeof(text), "%dh%02dm", s / 3600, (s / 60) % 60);
-  } else {
-    std::snprintf(text, sizeof(text), "%dm%02ds", s / 60, s % 60);
-  }
-  return text;
+  if (s >= 3600) return fmt::format("{}h{:02}m", s / 3600, (s / 60) % 60);
+  return fmt::format("{}m{:02}s", s / 60, s % 60);
 }
 
 }  // namespace
@@ -197,18 +192,15 @@ void ProgressLine::Ended(const std::string& id, bool ok, double wall_s) {
   if (bar_) {
     constexpr int kWidth = 30;
     const int filled = total_ > 0 ? done * kWidth / total_ : kWidth;
-    char line[256];
-    std::snprintf(line, sizeof(line), "[%s%s] %d/%d %s, %d failed, %s elapsed, ETA %s   ",
-                  std::string(filled, '#').c_str(), std::string(kWidth - filled, '.').c_str(), done,
-                  total_, noun_.c_str(), failed_, Duration(elapsed_s).c_str(),
-                  Duration(eta_s).c_str());
-    common::LogStatusLine(line, remaining == 0);
+    common::LogStatusLine(
+        fmt::format("[{}{}] {}/{} {}, {} failed, {} elapsed, ETA {}   ", std::string(filled, '#'),
+                    std::string(kWidth - filled, '.'), done, total_, noun_, failed_,
+                    Duration(elapsed_s), Duration(eta_s)),
+        remaining == 0);
   } else {
-    char line[256];
-    std::snprintf(line, sizeof(line), "%s %s %s in %.0f s [%d/%d, ETA %s]", noun_.c_str(),
-                  id.c_str(), ok ? "finished" : "FAILED", wall_s, done, total_,
-                  Duration(eta_s).c_str());
-    common::Log(common::LogLevel::kInfo, line);
+    common::Log(common::LogLevel::kInfo,
+                fmt::format("{} {} {} in {:.0f} s [{}/{}, ETA {}]", noun_, id,
+                            ok ? "finished" : "FAILED", wall_s, done, total_, Duration(eta_s)));
   }
 }
 

@@ -1,7 +1,8 @@
 #include "scenarios/run/provenance.h"
 
 #include <cstdint>
-#include <cstdio>
+
+#include <fmt/format.h>
 
 #include "controller/mpc.h"
 #include "scenarios/run/build_info.h"
@@ -13,9 +14,7 @@ namespace trav::scenarios {
 std::string TextHash(const std::string& text) {
   std::uint64_t hash = 1469598103934665603ull;
   for (const char c : text) hash = (hash ^ static_cast<unsigned char>(c)) * 1099511628211ull;
-  char hex[17];
-  std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(hash));
-  return std::string("fnv1a64:") + hex;
+  return fmt::format("fnv1a64:{:016x}", hash);
 }
 
 nlohmann::json Provenance(const std::string& scenario_yaml) {

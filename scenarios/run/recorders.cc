@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
+#include <iterator>
+
+#include <fmt/format.h>
 
 #include "scenarios/run/output_folder.h"
 #include "scenarios/run/pcd_io.h"
@@ -13,9 +15,6 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 constexpr double kTrajectoryPeriod_s = 0.02;
-// The modules timed per run, as named in summary.json's "compute" and timeseries.csv.
-constexpr const char* kTimedModules[] = {"lidar",   "mapping", "planning",
-                                         "control", "physics", "render"};
 
 }  // namespace
 
@@ -41,14 +40,15 @@ void TrajectoryRecorder::OnPhysicsStep(const ClosedLoop& /*loop*/, const LoopSte
   if ((step.index + 1) % steps_per_sample_ != 0) return;
   const common::RobotState& state = step.state;
   const Eigen::Vector3d p = state.X_WB.translation();
-  char line[512];
-  std::snprintf(line, sizeof(line),
-                "%.3f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f\n",
-                state.time_s, p.x(), p.y(), p.z(), step.rpy.roll, step.rpy.pitch, step.rpy.yaw,
-                state.v_WB_B.x(), state.w_WB_B.z(), step.command.v, step.command.omega,
-                state.wheel_speeds[0], state.wheel_speeds[1], state.wheel_speeds[2],
-                state.wheel_speeds[3]);
-  file_ << line;
+  fmt::memory_buffer line;
+  fmt::format_to(
+      std::back_inserter(line),
+      "{:.3f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.4f},{:.4f},{:.3f},{:.3f},{:.3f},"
+      "{:.3f},{:.3f},{:.3f}\n",
+      state.time_s, p.x(), p.y(), p.z(), step.rpy.roll, step.rpy.pitch, step.rpy.yaw,
+      state.v_WB_B.x(), state.w_WB_B.z(), step.command.v, step.command.omega, state.wheel_speeds[0],
+      state.wheel_speeds[1], state.wheel_speeds[2], state.wheel_speeds[3]);
+  file_.write(line.data(), static_cast<std::streamsize>(line.size()));
 }
 
 void TrajectoryRecorder::OnEnd(const ClosedLoop& /*loop*/, Outcome /*outcome*/) {
@@ -67,22 +67,23 @@ void TimeSeriesRecorder::OnStepChecked(const ClosedLoop& loop, const LoopStep& s
   if (!TimeSeriesSampleDue(loop, step.index)) return;
   const common::RobotState& state = step.state;
   const Eigen::Vector2d xy = state.X_WB.translation().head<2>();
-  char line[512];
-  std::snprintf(line, sizeof(line),
-                "%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.4f,%.3f,%.3f,%.4f,%.5f", state.time_s,
-                xy.x(), xy.y(), step.rpy.yaw, state.v_WB_B.x(), state.w_WB_B.z(),
-                step.rpy.roll * kRadToDeg, step.rpy.pitch * kRadToDeg,
-                step.vertical_acceleration_m_s2, step.command.v, step.command.omega,
-                (xy - loop.scenario().goal_W).norm(), loop.last_mapping_error());
-  file_ << line;
+  fmt::memory_buffer line;
+  fmt::format_to(
+      std::back_inserter(line),
+      "{:.3f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.3f},{:.3f},{:.4f},{:.3f},{:.3f},{:.4f},"
+      "{:.5f}",
+      state.time_s, xy.x(), xy.y(), step.rpy.yaw, state.v_WB_B.x(), state.w_WB_B.z(),
+      step.rpy.roll * kRadToDeg, step.rpy.pitch * kRadToDeg, step.vertical_acceleration_m_s2,
+      step.command.v, step.command.omega, (xy - loop.scenario().goal_W).norm(),
+      loop.last_mapping_error());
   // wall time of each module since the previous row [ms]
   for (const char* module : kTimedModules) {
     const double total = loop.times().Total(module);
-    std::snprintf(line, sizeof(line), ",%.3f", total - module_totals_ms_[module]);
+    fmt::format_to(std::back_inserter(line), ",{:.3f}", total - module_totals_ms_[module]);
     module_totals_ms_[module] = total;
-    file_ << line;
   }
-  file_ << '\n';
+  line.push_back('\n');
+  file_.write(line.data(), static_cast<std::streamsize>(line.size()));
 }
 
 void TimeSeriesRecorder::OnEnd(const ClosedLoop& /*loop*/, Outcome /*outcome*/) {
@@ -96,9 +97,7 @@ CloudRecorder::CloudRecorder(const std::string& output_dir) : folder_(output_dir
 
 void CloudRecorder::OnLidarFrame(const ClosedLoop& /*loop*/, const lidar::LidarFrame& frame,
                                  const Eigen::Matrix3Xf& /*points_W*/) {
-  char name[64];
-  std::snprintf(name, sizeof(name), "/frame_%06lld.pcd", static_cast<long long>(frame.index));
-  WriteLidarFramePcd(folder_ + name, frame);
+  WriteLidarFramePcd(fmt::format("{}/frame_{:06}.pcd", folder_, frame.index), frame);
 }
 
 void MotionStatistics::OnPhysicsStep(const ClosedLoop& /*loop*/, const LoopStep& step) {

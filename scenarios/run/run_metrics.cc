@@ -4,6 +4,8 @@
 #include <cmath>
 #include <optional>
 
+#include <nlohmann/json.hpp>
+
 #include "mapping/window.h"
 
 namespace trav::scenarios {
@@ -117,17 +119,23 @@ double ModuleTimes::Total(const std::string& module) const {
   return it == totals_ms_.end() ? 0.0 : it->second;
 }
 
-nlohmann::json ModuleTimes::ToJson() const {
-  nlohmann::json json = nlohmann::json::object();
+std::map<std::string, ModuleTime> ModuleTimes::Summary() const {
+  std::map<std::string, ModuleTime> times;
   for (const auto& [module, samples] : samples_) {
     std::vector<double> sorted = samples;
     std::sort(sorted.begin(), sorted.end());
-    json[module] = {{"calls", sorted.size()},
-                    {"median_ms", sorted.empty() ? 0.0 : sorted[sorted.size() / 2]},
-                    {"max_ms", sorted.empty() ? 0.0 : sorted.back()},
-                    {"total_s", Total(module) / 1e3}};
+    times[module] = {static_cast<int>(sorted.size()),
+                     sorted.empty() ? 0.0 : sorted[sorted.size() / 2],
+                     sorted.empty() ? 0.0 : sorted.back(), Total(module) / 1e3};
   }
-  return json;
+  return times;
+}
+
+void to_json(nlohmann::json& json, const ModuleTime& time) {
+  json = {{"calls", time.calls},
+          {"median_ms", time.median_ms},
+          {"max_ms", time.max_ms},
+          {"total_s", time.total_s}};
 }
 
 }  // namespace trav::scenarios

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include <Eigen/Core>
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "common/grid.h"
 #include "common/point_cloud.h"
@@ -79,6 +79,22 @@ class ProgressMonitor {
   bool started_{false};
 };
 
+/// The modules timed per run (ModuleTimes), as named in summary.json's "compute" and
+/// timeseries.csv.
+inline constexpr const char* kTimedModules[] = {"lidar",   "mapping", "planning",
+                                                "control", "physics", "render"};
+
+/// One module's wall time over a run: summary.json's compute.<module>.
+struct ModuleTime {
+  int calls{0};
+  double median_ms{0.0};  ///< per call
+  double max_ms{0.0};     ///< per call
+  double total_s{0.0};
+};
+
+/// summary.json's compute.<module> object: calls, median_ms, max_ms, total_s.
+void to_json(nlohmann::json& json, const ModuleTime& time);
+
 /// Wall time per module and per call [ms], for the summary's median and maximum.
 class ModuleTimes {
  public:
@@ -90,8 +106,8 @@ class ModuleTimes {
   /// Total time of a module so far [ms].
   double Total(const std::string& module) const;
 
-  /// {module: {calls, median_ms, max_ms, total_s}}.
-  nlohmann::json ToJson() const;
+  /// The time of every module timed so far, by name.
+  std::map<std::string, ModuleTime> Summary() const;
 
  private:
   std::map<std::string, std::vector<double>> samples_;

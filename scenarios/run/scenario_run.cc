@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/enum_names.h"
+#include "common/input_error.h"
 #include "common/statistics.h"
 #include "mapping/ground_truth.h"
 #include "planner/astar.h"
@@ -28,12 +29,13 @@ namespace {
 
 // The mapping part of a summary: updates, their times and stages, and the final map's error
 // against the ground truth on its own cells (returned).
-common::GridLayers SummarizeMapping(const ClosedLoop& loop, RunSummary* summary) {
+common::GridLayers SummarizeMapping(const ClosedLoop& loop, MappingMetrics* metrics) {
+  metrics->method = loop.scenario().mapper;
   std::vector<double> mapping_ms = loop.mapping_ms();
-  summary->mapping_updates = static_cast<int>(mapping_ms.size());
+  metrics->updates = static_cast<int>(mapping_ms.size());
   std::sort(mapping_ms.begin(), mapping_ms.end());
-  summary->mapping_ms_median = mapping_ms[mapping_ms.size() / 2];
-  summary->mapping_ms_max = mapping_ms.back();
+  metrics->update_ms_median = mapping_ms[mapping_ms.size() / 2];
+  metrics->update_ms_max = mapping_ms.back();
   auto median_of = [&](auto field) {
     std::vector<double> values;
     for (const mapping::MapUpdateResult& update : loop.map_updates()) {
@@ -41,14 +43,14 @@ common::GridLayers SummarizeMapping(const ClosedLoop& loop, RunSummary* summary)
     }
     return common::Quantile(std::move(values), 0.5);
   };
-  summary->mapping_stage_ms_median = {
+  metrics->stage_ms_median = {
       {"crop", median_of([](const auto& u) { return u.times.crop; })},
       {"features", median_of([](const auto& u) { return u.times.features; })},
       {"fit", median_of([](const auto& u) { return u.times.fit; })},
       {"predict", median_of([](const auto& u) { return u.times.predict; })},
       {"fusion", median_of([](const auto& u) { return u.times.fusion; })},
       {"smoothing", median_of([](const auto& u) { return u.times.smoothing; })}};
-  summary->mapping_training_points_median = static_cast<int>(
+  metrics->training_points_median = static_cast<int>(
       median_of([](const auto& u) { return static_cast<double>(u.training_points); }));
   // the final map against the ground truth on the same cells
   const common::GridLayers& map = loop.mapper()->map();
@@ -58,9 +60,9 @@ common::GridLayers SummarizeMapping(const ClosedLoop& loop, RunSummary* summary)
       loop.scenario().mapping, loop.scenario().ground_truth);
   const LayerError error = CompareLayers(map.Layer(mapping::layers::kTraversability),
                                          truth.Layer(mapping::layers::kTraversability));
-  summary->mapping_known_cells = error.known_cells;
-  summary->mapping_mean_error = error.mean;
-  summary->mapping_error_variance = error.variance;
+  metrics->known_cells = error.known_cells;
+  metrics->mean_error = error.mean;
+  metrics->error_variance = error.variance;
   return truth;
 }
 
@@ -86,6 +88,8 @@ NavigationMetrics SummarizeNavigation(const ClosedLoop& loop, const RunSummary& 
   navigation.last_planner_status = stats.last_status;
   navigation.final_goal_distance_m =
       (loop.state().X_WB.translation().head<2>() - scenario.goal_W).norm();
+  navigation.goal_W = scenario.goal_W;
+  navigation.path_length_m = summary.distance_m;
   if (navigation.optimal_path_length_m > 0.0) {
     navigation.path_length_ratio = summary.distance_m / navigation.optimal_path_length_m;
     navigation.barn_score = BarnScore(
@@ -160,7 +164,7 @@ std::string RobotModelPath(const Scenario& scenario, const std::string& models_d
 
 std::string CheckedRobotModelPath(const Scenario& scenario, const std::string& models_dir) {
   const std::string model = RobotModelPath(scenario, models_dir);
-  sim::ValidateRobotModel(model);
+  common::ValidateAt("robot.model", [&] { sim::ValidateRobotModel(model); });
   return model;
 }
 
@@ -217,9 +221,9 @@ RunSummary RunLoop(ClosedLoop* loop, const std::vector<LoopObserver*>& observers
     summary.navigation = SummarizeNavigation(*loop, summary, goal_record, movers, motion);
   }
   summary.collision = collision_record.record();
-  summary.compute = loop->times().ToJson();
+  summary.compute = loop->times().Summary();
   if (loop->mapper() != nullptr && !loop->mapping_ms().empty()) {
-    common::GridLayers truth = SummarizeMapping(*loop, &summary);
+    common::GridLayers truth = SummarizeMapping(*loop, &summary.mapping.emplace());
     if (final_map_truth != nullptr) *final_map_truth = std::move(truth);
   }
   summary.mujoco_warning_count = loop->simulation().warning_count();
@@ -284,7 +288,21 @@ void to_json(nlohmann::json& json, const NavigationMetrics& n) {
           {"near_misses", n.near_misses},
           {"min_mover_clearance_m", std::isfinite(n.min_mover_clearance_m)
                                         ? nlohmann::json(n.min_mover_clearance_m)
-                                        : nlohmann::json(nullptr)}};
+                                        : nlohmann::json(nullptr)},
+          {"goal", {n.goal_W.x(), n.goal_W.y()}},
+          {"path_length_m", n.path_length_m}};
+}
+
+void to_json(nlohmann::json& json, const MappingMetrics& m) {
+  json = {{"method", common::NameOf(m.method)},
+          {"updates", m.updates},
+          {"update_ms_median", m.update_ms_median},
+          {"update_ms_max", m.update_ms_max},
+          {"stage_ms_median", m.stage_ms_median},
+          {"training_points_median", m.training_points_median},
+          {"known_cells", m.known_cells},
+          {"mean_error", m.mean_error},
+          {"error_variance", m.error_variance}};
 }
 
 void to_json(nlohmann::json& json, const CollisionRecord& c) {
@@ -296,54 +314,65 @@ void to_json(nlohmann::json& json, const CollisionRecord& c) {
           {"time_s", c.time_s}};
 }
 
+void to_json(nlohmann::json& json, const RunSummary& s) {
+  json = {{"outcome", common::NameOf(s.outcome)},
+          {"sim_time_s", s.sim_time_s},
+          {"wall_time_s", s.wall_time_s},
+          {"real_time_factor", s.real_time_factor},
+          {"distance_m", s.distance_m},
+          {"max_roll_deg", s.max_roll_deg},
+          {"max_pitch_deg", s.max_pitch_deg},
+          {"rms_roll_deg", s.rms_roll_deg},
+          {"rms_pitch_deg", s.rms_pitch_deg},
+          {"final_pose",
+           {{"x", s.final_pose_W.position.x()},
+            {"y", s.final_pose_W.position.y()},
+            {"yaw", s.final_pose_W.yaw}}},
+          {"physics_steps", s.physics_steps},
+          {"mujoco_warning_count", s.mujoco_warning_count},
+          {"mujoco_warnings", s.mujoco_warnings},
+          {"video", s.video_frames > 0 ? nlohmann::json("video.mp4") : nlohmann::json(nullptr)},
+          {"video_frames", s.video_frames},
+          {"lidar_frames", s.lidar_frames},
+          {"lidar_points_per_frame", s.lidar_points_per_frame},
+          {"lidar_ms_per_frame", s.lidar_ms_per_frame},
+          {"compute", s.compute}};
+  if (s.mapping) json["mapping"] = *s.mapping;
+  if (s.navigation) {
+    json["navigation"] = *s.navigation;
+    json["plots"] = s.plots;
+  }
+  if (s.collision) json["collision"] = *s.collision;
+  if (s.tracking) json["tracking"] = *s.tracking;
+}
+
+void to_json(nlohmann::json& json, const SummaryFile& file) {
+  json = file.summary;
+  json["scenario"] = file.scenario;
+  json["expected_outcome"] = common::NameOf(file.expected_outcome);
+  json["terrain"] = {{"type", common::NameOf(file.terrain_type)}, {"seed", file.terrain_seed}};
+  json["provenance"] = file.provenance;
+}
+
 std::string SummaryJson(const Scenario& scenario, const RunSummary& summary) {
-  nlohmann::json json;
-  json["scenario"] = scenario.name;
-  json["outcome"] = common::NameOf(summary.outcome);
-  json["expected_outcome"] = common::NameOf(scenario.expected_outcome);
-  json["terrain"] = {{"type", common::NameOf(scenario.terrain.type)},
-                     {"seed", scenario.terrain.seed}};
-  json["provenance"] = Provenance(ResolvedScenarioYaml(scenario));
-  json["sim_time_s"] = summary.sim_time_s;
-  json["wall_time_s"] = summary.wall_time_s;
-  json["real_time_factor"] = summary.real_time_factor;
-  json["distance_m"] = summary.distance_m;
-  json["max_roll_deg"] = summary.max_roll_deg;
-  json["max_pitch_deg"] = summary.max_pitch_deg;
-  json["rms_roll_deg"] = summary.rms_roll_deg;
-  json["rms_pitch_deg"] = summary.rms_pitch_deg;
-  json["final_pose"] = {{"x", summary.final_pose_W.position.x()},
-                        {"y", summary.final_pose_W.position.y()},
-                        {"yaw", summary.final_pose_W.yaw}};
-  json["physics_steps"] = summary.physics_steps;
-  json["mujoco_warning_count"] = summary.mujoco_warning_count;
-  json["mujoco_warnings"] = summary.mujoco_warnings;
-  json["video"] = summary.video_frames > 0 ? nlohmann::json("video.mp4") : nlohmann::json(nullptr);
-  json["video_frames"] = summary.video_frames;
-  json["lidar_frames"] = summary.lidar_frames;
-  json["lidar_points_per_frame"] = summary.lidar_points_per_frame;
-  json["lidar_ms_per_frame"] = summary.lidar_ms_per_frame;
-  if (summary.mapping_updates > 0) {
-    json["mapping"] = {{"method", common::NameOf(scenario.mapper)},
-                       {"updates", summary.mapping_updates},
-                       {"update_ms_median", summary.mapping_ms_median},
-                       {"update_ms_max", summary.mapping_ms_max},
-                       {"stage_ms_median", summary.mapping_stage_ms_median},
-                       {"training_points_median", summary.mapping_training_points_median},
-                       {"known_cells", summary.mapping_known_cells},
-                       {"mean_error", summary.mapping_mean_error},
-                       {"error_variance", summary.mapping_error_variance}};
-  }
-  if (summary.navigation) {
-    json["navigation"] = *summary.navigation;
-    json["navigation"]["goal"] = {scenario.goal_W.x(), scenario.goal_W.y()};
-    json["navigation"]["path_length_m"] = summary.distance_m;
-  }
-  if (summary.collision) json["collision"] = *summary.collision;
-  json["compute"] = summary.compute;
-  if (summary.navigation) json["plots"] = summary.plots;
-  if (summary.tracking) json["tracking"] = *summary.tracking;
-  return json.dump(2) + "\n";
+  const SummaryFile file{scenario.name,
+                         scenario.expected_outcome,
+                         scenario.terrain.type,
+                         scenario.terrain.seed,
+                         Provenance(ResolvedScenarioYaml(scenario)),
+                         summary};
+  return nlohmann::json(file).dump(2) + "\n";
+}
+
+SummaryFile SummaryWithEverySection() {
+  SummaryFile file;
+  RunSummary& summary = file.summary;
+  summary.tracking.emplace();
+  summary.mapping.emplace();
+  summary.navigation.emplace().min_mover_clearance_m = 0.0;  // finite: a number
+  summary.collision.emplace();
+  for (const char* module : kTimedModules) summary.compute[module] = ModuleTime{};
+  return file;
 }
 
 }  // namespace trav::scenarios

@@ -1,7 +1,9 @@
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,6 +16,7 @@
 #include "common/pose.h"
 #include "scenarios/run/closed_loop.h"
 #include "scenarios/run/end_conditions.h"
+#include "scenarios/run/run_metrics.h"
 #include "scenarios/run/scenario.h"
 #include "sim/terrain.h"
 
@@ -45,7 +48,30 @@ struct NavigationMetrics {
   /// Times a mover came closer than navigation.near_miss_clearance without a collision (each
   /// approach counts once; it counts again after the gap has reopened by 0.1 m).
   int near_misses{0};
+  Eigen::Vector2d goal_W{Eigen::Vector2d::Zero()};  ///< the scenario's goal
+  double path_length_m{0.0};                        ///< the distance driven (RunSummary)
 };
+
+/// summary.json's "navigation" object (min_mover_clearance_m null when infinite).
+void to_json(nlohmann::json& json, const NavigationMetrics& metrics);
+
+/// Mapping on the LiDAR frames (when both are enabled): updates, time per update, and the final
+/// map's error against the ground truth over its known cells.
+struct MappingMetrics {
+  MapperMethod method{MapperMethod::kFsgpBgk};
+  int updates{0};
+  double update_ms_median{0.0};
+  double update_ms_max{0.0};
+  /// Median time per mapper stage [ms] by name (crop, features, fit, predict, fusion, smoothing).
+  std::map<std::string, double> stage_ms_median;
+  int training_points_median{0};  ///< median training points per update
+  int known_cells{0};
+  double mean_error{0.0};      ///< mean |traversability - ground truth|
+  double error_variance{0.0};  ///< variance of |traversability - ground truth|
+};
+
+/// summary.json's "mapping" object.
+void to_json(nlohmann::json& json, const MappingMetrics& metrics);
 
 /// What `trav run` reports in summary.json.
 struct RunSummary {
@@ -67,26 +93,36 @@ struct RunSummary {
   double lidar_points_per_frame{0.0};  ///< mean points per frame
   double lidar_ms_per_frame{0.0};      ///< mean wall time spent casting one frame's rays [ms]
   std::optional<controller::TrackingMetrics> tracking;  ///< modes track and navigate
-  /// Mapping on the LiDAR frames (when both are enabled): updates, time per update, and the final
-  /// map's error against the ground truth over its known cells.
-  int mapping_updates{0};
-  double mapping_ms_median{0.0};
-  double mapping_ms_max{0.0};
-  /// Median time per mapper stage [ms] ({crop, features, fit, predict, fusion, smoothing}) and the
-  /// median number of training points per update.
-  nlohmann::json mapping_stage_ms_median = nlohmann::json::object();
-  int mapping_training_points_median{0};
-  int mapping_known_cells{0};
-  double mapping_mean_error{0.0};               ///< mean |traversability - ground truth|
-  double mapping_error_variance{0.0};           ///< variance of |traversability - ground truth|
-  std::optional<NavigationMetrics> navigation;  ///< mode navigate only
-  std::optional<CollisionRecord> collision;     ///< outcome collision only
-  /// Wall time per module: {module: {calls, median_ms, max_ms, total_s}}.
-  nlohmann::json compute = nlohmann::json::object();
+  std::optional<MappingMetrics> mapping;                ///< when a mapper updated its map
+  std::optional<NavigationMetrics> navigation;          ///< mode navigate only
+  std::optional<CollisionRecord> collision;             ///< outcome collision only
+  std::map<std::string, ModuleTime> compute;            ///< wall time per module
   /// Mode navigate: the PNG plots written (speed, roll and pitch, mapping error, compute), or null
   /// when gnuplot is missing.
   nlohmann::json plots;
 };
+
+/// summary.json's keys of a run (all but those of its scenario): the optional sections when
+/// present, "plots" with "navigation".
+void to_json(nlohmann::json& json, const RunSummary& summary);
+
+/// summary.json: the scenario a run ran and the run's summary.
+struct SummaryFile {
+  std::string scenario;  ///< the scenario's name
+  Outcome expected_outcome{Outcome::kCompleted};
+  sim::TerrainType terrain_type{sim::TerrainType::kHilly};
+  std::uint64_t terrain_seed{1};
+  nlohmann::json provenance;  ///< Provenance of the resolved scenario
+  RunSummary summary;
+};
+
+/// summary.json's object.
+void to_json(nlohmann::json& json, const SummaryFile& file);
+
+/// A summary.json of default values with every section a run can report (tracking, mapping,
+/// navigation with a finite mover clearance, collision, the time of every module in
+/// kTimedModules): its numbers are every metric summary.json can have.
+SummaryFile SummaryWithEverySection();
 
 /// Options of a run that are not part of the scenario.
 struct RunOptions {
@@ -145,10 +181,6 @@ std::string RobotModelPath(const Scenario& scenario, const std::string& models_d
 /// RobotModelPath, checked to be a robot model trav can drive (sim::ValidateRobotModel).
 /// @throws common::InputError if it is not.
 std::string CheckedRobotModelPath(const Scenario& scenario, const std::string& models_dir);
-
-/// summary.json's "navigation" object (without the goal and path length, which SummaryJson adds
-/// from the scenario and the run).
-void to_json(nlohmann::json& json, const NavigationMetrics& metrics);
 
 /// summary.json's "collision" object.
 void to_json(nlohmann::json& json, const CollisionRecord& record);

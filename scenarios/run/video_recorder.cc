@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "common/enum_names.h"
 #include "common/stopwatch.h"
@@ -178,10 +179,9 @@ void VideoRecorder::OnMapUpdate(const ClosedLoop& loop) {
 void VideoRecorder::WriteNavigationFrame(const ClosedLoop& loop, const std::string& status) {
   const common::RobotState& now = loop.state();
   const Scenario& scenario = loop.scenario();
-  char text[256];
-  std::snprintf(text, sizeof(text), "t %.1f s   v %.2f m/s   goal %.1f m   %s", now.time_s,
-                now.v_WB_B.x(), (now.X_WB.translation().head<2>() - scenario.goal_W).norm(),
-                status.c_str());
+  const std::string text =
+      fmt::format("t {:.1f} s   v {:.2f} m/s   goal {:.1f} m   {}", now.time_s, now.v_WB_B.x(),
+                  (now.X_WB.translation().head<2>() - scenario.goal_W).norm(), status);
   overlay_.texts.assign(1, renders::TextLabel{text, renders::TextCorner::kTopLeft});
   renderer_->Render(loop.simulation(), camera_->View(now.X_WB, frame_period_s_), overlay_, &frame_);
   const common::GridLayers& shown = ShownMap(loop);

@@ -28,8 +28,6 @@ using trav::scenarios::Scenario;
 
 constexpr char kScenarioFile[] = "/scenarios/suite/hilly.yaml";
 constexpr double kDuration_s = 8.0;
-// The modules of summary.json's "compute".
-constexpr const char* kModules[] = {"lidar", "mapping", "planning", "control", "physics", "render"};
 
 // A fresh folder for one run's outputs, removed with the object.
 class TemporaryFolder {
@@ -76,14 +74,14 @@ void RunClosedLoop(benchmark::State& state, bool video) {
   state.counters["real_time_factor"] = summary.sim_time_s / wall_s;
   state.counters["video_frames"] = summary.video_frames;
   double modules_s = 0.0;
-  for (const char* module : kModules) {
-    const double total_s =
-        summary.compute.contains(module) ? summary.compute[module]["total_s"].get<double>() : 0.0;
+  for (const char* module : trav::scenarios::kTimedModules) {
+    const auto time = summary.compute.find(module);
+    const double total_s = time == summary.compute.end() ? 0.0 : time->second.total_s;
     modules_s += total_s;
     state.counters[std::string("share_") + module] = total_s / wall_s;
   }
   state.counters["share_other"] = 1.0 - modules_s / wall_s;
-  state.SetLabel(std::string("outcome ") + common::NameOf(summary.outcome));
+  state.SetLabel(std::string("outcome ") + trav::common::NameOf(summary.outcome));
 }
 
 void BM_ClosedLoopNoVideo(benchmark::State& state) { RunClosedLoop(state, /*video=*/false); }

@@ -1,5 +1,9 @@
 #include "scenarios/experiments/eval_report.h"
 
+#include <optional>
+#include <string>
+#include <vector>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -10,24 +14,26 @@ namespace trav::scenarios {
 namespace {
 
 // A scene record as RunEvalScene writes it, with one method.
-nlohmann::json Scene(const std::string& terrain, const std::string& method, nlohmann::json mean,
-                     double variance, std::vector<double> runtimes_ms, double memory_mb) {
-  return {{"terrain", terrain},
-          {"drive", {{"frames", runtimes_ms.size()}}},
-          {"methods",
-           {{method,
-             {{"mean_error", mean},
-              {"error_variance", variance},
-              {"peak_memory_mb", memory_mb},
-              {"coverage", 0.5},
-              {"frames", {{"runtime_ms", runtimes_ms}}}}}}}};
+EvalSceneRecord Scene(const std::string& terrain, const std::string& method,
+                      std::optional<double> mean, double variance, std::vector<double> runtimes_ms,
+                      double memory_mb) {
+  EvalSceneRecord scene;
+  scene.terrain = terrain;
+  scene.drive.frames = runtimes_ms.size();
+  EvalMethodRecord& record = scene.methods[method];
+  record.mean_error = mean;
+  record.error_variance = variance;
+  record.peak_memory_mb = memory_mb;
+  record.coverage = 0.5;
+  record.frames.runtime_ms = std::move(runtimes_ms);
+  return scene;
 }
 
 TEST(AggregateScenesTest, AveragesScenesAndTakesTheMedianOverEveryFrame) {
-  const std::vector<nlohmann::json> scenes = {
+  const std::vector<EvalSceneRecord> scenes = {
       Scene("hilly", "em", 0.1, 0.01, {1.0, 5.0}, 2.0),
       Scene("hilly", "em", 0.3, 0.03, {2.0, 3.0, 4.0}, 3.0),
-      Scene("hilly", "em", nullptr, 0.0, {9.0}, 9.0),  // no scored frame: left out
+      Scene("hilly", "em", std::nullopt, 0.0, {9.0}, 9.0),  // no scored frame: left out
       Scene("forest", "em", 0.5, 0.05, {7.0}, 1.0),
   };
   const std::vector<EvalAggregate> rows = AggregateScenes(scenes, {"hilly", "forest"}, {"em"});
@@ -44,6 +50,48 @@ TEST(AggregateScenesTest, AveragesScenesAndTakesTheMedianOverEveryFrame) {
   EXPECT_DOUBLE_EQ(rows[1].mean_error, 0.5);
   // a method no scene ran has no row
   EXPECT_TRUE(AggregateScenes(scenes, {"hilly"}, {"sgp"}).empty());
+  // a row reads back from results.json
+  const nlohmann::json row = rows[0];
+  EXPECT_EQ(row.at("scenes"), 2);
+  EXPECT_EQ(nlohmann::json(row.get<EvalAggregate>()), row);
+}
+
+TEST(EvalSceneRecordTest, RoundTripsThroughJsonWithMissingErrorsAsNull) {
+  EvalSceneRecord scene;
+  scene.id = "hilly-3";
+  scene.terrain = "hilly";
+  scene.seed = 3;
+  scene.route = {{-1.0, 2.0, 0.5}, {1.0, -2.0}, 4.5};
+  scene.drive = {"success", 12.5, 4.75, 2, 250000};
+  EvalMethodRecord& em = scene.methods["em"];
+  em.mean_error = 0.25;
+  em.error_variance = 0.0625;
+  em.scored_frames = 1;
+  em.runtime_ms_median = 1.5;
+  em.runtime_ms_max = 2.0;
+  em.peak_memory_mb = 3.0;
+  em.coverage = 0.75;
+  em.frames = {{0.1, 0.2}, {std::nullopt, 0.25}, {std::nullopt, 0.0625}, {0, 3}, {2, 4}, {1.0, 2.0},
+               {0.5, 1.0}};
+  scene.methods["sgp"].frames.t_s = {0.1};  // scored no frame
+  const nlohmann::json json = scene;
+  EXPECT_EQ(json.at("route").dump(),
+            R"({"goal":[1.0,-2.0],"optimal_length_m":4.5,"start":[-1.0,2.0,0.5]})");
+  EXPECT_EQ(json.at("drive").dump(), R"({"distance_m":4.75,"frames":2,"ground_truth_cells":250000,)"
+                                     R"("outcome":"success","sim_time_s":12.5})");
+  EXPECT_EQ(json.at("methods").at("em").at("frames").at("mean_error").dump(), "[null,0.25]");
+  EXPECT_TRUE(json.at("methods").at("sgp").at("mean_error").is_null());
+  EXPECT_TRUE(json.at("methods").at("sgp").at("frames").at("mean_error").is_array());
+
+  const EvalSceneRecord back = nlohmann::json::parse(json.dump(1)).get<EvalSceneRecord>();
+  EXPECT_EQ(nlohmann::json(back), json);
+  EXPECT_FALSE(back.methods.at("sgp").mean_error.has_value());
+  ASSERT_TRUE(back.methods.at("em").frames.mean_error[1].has_value());
+  EXPECT_EQ(*back.methods.at("em").frames.mean_error[1], 0.25);
+  // a record without its methods is not a finished scene
+  nlohmann::json partial = json;
+  partial.erase("methods");
+  EXPECT_THROW(partial.get<EvalSceneRecord>(), nlohmann::json::exception);
 }
 
 TEST(EvalOptionsTest, AblationAddsTheOtherInducingPointCounts) {

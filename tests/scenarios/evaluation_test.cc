@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 
+#include "scenarios/experiments/eval_report.h"
 #include "tests/cli_test_util.h"
 
 // Clang says whether AddressSanitizer is on through __has_feature, GCC through
@@ -39,9 +40,9 @@ nlohmann::json ReadJson(const fs::path& path) {
 }
 
 // The record of `method` in results.json.
-nlohmann::json Record(const nlohmann::json& results, const std::string& method) {
-  for (const nlohmann::json& record : results) {
-    if (record.at("method") == method) return record;
+EvalAggregate Record(const nlohmann::json& results, const std::string& method) {
+  for (const EvalAggregate& record : results.get<std::vector<EvalAggregate>>()) {
+    if (record.method == method) return record;
   }
   ADD_FAILURE() << "no record for " << method;
   return {};
@@ -91,22 +92,22 @@ TEST_F(EvaluationTest, WritesEveryTableAndPlotAndScoresTheOracleAndAConstantExac
     EXPECT_EQ(record.at("scenes"), 2);
     EXPECT_EQ(record.at("frames"), 12);
   }
-  const nlohmann::json oracle = Record(results, "ground-truth");
-  EXPECT_EQ(oracle.at("mean_error").get<double>(), 0.0);
-  EXPECT_EQ(oracle.at("error_variance").get<double>(), 0.0);
-  EXPECT_EQ(oracle.at("coverage").get<double>(), 1.0);
-  const nlohmann::json constant = Record(results, "constant=0.25");
-  EXPECT_EQ(constant.at("mean_error").get<double>(), 0.25);
-  EXPECT_EQ(constant.at("error_variance").get<double>(), 0.0);
+  const EvalAggregate oracle = Record(results, "ground-truth");
+  EXPECT_EQ(oracle.mean_error, 0.0);
+  EXPECT_EQ(oracle.error_variance, 0.0);
+  EXPECT_EQ(oracle.coverage, 1.0);
+  const EvalAggregate constant = Record(results, "constant=0.25");
+  EXPECT_EQ(constant.mean_error, 0.25);
+  EXPECT_EQ(constant.error_variance, 0.0);
   // FSGP-BGK on flat ground: nearly free everywhere, in a few milliseconds
-  const nlohmann::json fsgp_bgk = Record(results, "fsgp-bgk");
-  EXPECT_LT(fsgp_bgk.at("mean_error").get<double>(), 0.05);
-  EXPECT_GT(fsgp_bgk.at("runtime_ms_median").get<double>(), 0.0);
+  const EvalAggregate fsgp_bgk = Record(results, "fsgp-bgk");
+  EXPECT_LT(fsgp_bgk.mean_error, 0.05);
+  EXPECT_GT(fsgp_bgk.runtime_ms_median, 0.0);
 #if !defined(__SANITIZE_ADDRESS__) && !TRAV_HAS_ADDRESS_SANITIZER
   // glibc's mallinfo2 sees nothing of AddressSanitizer's allocator (scripts/test --sanitize)
-  EXPECT_GT(fsgp_bgk.at("peak_memory_mb").get<double>(), 0.0);
+  EXPECT_GT(fsgp_bgk.peak_memory_mb, 0.0);
 #endif
-  EXPECT_TRUE(Record(results, "fsgp-bgk-m50").contains("mean_error"));
+  EXPECT_EQ(Record(results, "fsgp-bgk-m50").scenes, 2);
 
   // each scene keeps its per-frame numbers
   const nlohmann::json scene = ReadJson(out / "scenes/flat-5.json");
