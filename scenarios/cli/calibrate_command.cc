@@ -5,6 +5,7 @@
 
 #include "scenarios/cli/cli.h"
 #include "scenarios/run/calibration.h"
+#include "scenarios/run/output_folder.h"
 
 namespace trav::scenarios::cli {
 namespace {
@@ -22,6 +23,12 @@ int Calibrate(const ScenarioOptions& options) {
   }
   std::printf("effective_track_factor that matches the commanded yaw rates: %.3f\n",
               result.effective_track_factor);
+  if (options.out) {
+    OutputFolder folder(scenario.output_dir, "calibrate", options.overwrite);
+    WriteCalibration(result, scenario.skid_steer, folder);
+    folder.Commit();
+    std::printf("written to %s (calibration.csv, calibration.json)\n", folder.final_path().c_str());
+  }
   return kExitExpected;
 }
 

@@ -59,6 +59,9 @@ struct ScenarioOptions {
 /// Registers the scenario positional, --out, --overwrite, --seed and --set.
 void AddScenarioOptions(CLI::App* command, ScenarioOptions* options);
 
+/// Accepts a seed: digits only (CLI11 would read "-1" into an unsigned as 2^64 - 1).
+const CLI::Validator& SeedValidator();
+
 /// The scenario of the options: the file (or the built-in default) with --set, --seed, --out and
 /// the video choice applied. @throws common::InputError on bad input.
 Scenario ResolveScenario(const ScenarioOptions& options, std::optional<bool> video);

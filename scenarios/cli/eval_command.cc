@@ -52,6 +52,7 @@ void AddEvalOptions(CLI::App* eval, EvalFlags* flags) {
   eval->add_option("--out", flags->out, "Output folder")->capture_default_str();
   eval->add_option("--scenes", options.scenes, "Scenes per terrain type")->capture_default_str();
   eval->add_option("--seed", options.seed, "Terrain seed of each type's first scene")
+      ->check(SeedValidator())
       ->capture_default_str();
   eval->add_option("--jobs", options.jobs, "Scenes run at once (worker processes)")
       ->capture_default_str();

@@ -11,6 +11,7 @@
 #include "common/input_error.h"
 #include "common/logging.h"
 #include "scenarios/cli/cli.h"
+#include "scenarios/run/provenance.h"
 
 namespace trav::scenarios::cli {
 namespace {
@@ -51,6 +52,9 @@ int RunParsed(const std::vector<Command>& commands) {
 int Main(int argc, char** argv) {
   CLI::App app{"trav: physics-simulated navigation testbed for the Scout Mini on uneven terrain"};
   app.require_subcommand(1);
+  // options of trav itself (-v) are accepted after the subcommand too
+  app.fallthrough();
+  app.set_version_flag("--version", VersionText());
   app.set_help_all_flag("--help-all", "Help for every command");
   bool verbose = false;
   app.add_flag("-v,--verbose", verbose,

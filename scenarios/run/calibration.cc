@@ -1,6 +1,10 @@
 #include "scenarios/run/calibration.h"
 
 #include <cmath>
+#include <string>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "sim/simulation.h"
 
@@ -66,6 +70,26 @@ CalibrationResult CalibrateSkidSteer(const std::string& robot_model_path,
     result.samples.push_back(Measure(flat, options, config, {v, 0.0}));
   result.effective_track_factor = config.effective_track_factor * ratio_sum / spins;
   return result;
+}
+
+void WriteCalibration(const CalibrationResult& result, const controller::SkidSteerConfig& used,
+                      const OutputFolder& folder) {
+  std::string csv = "commanded_v_m_s,commanded_omega_rad_s,measured_v_m_s,measured_omega_rad_s\n";
+  nlohmann::json samples = nlohmann::json::array();
+  for (const CalibrationSample& sample : result.samples) {
+    fmt::format_to(std::back_inserter(csv), "{},{},{:.6f},{:.6f}\n", sample.commanded_v_m_s,
+                   sample.commanded_omega_rad_s, sample.measured_v_m_s,
+                   sample.measured_omega_rad_s);
+    samples.push_back({{"commanded_v_m_s", sample.commanded_v_m_s},
+                       {"commanded_omega_rad_s", sample.commanded_omega_rad_s},
+                       {"measured_v_m_s", sample.measured_v_m_s},
+                       {"measured_omega_rad_s", sample.measured_omega_rad_s}});
+  }
+  WriteTextFile(folder.File("calibration.csv"), csv);
+  const nlohmann::json summary = {{"effective_track_factor_used", used.effective_track_factor},
+                                  {"effective_track_factor", result.effective_track_factor},
+                                  {"samples", samples}};
+  WriteTextFile(folder.File("calibration.json"), summary.dump(2) + "\n");
 }
 
 }  // namespace trav::scenarios

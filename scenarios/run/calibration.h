@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "controller/skid_steer.h"
+#include "scenarios/run/output_folder.h"
 
 namespace trav::scenarios {
 
@@ -28,5 +29,11 @@ struct CalibrationResult {
 /// Deterministic; takes about a second.
 CalibrationResult CalibrateSkidSteer(const std::string& robot_model_path,
                                      const controller::SkidSteerConfig& config);
+
+/// Writes `result` into `folder`: calibration.csv (one row per sample: commanded and measured v
+/// [m/s] and omega [rad/s]) and calibration.json (the samples, the factor measured with and the
+/// factor that matches).
+void WriteCalibration(const CalibrationResult& result, const controller::SkidSteerConfig& used,
+                      const OutputFolder& folder);
 
 }  // namespace trav::scenarios

@@ -17,6 +17,12 @@ std::string TextHash(const std::string& text) {
   return fmt::format("fnv1a64:{:016x}", hash);
 }
 
+std::string VersionText() {
+  return fmt::format("trav {} (commit {}, {} build, {})\nMuJoCo {}, Embree {}, Ceres {}",
+                     TRAV_VERSION, TRAV_GIT_COMMIT, TRAV_BUILD_TYPE, TRAV_COMPILER,
+                     sim::MujocoVersion(), lidar::EmbreeVersion(), controller::CeresVersion());
+}
+
 nlohmann::json Provenance(const std::string& scenario_yaml) {
   return {{"trav_version", TRAV_VERSION},
           {"trav_commit", TRAV_GIT_COMMIT},

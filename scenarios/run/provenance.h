@@ -12,6 +12,10 @@ namespace trav::scenarios {
 /// inputs and code.
 nlohmann::json Provenance(const std::string& scenario_yaml);
 
+/// What `trav --version` prints: trav's version and commit, the build, and the versions of the
+/// libraries that decide a run (MuJoCo, Embree, Ceres).
+std::string VersionText();
+
 /// The 64-bit FNV-1a hash of `text` as "fnv1a64:<16 hex digits>".
 std::string TextHash(const std::string& text);
 

@@ -1,4 +1,5 @@
 // End-to-end tests of the trav command: exit codes, outputs, error messages, determinism.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -6,6 +7,7 @@
 #include <sstream>
 #include <string>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -164,6 +166,48 @@ TEST_F(TravCliTest, UsageErrorsExitWithTwo) {
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_THAT(help.output, HasSubstr("--no-video"));
   ExpectNoOutputFolder();
+}
+
+TEST_F(TravCliTest, VersionNamesTravAndTheLibrariesThatDecideARun) {
+  const CommandResult result = RunTrav("--version");
+  EXPECT_EQ(result.exit_code, 0);
+  EXPECT_THAT(result.output, HasSubstr("trav 0.1.0 (commit "));
+  EXPECT_THAT(result.output, HasSubstr("MuJoCo 2.2.2, Embree "));
+}
+
+TEST_F(TravCliTest, ANegativeSeedIsBadInputAndVerboseWorksAfterTheSubcommand) {
+  const std::string scenario = WriteScenario("short.yaml", kShortRun);
+  for (const char* seed : {"-1", "x7", "1.5"}) {
+    const CommandResult result =
+        RunTrav("run " + scenario + " --seed=" + seed + " --out " + (root_ / "run").string());
+    EXPECT_EQ(result.exit_code, 2) << seed;
+    EXPECT_THAT(
+        result.output,
+        HasSubstr(std::string("--seed: expected a seed (a non-negative integer), got ") + seed));
+  }
+  EXPECT_EQ(RunTrav("eval --seed=-1 --out " + (root_ / "eval").string()).exit_code, 2);
+  ExpectNoOutputFolder();
+  const CommandResult verbose =
+      RunTrav("run " + scenario + " -v --seed 4 --out " + (root_ / "run").string());
+  EXPECT_EQ(verbose.exit_code, 0) << verbose.output;
+}
+
+TEST_F(TravCliTest, CalibrateWritesItsTableWithOut) {
+  const CommandResult result = RunTrav("calibrate --out " + (root_ / "calibration").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const std::string csv = ReadFile(root_ / "calibration" / "calibration.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "commanded_v_m_s,commanded_omega_rad_s,measured_v_m_s,measured_omega_rad_s");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 7);  // a header and six samples
+  const nlohmann::json summary =
+      nlohmann::json::parse(ReadFile(root_ / "calibration" / "calibration.json"));
+  EXPECT_EQ(summary.at("samples").size(), 6u);
+  EXPECT_EQ(summary.at("effective_track_factor_used"), 2.48);
+  EXPECT_NEAR(summary.at("effective_track_factor").get<double>(), 2.48, 0.25);
+  EXPECT_THAT(result.output,
+              HasSubstr(fmt::format("effective_track_factor that matches the commanded yaw rates: "
+                                    "{:.3f}",
+                                    summary.at("effective_track_factor").get<double>())));
 }
 
 TEST_F(TravCliTest, RunReportsLidarFramesAndRecordsClouds) {
