@@ -161,6 +161,66 @@ std::string TableOne(const std::vector<EvalAggregate>& rows, const EvalOptions& 
   return md.str();
 }
 
+// A metric's value for a table cell ("-" when unset).
+std::string Cell(const std::optional<double>& value, const char* format) {
+  return value ? common::FormatNumber(format, *value) : std::string("-");
+}
+
+// The hazard table: AUROC, average precision, Spearman and calibrated error per terrain and method.
+std::string HazardTable(const std::vector<EvalAggregate>& rows, const EvalOptions& options,
+                        const std::vector<std::string>& methods) {
+  std::ostringstream md;
+  md << "## Finding hazards: AUROC / average precision / Spearman / calibrated error\n\n"
+     << "On the final map of each scene over its observed cells (docs/evaluation.md): how the cost "
+        "ranks the untraversable cells (truth cost >= the planner's lethal threshold), its rank "
+        "correlation with the truth's cost, and the mean error after a monotone calibration fitted "
+        "on the method's other scenes; means over scenes. A constant map has AUROC 0.5, the "
+        "oracle 1.\n\n| terrain |";
+  for (const std::string& method : methods) md << " " << method << " |";
+  md << "\n|---|";
+  for (std::size_t i = 0; i < methods.size(); ++i) md << "---|";
+  md << "\n";
+  for (const std::string& terrain : options.terrains) {
+    md << "| " << terrain << " |";
+    for (const std::string& method : methods) {
+      const EvalAggregate* row = Find(rows, terrain, method);
+      md << " "
+         << (row ? Cell(row->auroc, "%.3f") + " / " + Cell(row->average_precision, "%.3f") + " / " +
+                       Cell(row->spearman, "%.3f") + " / " + Cell(row->calibrated_mae, "%.4f")
+                 : std::string("-"))
+         << " |";
+    }
+    md << "\n";
+  }
+  return md.str();
+}
+
+// The paired differences against the reference, with the claims they settle.
+std::string PairedTable(const std::vector<EvalAggregate>& rows) {
+  std::ostringstream md;
+  md << "## Paired differences (95 % bootstrap intervals over scenes)\n\n"
+     << "Each method minus the reference on the same scenes; a claim is made only where the "
+        "interval excludes zero over at least 5 scenes.\n\n| terrain | method | metric | scenes | "
+        "difference | interval | "
+        "claim |\n|---|---|---|---|---|---|---|\n";
+  for (const EvalAggregate& row : rows) {
+    for (const PairedDifference& d : row.paired) {
+      const std::string unsettled =
+          d.scenes < 5 ? "not settled (fewer than 5 scenes)" : "not settled";
+      const std::string claim = d.verdict == "not settled"
+                                    ? unsettled
+                                    : row.paired_with +
+                                          (d.verdict == "worse" ? " beats " : " loses to ") +
+                                          row.method + " in " + d.metric + " on " + row.terrain;
+      md << "| " << row.terrain << " | " << row.method << " vs " << row.paired_with << " | "
+         << d.metric << " | " << d.scenes << " | " << common::FormatNumber("%+.4f", d.mean)
+         << " | [" << common::FormatNumber("%+.4f", d.low) << ", "
+         << common::FormatNumber("%+.4f", d.high) << "] | " << claim << " |\n";
+    }
+  }
+  return md.str();
+}
+
 // A two-method comparison over every terrain type (Tables II and III).
 std::string Comparison(const std::vector<EvalSceneRecord>& scenes, const std::string& title,
                        const std::vector<std::pair<std::string, std::string>>& methods_and_paper,
@@ -212,7 +272,17 @@ void to_json(nlohmann::json& json, const EvalAggregate& row) {
           {"peak_memory_mb", row.peak_memory_mb},
           {"scenes", row.scenes},
           {"frames", row.frames},
-          {"coverage", row.coverage}};
+          {"coverage", row.coverage},
+          {"cpu_ms_median", row.cpu_ms_median},
+          {"wall_ms_median", row.wall_ms_median},
+          {"auroc", NumberOrNull(row.auroc)},
+          {"average_precision", NumberOrNull(row.average_precision)},
+          {"spearman", NumberOrNull(row.spearman)},
+          {"calibrated_mae", NumberOrNull(row.calibrated_mae)},
+          {"elevation_rmse", NumberOrNull(row.elevation_rmse)},
+          {"scene_values", row.scene_values},
+          {"paired_with", row.paired_with},
+          {"paired", row.paired}};
 }
 
 void from_json(const nlohmann::json& json, EvalAggregate& row) {
@@ -225,18 +295,78 @@ void from_json(const nlohmann::json& json, EvalAggregate& row) {
   json.at("scenes").get_to(row.scenes);
   json.at("frames").get_to(row.frames);
   json.at("coverage").get_to(row.coverage);
+  json.at("cpu_ms_median").get_to(row.cpu_ms_median);
+  json.at("wall_ms_median").get_to(row.wall_ms_median);
+  row.auroc = OptionalNumber(json.at("auroc"));
+  row.average_precision = OptionalNumber(json.at("average_precision"));
+  row.spearman = OptionalNumber(json.at("spearman"));
+  row.calibrated_mae = OptionalNumber(json.at("calibrated_mae"));
+  row.elevation_rmse = OptionalNumber(json.at("elevation_rmse"));
+  json.at("scene_values").get_to(row.scene_values);
+  json.at("paired_with").get_to(row.paired_with);
+  json.at("paired").get_to(row.paired);
 }
+
+namespace {
+
+// The mean of a metric over the scenes where it is defined.
+std::optional<double> MeanOver(const std::vector<SceneMetrics>& scenes, const std::string& metric) {
+  double sum = 0.0;
+  int count = 0;
+  for (const SceneMetrics& scene : scenes) {
+    if (const std::optional<double> value = MetricOf(scene, metric)) {
+      sum += *value;
+      ++count;
+    }
+  }
+  return count > 0 ? std::optional<double>(sum / count) : std::nullopt;
+}
+
+// The hazard metrics of a row from its scenes' values, and the differences against `reference`.
+void AddHazardMetrics(const std::vector<SceneMetrics>& of_type,
+                      const std::vector<SceneMetrics>& reference_of_type,
+                      const std::string& reference, EvalAggregate* row) {
+  row->scene_values = of_type;
+  row->auroc = MeanOver(of_type, "auroc");
+  row->average_precision = MeanOver(of_type, "average_precision");
+  row->spearman = MeanOver(of_type, "spearman");
+  row->calibrated_mae = MeanOver(of_type, "calibrated_mae");
+  row->elevation_rmse = MeanOver(of_type, "elevation_rmse");
+  if (row->method == reference || reference_of_type.empty()) return;
+  row->paired_with = reference;
+  row->paired = PairedDifferences(of_type, reference_of_type);
+}
+
+// The metrics of the scenes of one terrain type.
+std::vector<SceneMetrics> OfTerrain(const std::vector<SceneMetrics>& metrics,
+                                    const std::vector<EvalSceneRecord>& scenes,
+                                    const std::string& terrain) {
+  std::vector<SceneMetrics> of_type;
+  for (const SceneMetrics& m : metrics) {
+    for (const EvalSceneRecord& scene : scenes) {
+      if (scene.id == m.id && scene.terrain == terrain) of_type.push_back(m);
+    }
+  }
+  return of_type;
+}
+
+}  // namespace
 
 std::vector<EvalAggregate> AggregateScenes(const std::vector<EvalSceneRecord>& scenes,
                                            const std::vector<std::string>& terrains,
-                                           const std::vector<std::string>& methods) {
+                                           const std::vector<std::string>& methods,
+                                           const std::string& reference) {
+  std::map<std::string, std::vector<SceneMetrics>> metrics;
+  for (const std::string& method : methods) metrics[method] = MethodSceneMetrics(scenes, method);
+  const std::vector<SceneMetrics> none;
+  const auto reference_metrics = metrics.find(reference);
   std::vector<EvalAggregate> rows;
   for (const std::string& terrain : terrains) {
     for (const std::string& method : methods) {
       EvalAggregate row;
       row.terrain = terrain;
       row.method = method;
-      std::vector<double> runtimes;
+      std::vector<double> runtimes, walls;
       for (const EvalSceneRecord& scene : scenes) {
         if (scene.terrain != terrain) continue;
         const EvalMethodRecord* record = MethodRecord(scene, method);
@@ -248,6 +378,7 @@ std::vector<EvalAggregate> AggregateScenes(const std::vector<EvalSceneRecord>& s
         row.peak_memory_mb = std::max(row.peak_memory_mb, record->peak_memory_mb);
         runtimes.insert(runtimes.end(), record->frames.runtime_ms.begin(),
                         record->frames.runtime_ms.end());
+        walls.insert(walls.end(), record->frames.wall_ms.begin(), record->frames.wall_ms.end());
       }
       if (row.scenes == 0) continue;
       row.mean_error /= row.scenes;
@@ -255,6 +386,13 @@ std::vector<EvalAggregate> AggregateScenes(const std::vector<EvalSceneRecord>& s
       row.coverage /= row.scenes;
       row.frames = static_cast<int>(runtimes.size());
       row.runtime_ms_median = common::Quantile(runtimes, 0.5);
+      row.cpu_ms_median = row.runtime_ms_median;
+      row.wall_ms_median = common::Quantile(walls, 0.5);
+      AddHazardMetrics(OfTerrain(metrics[method], scenes, terrain),
+                       reference_metrics == metrics.end()
+                           ? none
+                           : OfTerrain(reference_metrics->second, scenes, terrain),
+                       reference, &row);
       rows.push_back(row);
     }
   }
@@ -267,14 +405,21 @@ namespace {
 void WriteEvalResults(const fs::path& folder, const std::vector<EvalAggregate>& rows) {
   std::string csv =
       "terrain,method,mean_error,error_variance,runtime_ms_median,peak_memory_mb,scenes,frames,"
-      "coverage\n";
+      "coverage,cpu_ms_median,wall_ms_median,auroc,average_precision,spearman,calibrated_mae,"
+      "elevation_rmse\n";
+  auto optional = [](const std::optional<double>& value) {
+    return value ? common::FormatNumber("%.6g", *value) : std::string();
+  };
   for (const EvalAggregate& row : rows) {
     csv += row.terrain + "," + row.method + "," + common::FormatNumber("%.6g", row.mean_error) +
            "," + common::FormatNumber("%.6g", row.error_variance) + "," +
            common::FormatNumber("%.6g", row.runtime_ms_median) + "," +
            common::FormatNumber("%.6g", row.peak_memory_mb) + "," + std::to_string(row.scenes) +
            "," + std::to_string(row.frames) + "," + common::FormatNumber("%.4f", row.coverage) +
-           "\n";
+           "," + common::FormatNumber("%.6g", row.cpu_ms_median) + "," +
+           common::FormatNumber("%.6g", row.wall_ms_median) + "," + optional(row.auroc) + "," +
+           optional(row.average_precision) + "," + optional(row.spearman) + "," +
+           optional(row.calibrated_mae) + "," + optional(row.elevation_rmse) + "\n";
   }
   WriteTextFileAtomically((folder / "results.json").string(), nlohmann::json(rows).dump(1) + "\n");
   WriteTextFileAtomically((folder / "results.csv").string(), csv);
@@ -380,6 +525,8 @@ void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
      << options.seed + static_cast<std::uint64_t>(options.scenes) - 1
      << "); per-frame numbers in scenes/<id>.json. " << DriveOutcomes(scenes) << "\n\n"
      << TableOne(rows, options, methods) << "\n"
+     << HazardTable(rows, options, methods) << "\n"
+     << PairedTable(rows) << "\n"
      << Comparison(
             scenes, "Table II: FSGP-BGK against the elevation map (all terrain types)",
             {{"fsgp-bgk", "0.1139 / 0.0333 / 33.84 ms"}, {"em", "0.1953 / 0.0422 / 107.85 ms"}},

@@ -38,8 +38,14 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kConstantPrefix = "constant=";
+// The floor of every table: a constant map ranks nothing (AUROC 0.5).
+constexpr const char* kFloorMethod = "constant=0.5";
+// The drive outcome of a scene whose route draws all failed (no methods run).
+constexpr const char* kNoRoute = "no_route";
 constexpr const char* kAblationPrefix = "fsgp-bgk-m";
 constexpr int kRouteDraws = 16;
+// The route's length as a fraction of --route-length, tried in turn when no heading has a path.
+constexpr double kRouteLengths[] = {1.0, 0.75, 0.5};
 constexpr double kBytesPerMiB = 1024.0 * 1024.0;
 
 // The scene scenario of a terrain type before its route: 50 x 50 m like the paper's scenes, the
@@ -192,14 +198,16 @@ EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene
   double peak_heap = 0.0;
   std::unique_ptr<mapping::TraversabilityMapper> mapper = MakeEvalMapper(method, scene, truth_W);
   ObservedCells observed(truth_W.geometry(), scene.mapping.area);
-  std::vector<double> t, mean, variance, runtime, heap_mb;
+  std::vector<double> t, mean, variance, runtime, wall, heap_mb;
   std::vector<int> compared, observed_count;
   double mean_sum = 0.0, variance_sum = 0.0;
   int scored = 0;
   for (const RecordedFrame& frame : frames) {
     const common::Stopwatch start;
+    const common::ThreadCpuStopwatch cpu;
     mapper->Update(frame.points_W, frame.X_WB, frame.t_s);
-    runtime.push_back(start.ElapsedMilliseconds());
+    runtime.push_back(cpu.ElapsedMilliseconds());
+    wall.push_back(start.ElapsedMilliseconds());
     const double heap = HeapInUseBytes() - heap_before;
     peak_heap = std::max(peak_heap, heap);
     heap_mb.push_back(heap / kBytesPerMiB);
@@ -223,6 +231,10 @@ EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene
   record.error_variance = NumberOrNone(scored > 0 ? variance_sum / scored : std::nan(""));
   record.scored_frames = scored;
   record.runtime_ms_median = common::Quantile(runtime, 0.5);
+  record.cpu_ms_median = record.runtime_ms_median;
+  record.wall_ms_median = common::Quantile(wall, 0.5);
+  record.hazards =
+      ScoreHazards(mapper->map(), truth_W, observed, scene.planner.search.lethal_threshold);
   record.runtime_ms_max = runtime.empty() ? 0.0 : *std::max_element(runtime.begin(), runtime.end());
   record.peak_memory_mb = peak_heap / kBytesPerMiB;
   const double last_observed = observed_count.empty() ? 0.0 : observed_count.back();
@@ -236,28 +248,35 @@ EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene
   f.compared_cells = std::move(compared);
   f.observed_cells = std::move(observed_count);
   f.runtime_ms = std::move(runtime);
+  f.wall_ms = std::move(wall);
   f.heap_mb = std::move(heap_mb);
   return record;
 }
 
 // Draws the route of a scene: start and goal `length` apart through the world's centre at a
-// random heading, until A* finds a path between them on the ground truth (the world is
-// generated with obstacles kept clear of both). Sets the scenario's start and goal and returns
-// the ground truth of the world drawn.
-common::GridLayers DrawRoute(Scenario* scene, double length_m, std::uint64_t seed) {
+// random heading, until A* finds a path between them on the ground truth (the world is generated
+// with obstacles kept clear of both), kRouteDraws headings at each length of kRouteLengths in turn.
+// Sets the scenario's start and goal and returns the ground truth of the world drawn, or nothing
+// (the scene is recorded as no_route); `route` gets the length and the draws taken.
+std::optional<common::GridLayers> DrawRoute(Scenario* scene, double length_m, std::uint64_t seed,
+                                            EvalRoute* route) {
   common::Random random(seed);
-  for (int draw = 0; draw < kRouteDraws; ++draw) {
-    const double heading = random.Uniform(-M_PI, M_PI);
-    const Eigen::Vector2d half =
-        0.5 * length_m * Eigen::Vector2d(std::cos(heading), std::sin(heading));
-    scene->start_W.position = -half;
-    scene->start_W.yaw = heading;
-    scene->goal_W = half;
-    common::GridLayers truth_W = ScenarioGroundTruth(*scene);
-    if (OptimalPathLength(*scene, truth_W) > 0.0) return truth_W;
+  for (const double fraction : kRouteLengths) {
+    for (int draw = 0; draw < kRouteDraws; ++draw) {
+      ++route->draws;
+      const double heading = random.Uniform(-M_PI, M_PI);
+      const Eigen::Vector2d half =
+          0.5 * fraction * length_m * Eigen::Vector2d(std::cos(heading), std::sin(heading));
+      scene->start_W.position = -half;
+      scene->start_W.yaw = heading;
+      scene->goal_W = half;
+      if (std::optional<common::GridLayers> truth_W = RoutableGroundTruth(*scene)) {
+        route->length_m = fraction * length_m;
+        return truth_W;
+      }
+    }
   }
-  throw std::runtime_error("no route of " + std::to_string(length_m) + " m with a path on the " +
-                           "ground truth in " + std::to_string(kRouteDraws) + " draws");
+  return std::nullopt;
 }
 
 // A finished scene's record, or nothing if it is absent or does not read as one (then it is
@@ -272,14 +291,7 @@ std::optional<EvalSceneRecord> FinishedScene(const fs::path& path) {
   }
 }
 
-// A number or null, and back; an array of them, and back.
-nlohmann::json NumberOrNull(const std::optional<double>& value) {
-  return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
-}
-std::optional<double> OptionalNumber(const nlohmann::json& json) {
-  if (json.is_null()) return std::nullopt;
-  return json.get<double>();
-}
+// An array of numbers or nulls, and back.
 nlohmann::json NumbersOrNulls(const std::vector<std::optional<double>>& values) {
   nlohmann::json array = nlohmann::json::array();
   for (const std::optional<double>& value : values) array.push_back(NumberOrNull(value));
@@ -394,6 +406,14 @@ int BaseInducingPoints(const EvalOptions& options) {
 
 std::vector<std::string> EvalMethods(const EvalOptions& options) {
   std::vector<std::string> methods = options.methods;
+  // the floor and the ceiling of every table: a constant map and the oracle
+  if (std::none_of(methods.begin(), methods.end(),
+                   [](const std::string& m) { return StartsWith(m, kConstantPrefix); })) {
+    methods.push_back(kFloorMethod);
+  }
+  if (std::find(methods.begin(), methods.end(), "ground-truth") == methods.end()) {
+    methods.push_back("ground-truth");
+  }
   const int base = BaseInducingPoints(options);
   for (const int count : options.inducing_points) {
     if (count != base) methods.push_back(kAblationPrefix + std::to_string(count));
@@ -408,6 +428,7 @@ void to_json(nlohmann::json& json, const EvalFrames& f) {
           {"compared_cells", f.compared_cells},
           {"observed_cells", f.observed_cells},
           {"runtime_ms", f.runtime_ms},
+          {"wall_ms", f.wall_ms},
           {"heap_mb", f.heap_mb}};
 }
 
@@ -418,6 +439,7 @@ void from_json(const nlohmann::json& json, EvalFrames& f) {
   json.at("compared_cells").get_to(f.compared_cells);
   json.at("observed_cells").get_to(f.observed_cells);
   json.at("runtime_ms").get_to(f.runtime_ms);
+  json.at("wall_ms").get_to(f.wall_ms);
   json.at("heap_mb").get_to(f.heap_mb);
 }
 
@@ -427,9 +449,12 @@ void to_json(nlohmann::json& json, const EvalMethodRecord& r) {
           {"scored_frames", r.scored_frames},
           {"runtime_ms_median", r.runtime_ms_median},
           {"runtime_ms_max", r.runtime_ms_max},
+          {"cpu_ms_median", r.cpu_ms_median},
+          {"wall_ms_median", r.wall_ms_median},
           {"peak_memory_mb", r.peak_memory_mb},
           {"coverage", r.coverage},
           {"frames", r.frames}};
+  json.update(nlohmann::json(r.hazards));
 }
 
 void from_json(const nlohmann::json& json, EvalMethodRecord& r) {
@@ -438,19 +463,28 @@ void from_json(const nlohmann::json& json, EvalMethodRecord& r) {
   json.at("scored_frames").get_to(r.scored_frames);
   json.at("runtime_ms_median").get_to(r.runtime_ms_median);
   json.at("runtime_ms_max").get_to(r.runtime_ms_max);
+  json.at("cpu_ms_median").get_to(r.cpu_ms_median);
+  json.at("wall_ms_median").get_to(r.wall_ms_median);
   json.at("peak_memory_mb").get_to(r.peak_memory_mb);
   json.at("coverage").get_to(r.coverage);
   json.at("frames").get_to(r.frames);
+  json.get_to(r.hazards);
 }
 
 void to_json(nlohmann::json& json, const EvalRoute& r) {
-  json = {{"start", r.start}, {"goal", r.goal}, {"optimal_length_m", r.optimal_length_m}};
+  json = {{"start", r.start},
+          {"goal", r.goal},
+          {"optimal_length_m", r.optimal_length_m},
+          {"length_m", r.length_m},
+          {"draws", r.draws}};
 }
 
 void from_json(const nlohmann::json& json, EvalRoute& r) {
   json.at("start").get_to(r.start);
   json.at("goal").get_to(r.goal);
   json.at("optimal_length_m").get_to(r.optimal_length_m);
+  json.at("length_m").get_to(r.length_m);
+  json.at("draws").get_to(r.draws);
 }
 
 void to_json(nlohmann::json& json, const EvalDrive& d) {
@@ -486,7 +520,17 @@ void from_json(const nlohmann::json& json, EvalSceneRecord& r) {
 EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
                              const std::string& robot_model_path) {
   Scenario scenario = SceneScenario(options, scene);
-  const common::GridLayers truth_W = DrawRoute(&scenario, options.route_length_m, scene.seed);
+  EvalSceneRecord record;
+  record.id = scene.Id();
+  record.terrain = scene.terrain;
+  record.seed = scene.seed;
+  const std::optional<common::GridLayers> routable =
+      DrawRoute(&scenario, options.route_length_m, scene.seed, &record.route);
+  if (!routable) {
+    record.drive.outcome = kNoRoute;
+    return record;
+  }
+  const common::GridLayers& truth_W = *routable;
 
   // the drive: the closed loop on the oracle, every frame recorded as the mapper would get it
   std::vector<RecordedFrame> frames;
@@ -494,17 +538,13 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   ClosedLoop loop(scenario, {robot_model_path, options.max_frames});
   const RunSummary drive = RunLoop(&loop, {&recorder});
 
-  EvalSceneRecord record;
   for (const std::string& method : EvalMethods(options)) {
     record.methods[method] = EvaluateMethod(method, scenario, truth_W, frames);
   }
-  record.id = scene.Id();
-  record.terrain = scene.terrain;
-  record.seed = scene.seed;
-  record.route = {
-      {scenario.start_W.position.x(), scenario.start_W.position.y(), scenario.start_W.yaw},
-      {scenario.goal_W.x(), scenario.goal_W.y()},
-      drive.navigation ? drive.navigation->optimal_path_length_m : 0.0};
+  record.route.start = {scenario.start_W.position.x(), scenario.start_W.position.y(),
+                        scenario.start_W.yaw};
+  record.route.goal = {scenario.goal_W.x(), scenario.goal_W.y()};
+  record.route.optimal_length_m = drive.navigation ? drive.navigation->optimal_path_length_m : 0.0;
   record.drive = {common::NameOf(drive.outcome), drive.sim_time_s, drive.distance_m, frames.size(),
                   static_cast<long long>(truth_W.geometry().num_x) * truth_W.geometry().num_y};
   return record;

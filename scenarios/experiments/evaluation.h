@@ -11,6 +11,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "scenarios/experiments/job_array.h"
+#include "scenarios/run/run_metrics.h"
 
 namespace trav::scenarios {
 
@@ -61,7 +62,9 @@ struct EvalScene {
 /// The scenes of an evaluation, terrain by terrain, in seed order.
 std::vector<EvalScene> EvalScenes(const EvalOptions& options);
 
-/// The methods every scene runs: `options.methods`, then the ablation's fsgp-bgk-m<count>.
+/// The methods every scene runs: `options.methods`, the floor and the ceiling of every table
+/// (constant=0.5 unless a constant is listed, and the ground-truth oracle), then the ablation's
+/// fsgp-bgk-m<count>.
 std::vector<std::string> EvalMethods(const EvalOptions& options);
 
 /// The inducing-point count of FSGP-BGK in the scenes (the mapping default unless overridden).
@@ -75,7 +78,8 @@ struct EvalFrames {
   std::vector<std::optional<double>> error_variance;
   std::vector<int> compared_cells;  ///< observed cells the map knows
   std::vector<int> observed_cells;  ///< cells observed so far
-  std::vector<double> runtime_ms;   ///< wall time of the update [ms]
+  std::vector<double> runtime_ms;   ///< CPU time of the update (thread CPU clock) [ms]
+  std::vector<double> wall_ms;      ///< wall time of the update [ms]
   std::vector<double> heap_mb;      ///< heap growth since the method was built [MiB]
 };
 
@@ -90,10 +94,15 @@ struct EvalMethodRecord {
   std::optional<double> mean_error;
   std::optional<double> error_variance;
   int scored_frames{0};
-  double runtime_ms_median{0.0};  ///< median update time [ms]
-  double runtime_ms_max{0.0};
-  double peak_memory_mb{0.0};  ///< largest heap growth [MiB]
-  double coverage{0.0};        ///< compared / observed cells after the last frame
+  double runtime_ms_median{0.0};  ///< median CPU time of an update (cpu_ms_median) [ms]
+  double runtime_ms_max{0.0};     ///< largest CPU time of an update [ms]
+  double cpu_ms_median{0.0};      ///< median CPU time of an update (thread CPU clock) [ms]
+  double wall_ms_median{0.0};     ///< median wall time of an update [ms]
+  double peak_memory_mb{0.0};     ///< largest heap growth [MiB]
+  double coverage{0.0};           ///< compared / observed cells after the last frame
+  /// The final map's hazard scores (ScoreHazards: AUROC, average precision, Spearman, elevation
+  /// RMSE over the observed cells; untraversable: truth cost >= the planner's lethal threshold).
+  HazardScores hazards;
   EvalFrames frames;
 };
 
@@ -106,6 +115,8 @@ struct EvalRoute {
   std::array<double, 3> start{};  ///< x, y [m], yaw [rad]
   std::array<double, 2> goal{};   ///< x, y [m]
   double optimal_length_m{0.0};   ///< the simplified A* path on the ground truth
+  double length_m{0.0};  ///< start to goal in a straight line (--route-length, or shorter) [m]
+  int draws{0};          ///< routes drawn until one had a path (all of them for no_route)
 };
 
 /// The record's "route" object, and back.
@@ -114,7 +125,7 @@ void from_json(const nlohmann::json& json, EvalRoute& route);
 
 /// How the drive of a scene ended.
 struct EvalDrive {
-  std::string outcome;  ///< the Outcome's name
+  std::string outcome;  ///< the Outcome's name, or "no_route" (no route had a path)
   double sim_time_s{0.0};
   double distance_m{0.0};
   std::size_t frames{0};            ///< LiDAR frames recorded
@@ -145,8 +156,9 @@ void from_json(const nlohmann::json& json, EvalSceneRecord& record);
 /// summary (mean over frames of the mean error and of the error variance, median update time, peak
 /// heap growth). Methods run one after the other on the recorded frames, so each is timed alone and
 /// its memory is its own.
-/// @throws common::InputError on a bad override or terrain; std::runtime_error if no route is
-/// found on the ground truth in 16 draws.
+/// A scene where no route has a path (16 headings at the full, three-quarter and half route length)
+/// ends in seconds with drive outcome "no_route" and no methods.
+/// @throws common::InputError on a bad override or terrain.
 EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
                              const std::string& robot_model_path);
 

@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <optional>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "common/statistics.h"
+#include "mapping/traversability_mapper.h"
 #include "mapping/window.h"
 
 namespace trav::scenarios {
@@ -98,6 +102,87 @@ LayerError CompareObserved(const common::GridLayers& map, const common::GridLaye
     if (predicted) error.Add(std::abs(static_cast<double>(*predicted) - expected));
   }
   return error.Result();
+}
+
+namespace {
+
+int CostBin(double value) {
+  return std::clamp(static_cast<int>(std::lround(value * kCostSteps)), 0, kCostSteps);
+}
+
+std::optional<double> Defined(double value) {
+  return std::isnan(value) ? std::nullopt : std::optional<double>(value);
+}
+
+}  // namespace
+
+nlohmann::json NumberOrNull(const std::optional<double>& value) {
+  return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+
+std::optional<double> OptionalNumber(const nlohmann::json& json) {
+  return json.is_null() ? std::nullopt : std::optional<double>(json.get<double>());
+}
+
+void to_json(nlohmann::json& json, const HazardScores& s) {
+  json = {{"auroc", NumberOrNull(s.auroc)},
+          {"average_precision", NumberOrNull(s.average_precision)},
+          {"spearman", NumberOrNull(s.spearman)},
+          {"elevation_rmse", NumberOrNull(s.elevation_rmse_m)},
+          {"hazard_cells", s.hazard_cells},
+          {"compared_cells", s.compared_cells},
+          {"cost_truth_histogram", s.cost_truth_histogram}};
+}
+
+void from_json(const nlohmann::json& json, HazardScores& s) {
+  s.auroc = OptionalNumber(json.at("auroc"));
+  s.average_precision = OptionalNumber(json.at("average_precision"));
+  s.spearman = OptionalNumber(json.at("spearman"));
+  s.elevation_rmse_m = OptionalNumber(json.at("elevation_rmse"));
+  json.at("hazard_cells").get_to(s.hazard_cells);
+  json.at("compared_cells").get_to(s.compared_cells);
+  json.at("cost_truth_histogram").get_to(s.cost_truth_histogram);
+}
+
+HazardScores ScoreHazards(const common::GridLayers& map, const common::GridLayers& truth_W,
+                          const ObservedCells& observed, double lethal_threshold) {
+  const std::string& cost_layer = mapping::layers::kTraversability;
+  const std::string& elevation_layer = mapping::layers::kElevation;
+  const Eigen::MatrixXf& truth_cost = truth_W.Layer(cost_layer);
+  const bool elevations = map.Has(elevation_layer) && truth_W.Has(elevation_layer);
+  std::vector<double> cost, truth;
+  std::vector<bool> hazard;
+  std::map<std::pair<int, int>, int> histogram;
+  double squared_height_error = 0.0;
+  int heights = 0;
+  for (const Eigen::Vector2i& cell : observed.cells()) {
+    const Eigen::Vector2d centre_W = observed.geometry().CellCenter(cell.x(), cell.y());
+    const float expected = truth_cost(cell.x(), cell.y());
+    const std::optional<float> predicted = map.At(cost_layer, centre_W);
+    if (!std::isnan(expected) && predicted) {
+      cost.push_back(*predicted);
+      truth.push_back(expected);
+      hazard.push_back(expected >= lethal_threshold);
+      ++histogram[{CostBin(*predicted), CostBin(expected)}];
+    }
+    if (!elevations) continue;
+    const float ground = truth_W.Layer(elevation_layer)(cell.x(), cell.y());
+    const std::optional<float> height = map.At(elevation_layer, centre_W);
+    if (std::isnan(ground) || !height) continue;
+    squared_height_error += (*height - ground) * (*height - ground);
+    ++heights;
+  }
+  HazardScores scores;
+  scores.compared_cells = static_cast<int>(cost.size());
+  scores.hazard_cells = static_cast<int>(std::count(hazard.begin(), hazard.end(), true));
+  scores.auroc = Defined(common::Auroc(cost, hazard));
+  scores.average_precision = Defined(common::AveragePrecision(cost, hazard));
+  scores.spearman = Defined(common::Spearman(cost, truth));
+  if (heights > 0) scores.elevation_rmse_m = std::sqrt(squared_height_error / heights);
+  for (const auto& [bins, count] : histogram) {
+    scores.cost_truth_histogram.push_back({bins.first, bins.second, count});
+  }
+  return scores;
 }
 
 double BarnScore(bool success, double actual_time_s, double optimal_time_s) {

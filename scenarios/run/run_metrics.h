@@ -1,6 +1,8 @@
 #pragma once
 
+#include <array>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,6 +57,38 @@ class ObservedCells {
 /// cells: each observed cell whose centre lies in a known cell of the map counts once.
 LayerError CompareObserved(const common::GridLayers& map, const common::GridLayers& truth_W,
                            const ObservedCells& observed, const std::string& layer);
+
+/// How well a map finds the hazards of the ground truth, over the observed cells whose cost it
+/// knows (trav eval, docs/evaluation.md): the cost ranked against the truth's untraversable cells
+/// (truth cost >= `lethal_threshold`), rank correlation with the truth's cost, and the elevation
+/// error against the dense ground; unset where undefined (no hazard, no free cell, no spread, no
+/// elevation layer).
+struct HazardScores {
+  int compared_cells{0};
+  int hazard_cells{0};
+  std::optional<double> auroc;
+  std::optional<double> average_precision;
+  std::optional<double> spearman;
+  std::optional<double> elevation_rmse_m;
+  /// Cells counted by cost and truth rounded to 1 / kCostSteps (bin k: value k / kCostSteps), as
+  /// {cost bin, truth bin, count} in bin order: what calibrating the cost on other scenes needs.
+  std::vector<std::array<int, 3>> cost_truth_histogram;
+};
+
+/// Steps of HazardScores::cost_truth_histogram over [0, 1] on each axis (bins 0 to kCostSteps).
+inline constexpr int kCostSteps = 100;
+
+/// A number, or JSON null when unset; and back.
+nlohmann::json NumberOrNull(const std::optional<double>& value);
+std::optional<double> OptionalNumber(const nlohmann::json& json);
+
+/// The scores as JSON fields (auroc, average_precision, spearman, elevation_rmse: a number or
+/// null; hazard_cells, compared_cells, cost_truth_histogram), and back.
+void to_json(nlohmann::json& json, const HazardScores& scores);
+void from_json(const nlohmann::json& json, HazardScores& scores);
+
+HazardScores ScoreHazards(const common::GridLayers& map, const common::GridLayers& truth_W,
+                          const ObservedCells& observed, double lethal_threshold);
 
 /// BARN Challenge score (since 2024): 1_success * OT / clip(AT, 2 OT, 8 OT), in [0, 0.5]; OT the
 /// optimal time, AT the actual time [s]. 0 if OT is not positive.

@@ -156,6 +156,23 @@ double OptimalPathLength(const Scenario& scenario, const common::GridLayers& tru
   return length;
 }
 
+std::optional<common::GridLayers> RoutableGroundTruth(const Scenario& scenario) {
+  const sim::TerrainWorld world =
+      sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W});
+  const Eigen::MatrixXf obstacle_heights = sim::ObstacleHeightGrid(world);
+  common::GridLayers obstacles(world.geometry, {mapping::layers::kTraversability});
+  obstacles.Layer(mapping::layers::kTraversability) =
+      (obstacle_heights.array() > scenario.ground_truth.clearance_m).cast<float>();
+  const planner::GridPlanner quick(obstacles, scenario.planner.search);
+  if (quick.Plan(scenario.start_W.position, scenario.goal_W).status !=
+      planner::PlanStatus::kFound) {
+    return std::nullopt;
+  }
+  common::GridLayers truth_W = WorldGroundTruth(scenario, world, obstacle_heights);
+  if (OptimalPathLength(scenario, truth_W) <= 0.0) return std::nullopt;
+  return truth_W;
+}
+
 std::string RobotModelPath(const Scenario& scenario, const std::string& models_dir) {
   const std::filesystem::path model(scenario.robot_model);
   return model.is_absolute() ? model.string()

@@ -61,7 +61,7 @@ TEST(EvalSceneRecordTest, RoundTripsThroughJsonWithMissingErrorsAsNull) {
   scene.id = "hilly-3";
   scene.terrain = "hilly";
   scene.seed = 3;
-  scene.route = {{-1.0, 2.0, 0.5}, {1.0, -2.0}, 4.5};
+  scene.route = {{-1.0, 2.0, 0.5}, {1.0, -2.0}, 4.5, 2.75, 3};
   scene.drive = {"success", 12.5, 4.75, 2, 250000};
   EvalMethodRecord& em = scene.methods["em"];
   em.mean_error = 0.25;
@@ -71,17 +71,37 @@ TEST(EvalSceneRecordTest, RoundTripsThroughJsonWithMissingErrorsAsNull) {
   em.runtime_ms_max = 2.0;
   em.peak_memory_mb = 3.0;
   em.coverage = 0.75;
-  em.frames = {{0.1, 0.2}, {std::nullopt, 0.25}, {std::nullopt, 0.0625}, {0, 3}, {2, 4}, {1.0, 2.0},
+  em.cpu_ms_median = 1.5;
+  em.wall_ms_median = 4.5;
+  em.hazards.auroc = 0.875;
+  em.hazards.hazard_cells = 1;
+  em.hazards.compared_cells = 3;
+  em.hazards.cost_truth_histogram = {{10, 12, 2}, {95, 99, 1}};
+  em.frames = {{0.1, 0.2},
+               {std::nullopt, 0.25},
+               {std::nullopt, 0.0625},
+               {0, 3},
+               {2, 4},
+               {1.0, 2.0},
+               {3.0, 6.0},
                {0.5, 1.0}};
   scene.methods["sgp"].frames.t_s = {0.1};  // scored no frame
   const nlohmann::json json = scene;
   EXPECT_EQ(json.at("route").dump(),
-            R"({"goal":[1.0,-2.0],"optimal_length_m":4.5,"start":[-1.0,2.0,0.5]})");
+            R"({"draws":3,"goal":[1.0,-2.0],"length_m":2.75,"optimal_length_m":4.5,)"
+            R"("start":[-1.0,2.0,0.5]})");
   EXPECT_EQ(json.at("drive").dump(), R"({"distance_m":4.75,"frames":2,"ground_truth_cells":250000,)"
                                      R"("outcome":"success","sim_time_s":12.5})");
   EXPECT_EQ(json.at("methods").at("em").at("frames").at("mean_error").dump(), "[null,0.25]");
   EXPECT_TRUE(json.at("methods").at("sgp").at("mean_error").is_null());
   EXPECT_TRUE(json.at("methods").at("sgp").at("frames").at("mean_error").is_array());
+  const nlohmann::json& em_json = json.at("methods").at("em");
+  EXPECT_EQ(em_json.at("auroc"), 0.875);
+  EXPECT_TRUE(em_json.at("average_precision").is_null());
+  EXPECT_EQ(em_json.at("cpu_ms_median"), 1.5);
+  EXPECT_EQ(em_json.at("wall_ms_median"), 4.5);
+  EXPECT_EQ(em_json.at("cost_truth_histogram").dump(), "[[10,12,2],[95,99,1]]");
+  EXPECT_EQ(em_json.at("frames").at("wall_ms").dump(), "[3.0,6.0]");
 
   const EvalSceneRecord back = nlohmann::json::parse(json.dump(1)).get<EvalSceneRecord>();
   EXPECT_EQ(nlohmann::json(back), json);
@@ -94,16 +114,65 @@ TEST(EvalSceneRecordTest, RoundTripsThroughJsonWithMissingErrorsAsNull) {
   EXPECT_THROW(partial.get<EvalSceneRecord>(), nlohmann::json::exception);
 }
 
+TEST(EvalMetricsTest, CalibrationMapsEachCostToTheOtherScenesMeanTruthMonotonically) {
+  HazardScores scene;
+  scene.cost_truth_histogram = {{10, 10, 2}, {90, 100, 1}};
+  HazardScores other;
+  other.cost_truth_histogram = {{10, 20, 1}, {90, 90, 1}};
+  // f(0.1) = 0.2, f(0.9) = 0.9: (2 x 0.1 + 1 x 0.1) / 3 cells
+  EXPECT_DOUBLE_EQ(*CalibratedMae(scene, {&other}), 0.1);
+  // a cost that falls as the truth rises is pooled into one level, 0.5
+  HazardScores inverse;
+  inverse.cost_truth_histogram = {{10, 80, 1}, {90, 20, 1}};
+  EXPECT_DOUBLE_EQ(*CalibratedMae(scene, {&inverse}), (2 * 0.4 + 0.5) / 3.0);
+  EXPECT_FALSE(CalibratedMae(scene, {}).has_value());
+}
+
+TEST(EvalMetricsTest, PairedDifferencesClaimOnlyWhereTheIntervalExcludesZeroOverFiveScenes) {
+  std::vector<SceneMetrics> method, reference;
+  for (int i = 0; i < 5; ++i) {
+    SceneMetrics m, r;
+    m.id = r.id = "s" + std::to_string(i);
+    m.auroc = 0.9;
+    r.auroc = 0.8;
+    m.mean_error = 0.3;
+    r.mean_error = 0.2;
+    m.spearman = 0.5 + 0.1 * (i % 2);  // differences +0.1 and -0.1: not settled
+    r.spearman = 0.55;
+    method.push_back(m);
+    reference.push_back(r);
+  }
+  reference[4].mean_error.reset();  // a metric missing in a scene drops that scene's pair
+  const std::vector<PairedDifference> differences = PairedDifferences(method, reference);
+  ASSERT_EQ(differences.size(), 3u);
+  EXPECT_EQ(differences[0].metric, "mean_error");
+  EXPECT_EQ(differences[0].scenes, 4);
+  EXPECT_EQ(differences[0].verdict, "not settled");  // four scenes are too few for a claim
+  EXPECT_EQ(differences[1].metric, "auroc");
+  EXPECT_NEAR(differences[1].mean, 0.1, 1e-12);
+  EXPECT_NEAR(differences[1].low, 0.1, 1e-12);
+  EXPECT_EQ(differences[1].verdict, "better");
+  EXPECT_EQ(differences[2].metric, "spearman");
+  EXPECT_EQ(differences[2].verdict, "not settled");
+  reference[4].mean_error = 0.2;
+  EXPECT_EQ(PairedDifferences(method, reference)[0].verdict, "worse");  // a higher error
+}
+
 TEST(EvalOptionsTest, AblationAddsTheOtherInducingPointCounts) {
   EvalOptions options;
   options.methods = {"fsgp-bgk", "em"};
   options.inducing_points = {50, 125, 500};
   EXPECT_EQ(BaseInducingPoints(options), 500);
   EXPECT_EQ(EvalMethods(options),
-            (std::vector<std::string>{"fsgp-bgk", "em", "fsgp-bgk-m50", "fsgp-bgk-m125"}));
+            (std::vector<std::string>{"fsgp-bgk", "em", "constant=0.5", "ground-truth",
+                                      "fsgp-bgk-m50", "fsgp-bgk-m125"}));
   options.sets = {"mapping.max_training_points=125"};
   EXPECT_EQ(EvalMethods(options),
-            (std::vector<std::string>{"fsgp-bgk", "em", "fsgp-bgk-m50", "fsgp-bgk-m500"}));
+            (std::vector<std::string>{"fsgp-bgk", "em", "constant=0.5", "ground-truth",
+                                      "fsgp-bgk-m50", "fsgp-bgk-m500"}));
+  options.methods = {"constant=0.2", "ground-truth"};
+  options.inducing_points = {};
+  EXPECT_EQ(EvalMethods(options), (std::vector<std::string>{"constant=0.2", "ground-truth"}));
 }
 
 TEST(EvalOptionsTest, ScenesAreSeededPerTerrainType) {

@@ -129,6 +129,67 @@ TEST_F(EvaluationTest, WritesEveryTableAndPlotAndScoresTheOracleAndAConstantExac
   EXPECT_THAT(md.str(), HasSubstr("| flat | 0.0000 / 0.0000 | 0.2500 / 0.0000 |"));
 }
 
+// Flat ground with one crate between start and goal: the only hazards of the truth.
+TEST_F(EvaluationTest, RanksTheHazardsWithTheOracleAtOneAndAConstantAtOneHalf) {
+  const CommandResult run = RunTrav(
+      "eval --out " + (root_ / "eval").string() +
+      " --terrains flat --scenes 2 --seed 5 --frames 6 --jobs 2 --route-length 6 --no-ablation"
+      " --methods fsgp-bgk,em --set 'terrain.boxes=[{name: crate, centre: [0, 0], half_extents: "
+      "[0.4, 0.4], height: 1}]'");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json results = ReadJson(root_ / "eval" / "results.json");
+  ASSERT_EQ(results.size(), 4u);  // fsgp-bgk, em, and the floor and ceiling added to every table
+  for (const nlohmann::json& record : results) {
+    for (const char* field : {"auroc", "average_precision", "spearman", "calibrated_mae",
+                              "elevation_rmse", "cpu_ms_median", "wall_ms_median"}) {
+      EXPECT_TRUE(record.contains(field)) << field;
+    }
+    EXPECT_EQ(record.at("scene_values").size(), 2u);
+  }
+  const EvalAggregate oracle = Record(results, "ground-truth");
+  EXPECT_EQ(oracle.auroc, 1.0);
+  EXPECT_EQ(oracle.average_precision, 1.0);
+  EXPECT_FALSE(oracle.elevation_rmse.has_value());  // the oracle paints costs only
+  const EvalAggregate constant = Record(results, "constant=0.5");
+  EXPECT_EQ(constant.auroc, 0.5);
+  EXPECT_FALSE(constant.spearman.has_value());
+  EXPECT_EQ(constant.paired_with, "fsgp-bgk");
+  const EvalAggregate fsgp_bgk = Record(results, "fsgp-bgk");
+  EXPECT_TRUE(fsgp_bgk.paired.empty());
+  EXPECT_GT(fsgp_bgk.cpu_ms_median, 0.0);
+  EXPECT_EQ(fsgp_bgk.cpu_ms_median, fsgp_bgk.runtime_ms_median);
+  ASSERT_TRUE(fsgp_bgk.elevation_rmse.has_value());
+  EXPECT_LT(*fsgp_bgk.elevation_rmse, 0.1);
+  // every compared metric of the constant against FSGP-BGK, over the two scenes
+  ASSERT_FALSE(constant.paired.empty());
+  for (const PairedDifference& d : constant.paired) {
+    EXPECT_EQ(d.scenes, 2) << d.metric;
+    EXPECT_LE(d.low, d.mean) << d.metric;
+    EXPECT_GE(d.high, d.mean) << d.metric;
+  }
+  const std::string md = ReadFile(root_ / "eval" / "results.md");
+  EXPECT_THAT(md, HasSubstr("## Finding hazards"));
+  EXPECT_THAT(md, HasSubstr("## Paired differences"));
+  const nlohmann::json scene = ReadJson(root_ / "eval" / "scenes" / "flat-5.json");
+  EXPECT_EQ(scene.at("route").at("length_m"), 6.0);
+  EXPECT_GE(scene.at("route").at("draws"), 1);
+}
+
+// Walls along both axes through the centre: every route (through the centre) is cut.
+TEST_F(EvaluationTest, ASceneWithoutARouteIsRecordedAsNoRoute) {
+  const CommandResult run = RunTrav(
+      "eval --out " + (root_ / "eval").string() +
+      " --terrains flat --scenes 1 --seed 1 --no-ablation --methods em --set "
+      "'terrain.boxes=[{name: x, centre: [0, 0], half_extents: [25, 0.2], height: 2}, {name: y, "
+      "centre: [0, 0], half_extents: [0.2, 25], height: 2}]'");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json scene = ReadJson(root_ / "eval" / "scenes" / "flat-1.json");
+  EXPECT_EQ(scene.at("drive").at("outcome"), "no_route");
+  EXPECT_EQ(scene.at("route").at("draws"), 48);  // 16 headings at each of three lengths
+  EXPECT_TRUE(scene.at("methods").empty());
+  EXPECT_THAT(ReadFile(root_ / "eval" / "results.md"), HasSubstr("no_route 1 (flat-1)"));
+}
+
 TEST_F(EvaluationTest, ResumesWithoutRedoingFinishedScenes) {
   ASSERT_EQ(RunTrav(TinyEval()).exit_code, 0);
   const fs::path out = root_ / "eval";

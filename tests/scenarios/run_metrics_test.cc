@@ -116,6 +116,65 @@ TEST(ObservedCellsTest, CountsEachCellOnceInTheWindowAndBelowTheHeightLimit) {
   EXPECT_EQ(observed.cells().back(), Eigen::Vector2i(8, 5));
 }
 
+// Four observed cells: two hazards (truth 0.9 and 1.0) and two free cells (0.1, 0.3), ground at
+// 0.5 m.
+struct HazardWorld {
+  HazardWorld()
+      : truth(UnitGrid(), {"traversability", "elevation"}), observed(UnitGrid(), SmallWindow()) {
+    truth.Layer("traversability").setConstant(0.0f);
+    truth.Layer("elevation").setConstant(0.5f);
+    truth.Layer("traversability")(5, 5) = 0.9f;
+    truth.Layer("traversability")(6, 5) = 0.1f;
+    truth.Layer("traversability")(4, 6) = 1.0f;
+    truth.Layer("traversability")(5, 6) = 0.3f;
+    observed.Add(
+        common::MakePointCloud(
+            {{0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, {-1.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}}),
+        {0.0, 0.0, 0.0});
+  }
+  common::GridLayers truth;
+  ObservedCells observed;
+};
+
+TEST(ScoreHazardsTest, TheOracleRanksEveryHazardFirstAndAConstantCannotRank) {
+  const HazardWorld world;
+  const HazardScores oracle = ScoreHazards(world.truth, world.truth, world.observed, 0.8);
+  EXPECT_EQ(oracle.compared_cells, 4);
+  EXPECT_EQ(oracle.hazard_cells, 2);
+  EXPECT_EQ(oracle.auroc, 1.0);
+  EXPECT_EQ(oracle.average_precision, 1.0);
+  EXPECT_EQ(oracle.spearman, 1.0);
+  EXPECT_EQ(oracle.elevation_rmse_m, 0.0);
+  // (cost bin, truth bin, count) in bin order: 0.1, 0.3, 0.9, 1.0 in steps of 0.01
+  EXPECT_EQ(
+      oracle.cost_truth_histogram,
+      (std::vector<std::array<int, 3>>{{10, 10, 1}, {30, 30, 1}, {90, 90, 1}, {100, 100, 1}}));
+
+  common::GridLayers constant(UnitGrid(), {"traversability"});
+  constant.Layer("traversability").setConstant(0.4f);
+  const HazardScores flat = ScoreHazards(constant, world.truth, world.observed, 0.8);
+  EXPECT_EQ(flat.auroc, 0.5);
+  EXPECT_EQ(flat.average_precision, 0.5);           // the share of hazards
+  EXPECT_FALSE(flat.spearman.has_value());          // no spread
+  EXPECT_FALSE(flat.elevation_rmse_m.has_value());  // no elevation layer
+}
+
+TEST(ScoreHazardsTest, AMapThatSwapsAHazardWithAFreeCellLosesRankAndHeightErrorsCount) {
+  const HazardWorld world;
+  common::GridLayers map = world.truth;
+  map.Layer("traversability")(5, 5) = 0.2f;  // a hazard mapped as free ground
+  map.Layer("elevation")(5, 5) = 0.9f;       // 0.4 m off
+  const HazardScores scores = ScoreHazards(map, world.truth, world.observed, 0.8);
+  // hazards 0.2 and 1.0 against free 0.1 and 0.3: pairs won 1 + 2 of 4
+  EXPECT_EQ(scores.auroc, 0.75);
+  // 1.0 first (precision 1), then 0.3 (free), then 0.2: precision 2/3
+  EXPECT_DOUBLE_EQ(*scores.average_precision, (1.0 + 2.0 / 3.0) / 2.0);
+  EXPECT_NEAR(*scores.elevation_rmse_m, std::sqrt(0.16 / 4.0), 1e-6);
+  // unknown cells of the map are not scored
+  map.Layer("traversability")(4, 6) = NAN;
+  EXPECT_EQ(ScoreHazards(map, world.truth, world.observed, 0.8).compared_cells, 3);
+}
+
 TEST(CompareObservedTest, ScoresObservedCellsTheMapKnows) {
   const common::GridGeometry geometry = UnitGrid();
   common::GridLayers truth(geometry, {"traversability"});
