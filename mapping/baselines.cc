@@ -15,6 +15,8 @@ namespace trav::mapping {
 namespace {
 
 constexpr int kMinimumPoints = 10;
+// The obstacle layer's margin around the window: the closing reads two cells around a cell.
+constexpr int kObstacleMargin = 2;
 
 common::GridLayers MakeMap(const MapArea& area) {
   return common::GridLayers(
@@ -22,15 +24,17 @@ common::GridLayers MakeMap(const MapArea& area) {
                                      Eigen::Vector2d::Constant(area.map_size_m), area.resolution_m),
       {layers::kElevation, layers::kElevationVariance, layers::kSlope, layers::kCurvature,
        layers::kGradient, layers::kTraversability, layers::kTraversabilityVariance,
-       layers::kLastObserved});
+       layers::kLastObserved, layers::kObstacle});
 }
 
-// The window's points, timed; a status of kTooFewPoints when there are fewer than the minimum.
+// The window's points (ground-cropped as `area` says; `below_robot` the window before that crop),
+// timed; a status of kTooFewPoints when there are fewer than the minimum.
 Eigen::Matrix3Xf CropOrRefuse(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
-                              const MapArea& area, MapUpdateResult* result) {
+                              const MapArea& area, MapUpdateResult* result,
+                              Eigen::Matrix3Xf* below_robot) {
   const common::Stopwatch start;
-  Eigen::Matrix3Xf window =
-      CropWindow(points_W, p_WB, area.window_m, area.max_height_above_robot_m, result);
+  Eigen::Matrix3Xf window = CropWindow(points_W, p_WB, area.window_m, area.max_height_above_robot_m,
+                                       result, area.GroundCropHeight(), below_robot);
   result->times.crop = start.ElapsedMilliseconds();
   if (window.cols() < kMinimumPoints) result->status = MapUpdateStatus::kTooFewPoints;
   return window;
@@ -44,7 +48,8 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
                                   double t_s) {
   MapUpdateResult result;
   const Eigen::Vector3d p_WB = X_WB.translation();
-  const Eigen::Matrix3Xf window = CropOrRefuse(points_W, p_WB, config_.area, &result);
+  Eigen::Matrix3Xf below_robot;
+  const Eigen::Matrix3Xf window = CropOrRefuse(points_W, p_WB, config_.area, &result, &below_robot);
   if (result.status != MapUpdateStatus::kUpdated) return result;
   // inducing points on a stride of the points sorted by x
   common::Stopwatch stage;
@@ -112,6 +117,10 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
   // step (max - min) and flatness (plane angle) over 5 x 5 cells, then the weighted score
   stage.Restart();
   ScoreCells(cells);
+  if (config_.area.obstacle_layer) {
+    MarkObstacles(below_robot, low, high, config_.area.max_height_above_ground_m, kObstacleMargin,
+                  &map_);
+  }
   result.observed_cells = static_cast<int>(cells.size());
   result.times.fusion = stage.ElapsedMilliseconds();
   return result;
@@ -162,7 +171,8 @@ MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
                                         const Eigen::Isometry3d& X_WB, double t_s) {
   MapUpdateResult result;
   const Eigen::Vector3d p_WB = X_WB.translation();
-  const Eigen::Matrix3Xf window = CropOrRefuse(points_W, p_WB, config_.area, &result);
+  Eigen::Matrix3Xf below_robot;
+  const Eigen::Matrix3Xf window = CropOrRefuse(points_W, p_WB, config_.area, &result, &below_robot);
   if (result.status != MapUpdateStatus::kUpdated) return result;
   // per-cell Kalman fusion of the point heights
   common::Stopwatch stage;
@@ -241,6 +251,10 @@ MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
           static_cast<float>(PreliminaryScore(score_, curvature, gradient, slope));
       ++result.observed_cells;
     }
+  }
+  if (config_.area.obstacle_layer) {
+    MarkObstacles(below_robot, low, high, config_.area.max_height_above_ground_m, kObstacleMargin,
+                  &map_);
   }
   result.times.smoothing = stage.ElapsedMilliseconds();
   return result;

@@ -15,11 +15,11 @@ void ValidateFsgpConfig(const FsgpConfig& c) {
                        "must be >= the window");
   // the grids a mapper holds: at most 4096 cells along the map and 1000 along the window
   common::RequireValue(a.map_size_m / a.resolution_m <= 4096.0, "map_size", a.map_size_m,
-                       "gives more than 4096 cells along an axis at mapping.resolution");
+                       "gives more than 4096 cells along an axis at the resolution");
   common::RequireValue(a.window_m / a.resolution_m <= 1000.0, "window", a.window_m,
-                       "gives more than 1000 cells along an axis at mapping.resolution");
-  common::RequireValue(c.max_height_above_ground_m > 0.0, "max_height_above_ground",
-                       c.max_height_above_ground_m, "must be > 0");
+                       "gives more than 1000 cells along an axis at the resolution");
+  common::RequireValue(a.max_height_above_ground_m > 0.0, "max_height_above_ground",
+                       a.max_height_above_ground_m, "must be > 0");
   common::RequireValue(c.pre_voxel_m > 0.0, "pre_voxel", c.pre_voxel_m, "must be > 0");
   common::RequireValue(c.neighbours >= 3, "neighbours", c.neighbours, "must be >= 3");
   common::RequireValue(c.feature_voxel_m > 0.0, "feature_voxel", c.feature_voxel_m, "must be > 0");

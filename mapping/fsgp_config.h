@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 
 #include <Eigen/Core>
 
@@ -50,22 +51,30 @@ struct GpHyperparameters {
 };
 
 /// Where every mapper looks and what it keeps: the local window, the rolling map's grid, the height
-/// crop. Shared by FSGP-BGK and the baselines so that they map the same cells.
+/// crops and the obstacle layer. Shared by FSGP-BGK and the baselines so that they map the same
+/// cells from the same points (each option switchable for every method alike).
 struct MapArea {
   double window_m{10.0};     ///< side of the square window around the robot [m]
   double resolution_m{0.2};  ///< map cell size [m]
   double map_size_m{30.0};   ///< side of the world-anchored rolling map [m], >= window
   /// Points higher than this above the base are ignored (tree crowns, ceilings) [m].
   double max_height_above_robot_m{1.0};
-};
-
-/// Everything FSGP-BGK does per frame (mapping/README.md gives the equations and the choices).
-struct FsgpConfig {
-  MapArea area{};  ///< window, grid and height crop
   /// Points higher than this above the lowest point of their 1 m column are not terrain [m] (> 0):
   /// the regression sees only the foot of walls and trunks, and cells whose points span more than
   /// this in height are marked untraversable (layer `obstacle`).
   double max_height_above_ground_m{0.3};
+  bool ground_crop{true};     ///< crop at max_height_above_ground_m (false: keep every height)
+  bool obstacle_layer{true};  ///< mark the faces the crop removes as untraversable
+
+  /// The ground crop's height: max_height_above_ground_m, or infinity without the crop [m].
+  double GroundCropHeight() const {
+    return ground_crop ? max_height_above_ground_m : std::numeric_limits<double>::infinity();
+  }
+};
+
+/// Everything FSGP-BGK does per frame (mapping/README.md gives the equations and the choices).
+struct FsgpConfig {
+  MapArea area{};  ///< window, grid, height crops and obstacle layer
   // features
   double pre_voxel_m{0.1};            ///< voxel pre-downsampling [m]
   int neighbours{20};                 ///< k for curvature and gradient, >= 3
@@ -108,7 +117,9 @@ struct FsgpConfig {
     a->Field("resolution", &area.resolution_m, {0.02, 2});
     a->Field("map_size", &area.map_size_m, {1, 1000});
     a->Field("max_height_above_robot", &area.max_height_above_robot_m, {0, 100});
-    a->Field("max_height_above_ground", &max_height_above_ground_m, {0, 100});
+    a->Field("max_height_above_ground", &area.max_height_above_ground_m, {0, 100});
+    a->Field("ground_crop", &area.ground_crop);
+    a->Field("obstacle_layer", &area.obstacle_layer);
     a->Field("pre_voxel", &pre_voxel_m, {0, 1});
     a->Field("neighbours", &neighbours, {3, 200});
     a->Field("curvature_threshold", &curvature_threshold, {0, 10});

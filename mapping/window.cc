@@ -97,4 +97,72 @@ std::pair<Eigen::Vector2i, Eigen::Vector2i> WindowCells(const common::GridGeomet
           *g.CellIndex((g.origin_W + g.Extent()).cwiseMin(p_WB.head<2>() + corner))};
 }
 
+namespace {
+
+// Morphological closing (dilation, then erosion) of a mask by the 3 x 3 cell square.
+Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> ClosedMask(
+    const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic>& mask) {
+  const Eigen::Index nx = mask.rows(), ny = mask.cols();
+  auto neighbourhood = [&](const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic>& in, bool all) {
+    Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> result(nx, ny);
+    for (Eigen::Index ix = 0; ix < nx; ++ix) {
+      for (Eigen::Index iy = 0; iy < ny; ++iy) {
+        bool value = all;
+        for (Eigen::Index jx = std::max<Eigen::Index>(0, ix - 1); jx <= std::min(nx - 1, ix + 1);
+             ++jx) {
+          for (Eigen::Index jy = std::max<Eigen::Index>(0, iy - 1); jy <= std::min(ny - 1, iy + 1);
+               ++jy) {
+            value = all ? (value && in(jx, jy)) : (value || in(jx, jy));
+          }
+        }
+        result(ix, iy) = value;
+      }
+    }
+    return result;
+  };
+  return neighbourhood(neighbourhood(mask, false), true);
+}
+
+}  // namespace
+
+void MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eigen::Vector2i& low,
+                   const Eigen::Vector2i& high, double min_span_m, int margin_cells,
+                   common::GridLayers* map) {
+  // the faces the height regression cannot see (their points were cropped as not terrain): the
+  // latest observation of each cell decides, so a cell seen free again clears
+  const Eigen::MatrixXf seen = ObstacleCells(below_robot, map->geometry(), low, high, min_span_m);
+  Eigen::MatrixXf& obstacle = map->Layer(layers::kObstacle);
+  Eigen::MatrixXf& out = map->Layer(layers::kTraversability);
+  for (int ix = low.x(); ix <= high.x(); ++ix) {
+    for (int iy = low.y(); iy <= high.y(); ++iy) {
+      const float value = seen(ix - low.x(), iy - low.y());
+      if (!std::isnan(value)) obstacle(ix, iy) = value;
+    }
+  }
+  // closed by one cell: faces seen edge-on or occluded leave gaps of a cell or two in a wall,
+  // never a passage. A cleared cell that the regression has never scored keeps its 1 (sparse
+  // views of a real obstacle clear more often than movers do, and movers are kept out of the
+  // frames). Only cells near the window can change: the closing there (the obstacle layer changed
+  // in the window only) and the cost the mapper rewrote in the window and its margin; everywhere
+  // else the previous frames already wrote the closed mask, so the result equals closing the whole
+  // map.
+  const common::GridGeometry& g = map->geometry();
+  const int margin = margin_cells;
+  const Eigen::Vector2i out_low = (low.array() - margin).max(0);
+  const Eigen::Vector2i out_high =
+      (high.array() + margin).min(Eigen::Array2i(g.num_x - 1, g.num_y - 1));
+  // the closing of a cell reads the mask two cells around it
+  const Eigen::Vector2i mask_low = (out_low.array() - 2).max(0);
+  const Eigen::Vector2i mask_high =
+      (out_high.array() + 2).min(Eigen::Array2i(g.num_x - 1, g.num_y - 1));
+  const Eigen::Vector2i size = mask_high - mask_low + Eigen::Vector2i::Ones();
+  const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> lethal =
+      ClosedMask(obstacle.block(mask_low.x(), mask_low.y(), size.x(), size.y()).array() == 1.0f);
+  for (int ix = out_low.x(); ix <= out_high.x(); ++ix) {
+    for (int iy = out_low.y(); iy <= out_high.y(); ++iy) {
+      if (lethal(ix - mask_low.x(), iy - mask_low.y())) out(ix, iy) = 1.0f;
+    }
+  }
+}
+
 }  // namespace trav::mapping

@@ -32,6 +32,16 @@ Eigen::MatrixXf ObstacleCells(const Eigen::Matrix3Xf& points_W, const common::Gr
                               const Eigen::Vector2i& low, const Eigen::Vector2i& high,
                               double min_span_m);
 
+/// Marks the faces the ground crop removed (ObstacleCells of `below_robot`, the window before the
+/// crop, with `min_span_m` the crop height) in layer `obstacle` of `map` between `low` and `high`
+/// (the latest observation of a cell decides, so a cell seen free again clears), then sets layer
+/// `traversability` to 1 on the obstacle mask closed by one cell, within `margin_cells` of the
+/// window (at least the cells whose cost the mapper rewrote). The obstacle layer FSGP-BGK and the
+/// baselines share.
+void MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eigen::Vector2i& low,
+                   const Eigen::Vector2i& high, double min_span_m, int margin_cells,
+                   common::GridLayers* map);
+
 /// The first and last cell (ix, iy) of the window around the robot on the grid `g`.
 std::pair<Eigen::Vector2i, Eigen::Vector2i> WindowCells(const common::GridGeometry& g,
                                                         const Eigen::Vector3d& p_WB,

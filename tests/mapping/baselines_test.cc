@@ -1,6 +1,8 @@
 #include "mapping/baselines.h"
 
+#include <cmath>
 #include <memory>
+#include <optional>
 
 #include <gtest/gtest.h>
 
@@ -39,7 +41,9 @@ TEST(BaselinesTest, FlatGroundIsEasyAndATwentyDegreePlaneHasItsSlope) {
 }
 
 TEST(BaselinesTest, ElevationMapFusesRepeatedHeightsAndTakesNewObstacles) {
-  ElevationMapper dut(ElevationMapConfig{}, FsgpConfig{});
+  ElevationMapConfig config;
+  config.area.ground_crop = false;  // its own handling of obstacles: the higher point wins
+  ElevationMapper dut(config, FsgpConfig{});
   dut.Update(Surface([](double, double) { return 0.0; }, {0, 0}), RobotAt(0, 0), 0.0);
   const float variance_once = *dut.map().At(layers::kElevationVariance, {1.0, 1.0});
   dut.Update(Surface([](double, double) { return 0.0; }, {0, 0}), RobotAt(0, 0), 1.0);
@@ -52,6 +56,37 @@ TEST(BaselinesTest, ElevationMapFusesRepeatedHeightsAndTakesNewObstacles) {
       RobotAt(0, 0), 2.0);
   EXPECT_NEAR(*dut.map().At(layers::kElevation, {2.0, 2.0}), 0.3, 0.01);
   EXPECT_GT(*dut.map().At(layers::kTraversability, {2.5, 2.0}), 0.3);
+}
+
+// A 0.6 m crate at (2, 2): with the ground crop and the obstacle layer FSGP-BGK has, each baseline
+// marks its faces untraversable; without them the obstacle layer stays unknown.
+TEST(BaselinesTest, EveryBaselineGetsTheSharedGroundCropAndObstacleLayer) {
+  const auto crate = [](double x, double y) {
+    return std::abs(x - 2) < 0.5 && std::abs(y - 2) < 0.5 ? 0.6 : 0.0;
+  };
+  for (const bool shared : {true, false}) {
+    MapArea area;
+    area.ground_crop = shared;
+    area.obstacle_layer = shared;
+    SgpConfig sgp;
+    sgp.area = area;
+    ElevationMapConfig em;
+    em.area = area;
+    std::unique_ptr<TraversabilityMapper> mappers[] = {
+        std::make_unique<SgpMapper>(sgp), std::make_unique<ElevationMapper>(em, FsgpConfig{})};
+    for (const std::unique_ptr<TraversabilityMapper>& dut : mappers) {
+      ASSERT_EQ(dut->Update(Surface(crate, {0, 0}), RobotAt(0, 0), 0.0).status,
+                MapUpdateStatus::kUpdated);
+      const std::optional<float> face = dut->map().At(layers::kObstacle, {1.5, 2.0});
+      if (shared) {
+        EXPECT_EQ(face, 1.0f);
+        EXPECT_EQ(dut->map().At(layers::kTraversability, {1.5, 2.0}), 1.0f);
+        EXPECT_EQ(dut->map().At(layers::kObstacle, {-2.0, -2.0}), 0.0f);  // open ground
+      } else {
+        EXPECT_FALSE(face.has_value());
+      }
+    }
+  }
 }
 
 }  // namespace
