@@ -7,7 +7,7 @@
 
 namespace trav::mapping {
 
-/// Settings of the SGP baseline (Leininger et al., ICRA 2024; reference/mapping.md section 3).
+/// Settings of the SGP baseline (Leininger et al., ICRA 2024; abeleinin/gp-navigation).
 struct SgpConfig {
   MapArea area{};
   int inducing_points{500};    ///< every floor(N / M)-th point after sorting by x
@@ -40,7 +40,8 @@ class SgpMapper final : public TraversabilityMapper {
   SparseGp gp_;
 };
 
-/// Settings of the elevation-map baseline (Fankhauser et al., RA-L 2018; reference/mapping.md 4.1).
+/// Settings of the elevation-map baseline (Fankhauser et al., RA-L 2018;
+/// ANYbotics/elevation_mapping).
 struct ElevationMapConfig {
   MapArea area{};
   double range_noise_m{0.02};  ///< height noise of a point: range_noise + range_noise_growth d^2

@@ -30,8 +30,7 @@ class PerlinNoise {
   std::array<std::uint8_t, 512> permutation_{};
 };
 
-/// Fractal families of the EPFL procedural terrain generator (reference/simulation.md,
-/// section 6.1).
+/// Fractal families of the EPFL procedural terrain generator.
 enum class FractalFamily {
   kFbm,      ///< fractional Brownian motion: sum of octaves
   kRidged,   ///< sum of (1 - |n|): sharp ridges

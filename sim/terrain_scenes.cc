@@ -1,4 +1,4 @@
-// Scene generators for the paper's terrain classes (reference/simulation.md, section 6.2).
+// Scene generators for the paper's terrain classes (its section V).
 #include <algorithm>
 #include <cmath>
 

@@ -39,7 +39,7 @@ std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options
                           const std::vector<MovingObstacle>& movers = {});
 
 /// Height-field layout in MuJoCo: samples normalised to [0, 1], scaled by `z_top_m`, placed at
-/// `z_offset_m` (the geom's z). See reference/simulation.md section 4.2.
+/// `z_offset_m` (the geom's z), as MuJoCo 2.2's hfield asset defines it.
 struct HeightFieldLayout {
   double z_offset_m{0.0};  ///< ground height of a sample with value 0 [m]
   double z_top_m{1.0};     ///< height of a sample with value 1 above z_offset [m], > 0

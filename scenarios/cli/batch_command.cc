@@ -22,6 +22,7 @@ struct BatchCommand {
   std::string collect;
   int jobs{1};
   ClusterFlags cluster;
+  std::vector<std::string> sets;
 };
 
 int Batch(const BatchCommand& command) {
@@ -36,7 +37,8 @@ int Batch(const BatchCommand& command) {
   if (command.file.empty()) throw common::InputError("BATCH.yaml", "", "trav batch needs a file");
   if (command.out.empty()) throw common::InputError("--out", "", "trav batch needs --out DIR");
   CheckJobs(command.jobs);
-  const BatchSpec spec = LoadBatchFile(command.file);
+  BatchSpec spec = LoadBatchFile(command.file);
+  spec.sets.insert(spec.sets.end(), command.sets.begin(), command.sets.end());
   const std::vector<BatchRun> runs = ExpandBatch(spec);
   const std::optional<SlurmOptions> slurm = SlurmOf(command.cluster, "--runs-per-task");
   const CampaignFolder folder(command.out, "batch", "batch.json", kBatchPartialSubfolders);
@@ -82,6 +84,7 @@ Command AddBatchCommand(CLI::App* app) {
   AddClusterFlags(batch, &command->cluster, "--runs-per-task");
   batch->add_option("--collect", command->collect,
                     "Write the report of the batch in DIR from what has finished");
+  AddSetOption(batch, &command->sets, "every run's scenario, after the batch file's `set`");
   return {batch, [command] { return Batch(*command); }};
 }
 

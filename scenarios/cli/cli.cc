@@ -47,6 +47,15 @@ const CLI::Validator& SeedValidator() {
   return kSeed;
 }
 
+void AddSetOption(CLI::App* command, std::vector<std::string>* sets, const std::string& what) {
+  command
+      ->add_option("--set", *sets,
+                   "Override a value of " + what +
+                       ": --set key.path=value "
+                       "(repeatable; YAML values)")
+      ->type_name("KEY=VALUE");
+}
+
 void AddScenarioOptions(CLI::App* command, ScenarioOptions* options) {
   command->add_option(
       "scenario", options->path,
@@ -57,10 +66,7 @@ void AddScenarioOptions(CLI::App* command, ScenarioOptions* options) {
                     "never replaces anything else)");
   command->add_option("--seed", options->seed, "Terrain seed (overrides terrain.seed)")
       ->check(SeedValidator());
-  command
-      ->add_option("--set", options->sets,
-                   "Override a scenario value: --set key.path=value (repeatable)")
-      ->type_name("KEY=VALUE");
+  AddSetOption(command, &options->sets, "the scenario");
 }
 
 Scenario ResolveScenario(const ScenarioOptions& options, std::optional<bool> video) {

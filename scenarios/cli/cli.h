@@ -59,6 +59,10 @@ struct ScenarioOptions {
 /// Registers the scenario positional, --out, --overwrite, --seed and --set.
 void AddScenarioOptions(CLI::App* command, ScenarioOptions* options);
 
+/// Adds `--set KEY=VALUE` (repeatable) to `command`: scenario overrides, `what` says which
+/// scenarios they apply to.
+void AddSetOption(CLI::App* command, std::vector<std::string>* sets, const std::string& what);
+
 /// Accepts a seed: digits only (CLI11 would read "-1" into an unsigned as 2^64 - 1).
 const CLI::Validator& SeedValidator();
 

@@ -91,9 +91,7 @@ Command AddEvalCommand(CLI::App* app, const std::string& command_line) {
   AddClusterFlags(eval, &flags->cluster, "--scenes-per-task");
   eval->add_option("--collect", flags->collect,
                    "Write the report of the evaluation in DIR from what has finished");
-  eval->add_option("--set", flags->options.sets,
-                   "Override a value of every scene's scenario: --set key.path=value")
-      ->type_name("KEY=VALUE");
+  AddSetOption(eval, &flags->options.sets, "every scene's scenario");
   return {eval, [flags, command_line] {
             if (flags->no_ablation) flags->options.inducing_points.clear();
             return Eval(flags->options, flags->out, command_line, flags->cluster, flags->collect);

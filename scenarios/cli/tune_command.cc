@@ -3,6 +3,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/input_error.h"
 #include "scenarios/cli/cli.h"
@@ -19,12 +20,14 @@ struct TuneCommand {
   std::optional<std::string> algorithm;
   int jobs{1};
   ClusterFlags cluster;
+  std::vector<std::string> sets;
 };
 
 int Tune(const TuneCommand& command) {
   if (command.out.empty()) throw common::InputError("--out", "", "trav tune needs --out DIR");
   CheckJobs(command.jobs);
   TuneSpec spec = LoadTuneFile(command.file);
+  spec.sets.insert(spec.sets.end(), command.sets.begin(), command.sets.end());
   if (command.budget) {
     if (*command.budget < 2 || *command.budget > 100000) {
       throw common::InputError("--budget", std::to_string(*command.budget),
@@ -73,6 +76,7 @@ Command AddTuneCommand(CLI::App* app) {
                    "bobyqa, neldermead, crs or esch (overrides the file's algorithm)");
   tune->add_option("--jobs", command->jobs, "Runs at once (local)")->capture_default_str();
   AddClusterFlags(tune, &command->cluster, "--runs-per-task");
+  AddSetOption(tune, &command->sets, "every run's scenario, after the tuning file's `set`");
   return {tune, [command] { return Tune(*command); }};
 }
 

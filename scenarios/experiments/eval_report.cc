@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -21,7 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The paper's Table I (average mean error / average variance), reference/mapping.md section 2.11.
+// The paper's Table I (average mean error / average variance).
 struct PaperRow {
   const char* terrain;
   double sgp[2];
@@ -126,28 +127,39 @@ void WriteCsvAndPlots(const fs::path& folder, const std::string& csv_name, const
   if (!result.message.empty()) notes->push_back(result.message);
 }
 
+// A terrain-by-method table: a row per terrain type, a column per method, each cell `cell` of the
+// method's aggregate ("-" where it has none on that terrain).
+std::string TerrainByMethodTable(const std::vector<EvalAggregate>& rows,
+                                 const std::vector<std::string>& terrains,
+                                 const std::vector<std::string>& methods,
+                                 const std::function<std::string(const EvalAggregate&)>& cell) {
+  std::ostringstream md;
+  md << "| terrain |";
+  for (const std::string& method : methods) md << " " << method << " |";
+  md << "\n|---|";
+  for (std::size_t i = 0; i < methods.size(); ++i) md << "---|";
+  md << "\n";
+  for (const std::string& terrain : terrains) {
+    md << "| " << terrain << " |";
+    for (const std::string& method : methods) {
+      const EvalAggregate* row = Find(rows, terrain, method);
+      md << " " << (row ? cell(*row) : std::string("-")) << " |";
+    }
+    md << "\n";
+  }
+  return md.str();
+}
+
 std::string TableOne(const std::vector<EvalAggregate>& rows, const EvalOptions& options,
                      const std::vector<std::string>& methods) {
   std::ostringstream md;
   md << "## Table I: mean error / error variance per terrain type\n\n"
      << "Mean over scenes of the per-frame mean |traversability - ground truth| over the cells "
-        "observed so far, and of its variance.\n\n| terrain |";
-  for (const std::string& method : methods) md << " " << method << " |";
-  md << "\n|---|";
-  for (std::size_t i = 0; i < methods.size(); ++i) md << "---|";
-  md << "\n";
-  for (const std::string& terrain : options.terrains) {
-    md << "| " << terrain << " |";
-    for (const std::string& method : methods) {
-      const EvalAggregate* row = Find(rows, terrain, method);
-      md << " "
-         << (row ? common::FormatNumber("%.4f", row->mean_error) + " / " +
-                       common::FormatNumber("%.4f", row->error_variance)
-                 : std::string("-"))
-         << " |";
-    }
-    md << "\n";
-  }
+        "observed so far, and of its variance.\n\n"
+     << TerrainByMethodTable(rows, options.terrains, methods, [](const EvalAggregate& row) {
+          return common::FormatNumber("%.4f", row.mean_error) + " / " +
+                 common::FormatNumber("%.4f", row.error_variance);
+        });
   md << "\nThe paper's Table I (its simulator, its ground-truth formula):\n\n"
      << "| terrain | sgp | fsgp | fsgp-bgk |\n|---|---|---|---|\n";
   for (const PaperRow& paper : kPaperTableI) {
@@ -175,23 +187,11 @@ std::string HazardTable(const std::vector<EvalAggregate>& rows, const EvalOption
         "ranks the untraversable cells (truth cost >= the planner's lethal threshold), its rank "
         "correlation with the truth's cost, and the mean error after a monotone calibration fitted "
         "on the method's other scenes; means over scenes. A constant map has AUROC 0.5, the "
-        "oracle 1.\n\n| terrain |";
-  for (const std::string& method : methods) md << " " << method << " |";
-  md << "\n|---|";
-  for (std::size_t i = 0; i < methods.size(); ++i) md << "---|";
-  md << "\n";
-  for (const std::string& terrain : options.terrains) {
-    md << "| " << terrain << " |";
-    for (const std::string& method : methods) {
-      const EvalAggregate* row = Find(rows, terrain, method);
-      md << " "
-         << (row ? Cell(row->auroc, "%.3f") + " / " + Cell(row->average_precision, "%.3f") + " / " +
-                       Cell(row->spearman, "%.3f") + " / " + Cell(row->calibrated_mae, "%.4f")
-                 : std::string("-"))
-         << " |";
-    }
-    md << "\n";
-  }
+        "oracle 1.\n\n"
+     << TerrainByMethodTable(rows, options.terrains, methods, [](const EvalAggregate& row) {
+          return Cell(row.auroc, "%.3f") + " / " + Cell(row.average_precision, "%.3f") + " / " +
+                 Cell(row.spearman, "%.3f") + " / " + Cell(row.calibrated_mae, "%.4f");
+        });
   return md.str();
 }
 

@@ -7,7 +7,7 @@
 
 namespace trav::lidar {
 
-/// Settings of the emulated LiDAR (defaults: Livox MID-360, reference/simulation.md section 3).
+/// Settings of the emulated LiDAR (defaults: the Livox MID-360 datasheet).
 struct LidarConfig {
   bool enabled{true};
   /// Scan table in Livox's CSV format; empty: the procedural MID-360 model.

@@ -12,7 +12,7 @@ namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
 
-// MID-360 structure (reference/simulation.md 3.2a).
+// MID-360 structure, as the official scan table shows it.
 constexpr int kLines = 4;
 constexpr double kAzimuthStepDeg = -1.3134;     // per group
 constexpr std::int64_t kGroupsPerSweep = 5000;  // one elevation sweep per 100 ms frame

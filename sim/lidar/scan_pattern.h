@@ -32,13 +32,13 @@ class ScanPattern {
 };
 
 /// A procedural model of the Livox MID-360's non-repetitive pattern, fitted to the structure of the
-/// official scan table (reference/simulation.md 3.2a): four lines fired together in groups (one
-/// group per 4 rays); the group's azimuth turns -1.3134 deg per group (one turn in about 5.5 ms at
-/// 200,000 points/s); its elevation sweeps from +47.9 deg down to -4.2 deg and back once per 5,000
-/// groups (one 100 ms frame), about linear in the middle and rounded at the ends; the four beams
-/// lie on a line through the group's direction, 1.77 and 0.63 deg either side, and that line turns
-/// with the azimuth. The leftover 0.24 turn per frame (87 deg) makes successive frames fill each
-/// other's gaps. All elevations stay within [-7, +52] deg.
+/// official scan table (scan_mode/mid360.csv of Livox-SDK/livox_laser_simulation): four lines fired
+/// together in groups (one group per 4 rays); the group's azimuth turns -1.3134 deg per group (one
+/// turn in about 5.5 ms at 200,000 points/s); its elevation sweeps from +47.9 deg down to -4.2 deg
+/// and back once per 5,000 groups (one 100 ms frame), about linear in the middle and rounded at the
+/// ends; the four beams lie on a line through the group's direction, 1.77 and 0.63 deg either side,
+/// and that line turns with the azimuth. The leftover 0.24 turn per frame (87 deg) makes successive
+/// frames fill each other's gaps. All elevations stay within [-7, +52] deg.
 class Mid360Pattern final : public ScanPattern {
  public:
   PatternRay Ray(std::int64_t index) const override;

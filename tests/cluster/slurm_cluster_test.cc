@@ -109,9 +109,11 @@ TEST_F(SlurmClusterTest, BatchAndEvaluationRunAsJobArrays) {
       " --terrains flat --scenes 2 --frames 4 --methods ground-truth --no-ablation --slurm");
   ASSERT_EQ(evaluated.exit_code, 0) << evaluated.output;
   const nlohmann::json eval_results = nlohmann::json::parse(ReadFile(eval / "results.json"));
-  ASSERT_EQ(eval_results.size(), 1u);
+  ASSERT_EQ(eval_results.size(), 2u);  // the oracle, and the constant floor every table gets
+  EXPECT_EQ(eval_results[0].at("method"), "ground-truth");
   EXPECT_EQ(eval_results[0].at("scenes"), 2);
   EXPECT_EQ(eval_results[0].at("mean_error").get<double>(), 0.0);
+  EXPECT_EQ(eval_results[1].at("method"), "constant=0.5");
 }
 
 }  // namespace

@@ -169,8 +169,10 @@ TEST_F(BatchTest, SweepsExpandToStableIdsAndTheReportPlotsNumericParameters) {
                                "name: sweep\nscenarios: [line.yaml]\nsweep:\n  seed: [3, 4]\n"
                                "  parameters: {controller.mpc.horizon: [10, 20]}\n"
                                "set: {physics.timestep: 0.002}\n");
+  // --set applies to every run after the file's `set`
   const CommandResult run =
-      RunTrav("batch " + batch.string() + " --out " + (root_ / "out").string() + " --jobs 2");
+      RunTrav("batch " + batch.string() + " --out " + (root_ / "out").string() +
+              " --jobs 2 --set physics.timestep=0.001 --set goal=[5,1]");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   for (const std::string seed : {"3", "4"}) {
     for (const std::string horizon : {"10", "20"}) {
@@ -179,6 +181,8 @@ TEST_F(BatchTest, SweepsExpandToStableIdsAndTheReportPlotsNumericParameters) {
       const std::string scenario = ReadFile(root_ / "out/scenarios" / (id + ".yaml"));
       EXPECT_THAT(scenario, HasSubstr("horizon: " + horizon)) << id;
       EXPECT_THAT(scenario, HasSubstr("seed: " + seed)) << id;
+      EXPECT_THAT(scenario, HasSubstr("timestep: 0.001")) << id;
+      EXPECT_THAT(scenario, HasSubstr("goal: [5, 1]")) << id;
     }
   }
   const std::string csv = ReadFile(root_ / "out/vs_controller.mpc.horizon.csv");

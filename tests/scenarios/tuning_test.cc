@@ -67,6 +67,20 @@ TEST_F(TuningTest, FindsTheSpeedThatDrivesThreeMetresInThreeSeconds) {
   }
 }
 
+TEST_F(TuningTest, SetOverridesEveryRunAfterTheTuningFile) {
+  Write("drive.yaml", kDrive);
+  const CommandResult run =
+      Tune(Write("tune.yaml", kDistanceTuning), "--budget 2 --set duration=1.5");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  int scenarios = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(root_ / "out" / "candidates")) {
+    if (entry.path().extension() != ".yaml") continue;
+    EXPECT_THAT(ReadFile(entry.path()), HasSubstr("duration: 1.5")) << entry.path();
+    ++scenarios;
+  }
+  EXPECT_GT(scenarios, 0);
+}
+
 TEST_F(TuningTest, ResumesFromTheRunsInTheFolder) {
   Write("drive.yaml", kDrive);
   const fs::path file = Write("tune.yaml", kDistanceTuning);
