@@ -51,19 +51,20 @@ FsgpBgkMapper::GpInputs FsgpBgkMapper::StandardisedInputs(const TrainingSet& tra
   return gp;
 }
 
-void BgkUpdate(double m_pre, double variance_pre, double t_s, double decay_rate, double epsilon,
-               float* m, float* variance, float* t0_s) {
+double BgkUpdate(double m_pre, double variance_pre, double t_s, double decay_rate, double epsilon,
+                 double fixed_gain, float* m, float* variance, float* t0_s) {
   if (std::isnan(*m)) {
     *m = static_cast<float>(m_pre);
     *variance = static_cast<float>(variance_pre);
     *t0_s = static_cast<float>(t_s);
-    return;
+    return std::numeric_limits<double>::quiet_NaN();
   }
   const double w_t = std::exp(-decay_rate * (t_s - *t0_s));
-  const double w_sigma = 1.0 / (*variance + epsilon);
+  const double w_sigma = fixed_gain > 0.0 ? fixed_gain : 1.0 / (*variance + epsilon);
   *m = static_cast<float>((w_t * w_sigma * *m + m_pre) / (w_t * w_sigma + 1.0));
   *variance = static_cast<float>((w_t * *variance + variance_pre) / (w_t + 1.0));
   *t0_s = static_cast<float>(t_s);
+  return w_sigma;
 }
 
 double PreliminaryScore(const FsgpConfig& c, double curvature, double gradient_m,
@@ -159,7 +160,7 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
 
   // 7-8. preliminary score and fusion per world cell
   stage.Restart();
-  Fuse(prediction, t_s);
+  result.mean_fusion_weight = Fuse(prediction, t_s);
   result.observed_cells = static_cast<int>(prediction.cells.size());
   result.times.fusion = stage.ElapsedMilliseconds();
 
@@ -266,7 +267,9 @@ Eigen::VectorXd FsgpBgkMapper::StridedVariance(const Eigen::MatrixXd& test,
   return variance;
 }
 
-void FsgpBgkMapper::Fuse(const CellPrediction& prediction, double t_s) {
+double FsgpBgkMapper::Fuse(const CellPrediction& prediction, double t_s) {
+  double weight_sum = 0.0;
+  int weights = 0;
   Eigen::MatrixXf& fused = fused_.Layer(kFused);
   Eigen::MatrixXf& fused_variance = map_.Layer(layers::kTraversabilityVariance);
   Eigen::MatrixXf& last = map_.Layer(layers::kLastObserved);
@@ -287,14 +290,20 @@ void FsgpBgkMapper::Fuse(const CellPrediction& prediction, double t_s) {
     float& v_cell = fused_variance(cell.x(), cell.y());
     float& t_cell = last(cell.x(), cell.y());
     if (config_.fuse) {
-      BgkUpdate(score, variance, t_s, config_.decay_rate, config_.variance_epsilon, &m_cell,
-                &v_cell, &t_cell);
+      const double w_sigma =
+          BgkUpdate(score, variance, t_s, config_.decay_rate, config_.variance_epsilon,
+                    config_.fixed_gain, &m_cell, &v_cell, &t_cell);
+      if (!std::isnan(w_sigma)) {
+        weight_sum += w_sigma;
+        ++weights;
+      }
     } else {
       m_cell = static_cast<float>(score);
       v_cell = static_cast<float>(variance);
       t_cell = static_cast<float>(t_s);
     }
   }
+  return weights > 0 ? weight_sum / weights : std::numeric_limits<double>::quiet_NaN();
 }
 
 void FsgpBgkMapper::MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eigen::Vector2i& low,

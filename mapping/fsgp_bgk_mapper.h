@@ -63,8 +63,9 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   Eigen::VectorXd StridedVariance(const Eigen::MatrixXd& test,
                                   const std::vector<Eigen::Vector2i>& cells,
                                   const Eigen::Vector2i& low, const Eigen::Vector2i& high) const;
-  // The preliminary score of each predicted cell fused into the map (BGK, or replaced).
-  void Fuse(const CellPrediction& prediction, double t_s);
+  // The preliminary score of each predicted cell fused into the map (BGK, or replaced); returns
+  // the mean uncertainty weight w_sigma over the cells fused (NaN: none, or no fusion).
+  double Fuse(const CellPrediction& prediction, double t_s);
   void MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eigen::Vector2i& low,
                      const Eigen::Vector2i& high);
   void Smooth(const Eigen::Vector2i& low, const Eigen::Vector2i& high);
@@ -81,10 +82,11 @@ class FsgpBgkMapper final : public TraversabilityMapper {
 };
 
 /// The BGK update of one cell (the paper's equations): with w_t = exp(-lambda (t - t0)) and
-/// w_sigma = 1 / (sigma^2 + eps), M <- (w_t w_sigma M + M_pre) / (w_t w_sigma + 1) and
-/// sigma^2 <- (w_t sigma^2 + sigma_pre^2) / (w_t + 1). An unknown cell (NaN) takes the new values.
-void BgkUpdate(double m_pre, double variance_pre, double t_s, double decay_rate, double epsilon,
-               float* m, float* variance, float* t0_s);
+/// w_sigma = 1 / (sigma^2 + eps) (or `fixed_gain` when > 0), M <- (w_t w_sigma M + M_pre) /
+/// (w_t w_sigma + 1) and sigma^2 <- (w_t sigma^2 + sigma_pre^2) / (w_t + 1). An unknown cell (NaN)
+/// takes the new values. Returns the w_sigma used (NaN for an unknown cell).
+double BgkUpdate(double m_pre, double variance_pre, double t_s, double decay_rate, double epsilon,
+                 double fixed_gain, float* m, float* variance, float* t0_s);
 
 /// Normalised preliminary score: w_kappa N(kappa) + w_g N(g) + w_slope N(slope), N(a) = min(a /
 /// max, 1).

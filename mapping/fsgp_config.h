@@ -106,7 +106,10 @@ struct FsgpConfig {
   bool fuse{true};                 ///< BGK fusion (false: FSGP, the latest frame's score)
   double decay_rate{1.0 / 600.0};  ///< lambda [1/s]
   double variance_epsilon{0.1};    ///< eps in w_sigma = 1 / (sigma^2 + eps)
-  double smoothing_sigma_m{0.2};   ///< Gaussian smoothing [m] (0: none)
+  /// > 0: a fixed-gain filter, w_sigma = fixed_gain whatever the variance (the ablation of BGK's
+  /// uncertainty weighting); 0: BGK.
+  double fixed_gain{0.0};
+  double smoothing_sigma_m{0.2};  ///< Gaussian smoothing [m] (0: none)
   double smoothing_radius_m{0.4};
   int accumulate_frames{1};  ///< FSGP-Accumulation: frames of clouds fed together (1: off)
 
@@ -142,6 +145,7 @@ struct FsgpConfig {
     a->Field("fuse", &fuse);
     a->Field("decay_rate", &decay_rate, {0, 100});
     a->Field("variance_epsilon", &variance_epsilon, {1e-09, 10});
+    a->Field("fixed_gain", &fixed_gain, {0, 1e6});
     a->Field("smoothing_sigma", &smoothing_sigma_m, {0, 5});
     a->Field("smoothing_radius", &smoothing_radius_m, {0, 10});
     a->Field("accumulate_frames", &accumulate_frames, {1, 100});

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <limits>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -49,6 +50,9 @@ struct MapUpdateResult {
   int window_points{0};    ///< valid points in the window
   int training_points{0};
   int observed_cells{0};
+  /// Mean BGK uncertainty weight w_sigma over the cells fused by this update (NaN: none, or a
+  /// mapper without BGK fusion).
+  double mean_fusion_weight{std::numeric_limits<double>::quiet_NaN()};
   StageTimes times{};
 };
 

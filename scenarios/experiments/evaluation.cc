@@ -38,6 +38,12 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kConstantPrefix = "constant=";
+// The ablations of the paper's two contributions: FSGP-BGK without its (kappa, g) GP inputs, and
+// with a fixed-gain filter (the mean BGK weight of the scene) in place of the uncertainty weight.
+constexpr const char* kNoFeatures = "fsgp-bgk-no-features";
+constexpr const char* kFixedGain = "fsgp-bgk-fixed-gain";
+// A feature length scale that makes the kernel constant along the feature (standardised units).
+constexpr double kIgnoredLengthScale = 1e4;
 // The floor of every table: a constant map ranks nothing (AUROC 0.5).
 constexpr const char* kFloorMethod = "constant=0.5";
 // The drive outcome of a scene whose route draws all failed (no methods run).
@@ -140,12 +146,20 @@ class PaintingMapper : public mapping::TraversabilityMapper {
 // The mapper of `method` for a scene.
 std::unique_ptr<mapping::TraversabilityMapper> MakeEvalMapper(const std::string& method,
                                                               const Scenario& scene,
-                                                              const common::GridLayers& truth_W) {
+                                                              const common::GridLayers& truth_W,
+                                                              double fixed_gain) {
   if (const std::optional<float> constant = ConstantOf(method)) {
     return std::make_unique<PaintingMapper>(truth_W, scene.mapping.area, constant);
   }
   Scenario configured = scene;
-  if (StartsWith(method, kAblationPrefix)) {
+  if (method == kNoFeatures || method == kFixedGain) {
+    configured.mapper = MapperMethod::kFsgpBgk;
+    if (method == kNoFeatures) {
+      configured.mapping.gp.length_scales.tail<2>().setConstant(kIgnoredLengthScale);
+    } else {
+      configured.mapping.fixed_gain = fixed_gain;
+    }
+  } else if (StartsWith(method, kAblationPrefix)) {
     configured.mapper = MapperMethod::kFsgpBgk;
     configured.mapping.max_training_points =
         std::stoi(method.substr(std::string(kAblationPrefix).size()));
@@ -193,10 +207,13 @@ std::optional<double> NumberOrNone(double value) {
 // Feeds the frames to one method, scoring its map after every frame.
 EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene,
                                 const common::GridLayers& truth_W,
-                                const std::vector<RecordedFrame>& frames) {
+                                const std::vector<RecordedFrame>& frames, double fixed_gain) {
   const double heap_before = HeapInUseBytes();
   double peak_heap = 0.0;
-  std::unique_ptr<mapping::TraversabilityMapper> mapper = MakeEvalMapper(method, scene, truth_W);
+  std::unique_ptr<mapping::TraversabilityMapper> mapper =
+      MakeEvalMapper(method, scene, truth_W, fixed_gain);
+  double weight_sum = 0.0;
+  int weighted_frames = 0;
   ObservedCells observed(truth_W.geometry(), scene.mapping.area);
   std::vector<double> t, mean, variance, runtime, wall, heap_mb;
   std::vector<int> compared, observed_count;
@@ -205,9 +222,13 @@ EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene
   for (const RecordedFrame& frame : frames) {
     const common::Stopwatch start;
     const common::ThreadCpuStopwatch cpu;
-    mapper->Update(frame.points_W, frame.X_WB, frame.t_s);
+    const mapping::MapUpdateResult update = mapper->Update(frame.points_W, frame.X_WB, frame.t_s);
     runtime.push_back(cpu.ElapsedMilliseconds());
     wall.push_back(start.ElapsedMilliseconds());
+    if (!std::isnan(update.mean_fusion_weight)) {
+      weight_sum += update.mean_fusion_weight;
+      ++weighted_frames;
+    }
     const double heap = HeapInUseBytes() - heap_before;
     peak_heap = std::max(peak_heap, heap);
     heap_mb.push_back(heap / kBytesPerMiB);
@@ -233,6 +254,7 @@ EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene
   record.runtime_ms_median = common::Quantile(runtime, 0.5);
   record.cpu_ms_median = record.runtime_ms_median;
   record.wall_ms_median = common::Quantile(wall, 0.5);
+  if (weighted_frames > 0) record.mean_fusion_weight = weight_sum / weighted_frames;
   record.hazards =
       ScoreHazards(mapper->map(), truth_W, observed, scene.planner.search.lethal_threshold);
   record.runtime_ms_max = runtime.empty() ? 0.0 : *std::max_element(runtime.begin(), runtime.end());
@@ -251,6 +273,18 @@ EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene
   f.wall_ms = std::move(wall);
   f.heap_mb = std::move(heap_mb);
   return record;
+}
+
+// FSGP-BGK's mean uncertainty weight on the scene's frames (from its record when it ran already):
+// the gain of the fixed-gain ablation, so that both fuse with the same mean weight.
+double SceneMeanWeight(const EvalSceneRecord& record, const Scenario& scene,
+                       const common::GridLayers& truth_W,
+                       const std::vector<RecordedFrame>& frames) {
+  const auto bgk = record.methods.find("fsgp-bgk");
+  const EvalMethodRecord measured = bgk != record.methods.end()
+                                        ? bgk->second
+                                        : EvaluateMethod("fsgp-bgk", scene, truth_W, frames, 0.0);
+  return measured.mean_fusion_weight.value_or(1.0 / scene.mapping.variance_epsilon);
 }
 
 // Draws the route of a scene: start and goal `length` apart through the world's centre at a
@@ -325,10 +359,12 @@ void ValidateEvalOptions(const EvalOptions& options) {
     if (!seen.insert(method).second) {
       throw common::InputError("--methods", method, "is listed twice");
     }
-    if (!StandardMethod(method) && !ConstantOf(method)) {
+    if (!StandardMethod(method) && !ConstantOf(method) && method != kNoFeatures &&
+        method != kFixedGain) {
       throw common::InputError("--methods", method,
                                "unknown method (expected sgp, fsgp, fsgp-bgk, fsgp-accumulation, "
-                               "em, ground-truth or constant=C)");
+                               "em, fsgp-bgk-no-features, fsgp-bgk-fixed-gain, ground-truth or "
+                               "constant=C)");
     }
   }
   for (const int count : options.inducing_points) {
@@ -451,6 +487,7 @@ void to_json(nlohmann::json& json, const EvalMethodRecord& r) {
           {"runtime_ms_max", r.runtime_ms_max},
           {"cpu_ms_median", r.cpu_ms_median},
           {"wall_ms_median", r.wall_ms_median},
+          {"mean_fusion_weight", NumberOrNull(r.mean_fusion_weight)},
           {"peak_memory_mb", r.peak_memory_mb},
           {"coverage", r.coverage},
           {"frames", r.frames}};
@@ -465,6 +502,7 @@ void from_json(const nlohmann::json& json, EvalMethodRecord& r) {
   json.at("runtime_ms_max").get_to(r.runtime_ms_max);
   json.at("cpu_ms_median").get_to(r.cpu_ms_median);
   json.at("wall_ms_median").get_to(r.wall_ms_median);
+  r.mean_fusion_weight = OptionalNumber(json.at("mean_fusion_weight"));
   json.at("peak_memory_mb").get_to(r.peak_memory_mb);
   json.at("coverage").get_to(r.coverage);
   json.at("frames").get_to(r.frames);
@@ -539,7 +577,9 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   const RunSummary drive = RunLoop(&loop, {&recorder});
 
   for (const std::string& method : EvalMethods(options)) {
-    record.methods[method] = EvaluateMethod(method, scenario, truth_W, frames);
+    const double fixed_gain =
+        method == kFixedGain ? SceneMeanWeight(record, scenario, truth_W, frames) : 0.0;
+    record.methods[method] = EvaluateMethod(method, scenario, truth_W, frames, fixed_gain);
   }
   record.route.start = {scenario.start_W.position.x(), scenario.start_W.position.y(),
                         scenario.start_W.yaw};

@@ -25,8 +25,10 @@ struct EvalOptions {
   std::vector<std::string> terrains{"hilly", "forest", "ruin", "road", "indoor"};
   int scenes{2};          ///< scenes per terrain type, >= 1
   std::uint64_t seed{1};  ///< scene k (from 0) of a type has terrain seed seed + k
-  /// Methods: sgp, fsgp, fsgp-bgk, fsgp-accumulation, em; and, to check the evaluation itself,
-  /// ground-truth (the oracle: the truth at every observed cell) and constant=C (C at every
+  /// Methods: sgp, fsgp, fsgp-bgk, fsgp-accumulation, em; the ablations of the paper's
+  /// contributions fsgp-bgk-no-features (no (kappa, g) GP inputs) and fsgp-bgk-fixed-gain (a
+  /// fixed-gain filter at FSGP-BGK's mean weight of the scene); and, to check the evaluation
+  /// itself, ground-truth (the oracle: the truth at every observed cell) and constant=C (C at every
   /// observed cell, C in [0, 1]).
   std::vector<std::string> methods{"sgp", "fsgp", "fsgp-bgk", "fsgp-accumulation", "em"};
   /// FSGP-BGK inducing-point ablation: each count other than FSGP-BGK's own (mapping key
@@ -98,8 +100,10 @@ struct EvalMethodRecord {
   double runtime_ms_max{0.0};     ///< largest CPU time of an update [ms]
   double cpu_ms_median{0.0};      ///< median CPU time of an update (thread CPU clock) [ms]
   double wall_ms_median{0.0};     ///< median wall time of an update [ms]
-  double peak_memory_mb{0.0};     ///< largest heap growth [MiB]
-  double coverage{0.0};           ///< compared / observed cells after the last frame
+  /// Mean over frames of the BGK uncertainty weight w_sigma (unset for methods without BGK).
+  std::optional<double> mean_fusion_weight;
+  double peak_memory_mb{0.0};  ///< largest heap growth [MiB]
+  double coverage{0.0};        ///< compared / observed cells after the last frame
   /// The final map's hazard scores (ScoreHazards: AUROC, average precision, Spearman, elevation
   /// RMSE over the observed cells; untraversable: truth cost >= the planner's lethal threshold).
   HazardScores hazards;

@@ -237,8 +237,11 @@ CampaignFolder::CampaignFolder(const std::string& path, const std::string& kind,
   const bool noted = ftruncate(lock_fd_, 0) == 0 && write(lock_fd_, pid.data(), pid.size()) > 0;
   static_cast<void>(noted);
   if (fresh) WriteMarker(folder, kind);
-  for (const std::string& sub : partial_subfolders) {
-    fs::directory_iterator entries(folder / sub, error);
+  // the folder itself (a report killed while written) and the subfolders the campaign names
+  std::vector<std::string> swept = partial_subfolders;
+  swept.emplace_back();
+  for (const std::string& sub : swept) {
+    fs::directory_iterator entries(sub.empty() ? folder : folder / sub, error);
     if (error) continue;
     for (const fs::directory_entry& entry : entries) {
       if (entry.path().filename().string().find(".partial-") != std::string::npos) {

@@ -60,7 +60,7 @@ class OutputFolder {
 /// existed). Anything else is bad input. The folder is locked (flock on "<folder>/.trav.lock")
 /// for the object's lifetime, so two trav processes never work in one folder at once; the lock
 /// goes with the process, however it ends. Files a killed process left half-written
-/// ("*.partial-*") in `partial_subfolders` are removed.
+/// ("*.partial-*") in the folder itself and in `partial_subfolders` are removed.
 class CampaignFolder {
  public:
   /// What the folder may be when it is opened.

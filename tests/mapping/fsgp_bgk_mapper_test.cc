@@ -316,11 +316,11 @@ TEST(FsgpBgkMapperTest, WithoutFusionTheLatestFrameDecides) {
 
 TEST(BgkUpdateTest, MatchesTheEquationsOnTwoFrames) {
   float m = std::numeric_limits<float>::quiet_NaN(), variance = 0.0f, t0 = 0.0f;
-  BgkUpdate(0.6, 0.04, 10.0, 0.01, 0.1, &m, &variance, &t0);
+  BgkUpdate(0.6, 0.04, 10.0, 0.01, 0.1, 0.0, &m, &variance, &t0);
   EXPECT_FLOAT_EQ(m, 0.6f);
   EXPECT_FLOAT_EQ(variance, 0.04f);
   EXPECT_FLOAT_EQ(t0, 10.0f);
-  BgkUpdate(0.2, 0.09, 15.0, 0.01, 0.1, &m, &variance, &t0);
+  EXPECT_NEAR(BgkUpdate(0.2, 0.09, 15.0, 0.01, 0.1, 0.0, &m, &variance, &t0), 1.0 / 0.14, 1e-6);
   // w_t = exp(-0.05), w_sigma = 1 / 0.14
   const double w_t = std::exp(-0.05);
   const double w_s = 1.0 / 0.14;
@@ -329,11 +329,24 @@ TEST(BgkUpdateTest, MatchesTheEquationsOnTwoFrames) {
   EXPECT_FLOAT_EQ(t0, 15.0f);
 }
 
+// The fixed-gain ablation ignores the variance: the same gain for a certain and an uncertain cell.
+TEST(BgkUpdateTest, AFixedGainWeighsEveryCellAlike) {
+  float certain_m = 0.8f, certain_v = 0.001f, certain_t = 5.0f;
+  float vague_m = 0.8f, vague_v = 0.5f, vague_t = 5.0f;
+  EXPECT_EQ(BgkUpdate(0.2, 0.01, 5.0, 0.01, 0.1, 4.0, &certain_m, &certain_v, &certain_t), 4.0);
+  EXPECT_EQ(BgkUpdate(0.2, 0.01, 5.0, 0.01, 0.1, 4.0, &vague_m, &vague_v, &vague_t), 4.0);
+  EXPECT_FLOAT_EQ(certain_m, (4.0f * 0.8f + 0.2f) / 5.0f);  // w_t = 1 at the same time
+  EXPECT_FLOAT_EQ(vague_m, certain_m);
+  // BGK would have weighed them 1 / 0.101 and 1 / 0.6
+  float bgk_m = 0.8f, bgk_v = 0.5f, bgk_t = 5.0f;
+  EXPECT_NEAR(BgkUpdate(0.2, 0.01, 5.0, 0.01, 0.1, 0.0, &bgk_m, &bgk_v, &bgk_t), 1.0 / 0.6, 1e-9);
+}
+
 TEST(BgkUpdateTest, OldValuesDecayWithTime) {
   float recent_m = 0.8f, recent_v = 0.01f, recent_t = 99.0f;
   float old_m = 0.8f, old_v = 0.01f, old_t = 0.0f;
-  BgkUpdate(0.0, 0.01, 100.0, 0.01, 0.1, &recent_m, &recent_v, &recent_t);
-  BgkUpdate(0.0, 0.01, 100.0, 0.01, 0.1, &old_m, &old_v, &old_t);
+  BgkUpdate(0.0, 0.01, 100.0, 0.01, 0.1, 0.0, &recent_m, &recent_v, &recent_t);
+  BgkUpdate(0.0, 0.01, 100.0, 0.01, 0.1, 0.0, &old_m, &old_v, &old_t);
   EXPECT_GT(recent_m, old_m);  // the one-second-old value weighs more than the 100-second-old one
   EXPECT_NEAR(old_m, 0.8 * std::exp(-1.0) / 0.11 / (std::exp(-1.0) / 0.11 + 1.0), 1e-6);
 }

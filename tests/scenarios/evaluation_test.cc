@@ -175,6 +175,27 @@ TEST_F(EvaluationTest, RanksTheHazardsWithTheOracleAtOneAndAConstantAtOneHalf) {
   EXPECT_GE(scene.at("route").at("draws"), 1);
 }
 
+// The ablations of the paper's contributions: the fixed-gain filter fuses with FSGP-BGK's own mean
+// weight of the scene, the GP without (kappa, g) inputs maps the same frames.
+TEST_F(EvaluationTest, TheContributionAblationsRunBesideFsgpBgk) {
+  const CommandResult run = RunTrav(
+      "eval --out " + (root_ / "eval").string() +
+      " --terrains flat --scenes 1 --seed 5 --frames 6 --route-length 6 --no-ablation"
+      " --methods fsgp-bgk-fixed-gain,fsgp-bgk,fsgp-bgk-no-features --set "
+      "'terrain.boxes=[{name: crate, centre: [0, 0], half_extents: [0.4, 0.4], height: 1}]'");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json methods = ReadJson(root_ / "eval" / "scenes" / "flat-5.json").at("methods");
+  const double bgk_weight = methods.at("fsgp-bgk").at("mean_fusion_weight").get<double>();
+  EXPECT_GT(bgk_weight, 0.0);
+  EXPECT_NEAR(methods.at("fsgp-bgk-fixed-gain").at("mean_fusion_weight").get<double>(), bgk_weight,
+              1e-9 * bgk_weight);
+  EXPECT_TRUE(methods.at("fsgp-bgk-no-features").at("mean_error").is_number());
+  EXPECT_TRUE(methods.at("constant=0.5").at("mean_fusion_weight").is_null());
+  EXPECT_EQ(
+      RunTrav("eval --out " + (root_ / "bad").string() + " --methods fsgp-bgk-no-gain").exit_code,
+      2);
+}
+
 // Walls along both axes through the centre: every route (through the centre) is cut.
 TEST_F(EvaluationTest, ASceneWithoutARouteIsRecordedAsNoRoute) {
   const CommandResult run = RunTrav(

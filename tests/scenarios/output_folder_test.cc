@@ -209,6 +209,24 @@ TEST_F(OutputFolderTest, ACampaignFolderIsUsedByOneProcessAtATime) {
       CampaignFolder(out.string(), "batch", "batch.json", {}, CampaignFolder::Use::kExisting));
 }
 
+// What a killed process left half-written goes when the folder is opened again: in the folder
+// itself (a report) and in the named subfolders, never elsewhere.
+TEST_F(OutputFolderTest, ACampaignFolderRemovesHalfWrittenFiles) {
+  const fs::path out = root_ / "campaign";
+  { const CampaignFolder first(out.string(), "eval", "options.json", {"scenes"}); }
+  fs::create_directories(out / "scenes");
+  fs::create_directories(out / "logs");
+  for (const fs::path& file : {out / "results.md.partial-99", out / "scenes" / "a.json.partial-7",
+                               out / "logs" / "b.log.partial-5", out / "results.md"}) {
+    std::ofstream(file) << "x";
+  }
+  const CampaignFolder again(out.string(), "eval", "options.json", {"scenes"});
+  EXPECT_FALSE(fs::exists(out / "results.md.partial-99"));
+  EXPECT_FALSE(fs::exists(out / "scenes" / "a.json.partial-7"));
+  EXPECT_TRUE(fs::exists(out / "logs" / "b.log.partial-5"));  // not a subfolder it was told of
+  EXPECT_TRUE(fs::exists(out / "results.md"));
+}
+
 TEST_F(OutputFolderTest, ACampaignFolderKeepsTheIdentityOfItsFirstCampaign) {
   const fs::path out = root_ / "campaign";
   const CampaignFolder folder(out.string(), "batch", "batch.json", {});
