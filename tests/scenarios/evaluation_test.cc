@@ -61,6 +61,17 @@ class EvaluationTest : public ::testing::Test {
            " --methods ground-truth,constant=0.25,fsgp-bgk --inducing 50,500";
   }
 
+  // Flat ground with one crate between start and goal (the only hazards of the truth), 6 m
+  // routes, `scenes` scenes from seed 5, 6 frames each, `methods` without the ablation.
+  CommandResult CrateEval(int scenes, const std::string& methods) const {
+    return RunTrav("eval --out " + (root_ / "eval").string() + " --terrains flat --scenes " +
+                   std::to_string(scenes) +
+                   " --seed 5 --frames 6 --jobs 2 --route-length 6 --no-ablation --methods " +
+                   methods +
+                   " --set 'terrain.boxes=[{name: crate, centre: [0, 0], half_extents: [0.4, "
+                   "0.4], height: 1}]'");
+  }
+
   fs::path root_;
 };
 
@@ -129,13 +140,9 @@ TEST_F(EvaluationTest, WritesEveryTableAndPlotAndScoresTheOracleAndAConstantExac
   EXPECT_THAT(md.str(), HasSubstr("| flat | 0.0000 / 0.0000 | 0.2500 / 0.0000 |"));
 }
 
-// Flat ground with one crate between start and goal: the only hazards of the truth.
+// The crate world (CrateEval): the oracle ranks every hazard first, a constant cannot rank.
 TEST_F(EvaluationTest, RanksTheHazardsWithTheOracleAtOneAndAConstantAtOneHalf) {
-  const CommandResult run = RunTrav(
-      "eval --out " + (root_ / "eval").string() +
-      " --terrains flat --scenes 2 --seed 5 --frames 6 --jobs 2 --route-length 6 --no-ablation"
-      " --methods fsgp-bgk,em --set 'terrain.boxes=[{name: crate, centre: [0, 0], half_extents: "
-      "[0.4, 0.4], height: 1}]'");
+  const CommandResult run = CrateEval(2, "fsgp-bgk,em");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const nlohmann::json results = ReadJson(root_ / "eval" / "results.json");
   ASSERT_EQ(results.size(), 4u);  // fsgp-bgk, em, and the floor and ceiling added to every table
@@ -178,11 +185,7 @@ TEST_F(EvaluationTest, RanksTheHazardsWithTheOracleAtOneAndAConstantAtOneHalf) {
 // The ablations of the paper's contributions: the fixed-gain filter fuses with FSGP-BGK's own mean
 // weight of the scene, the GP without (kappa, g) inputs maps the same frames.
 TEST_F(EvaluationTest, TheContributionAblationsRunBesideFsgpBgk) {
-  const CommandResult run = RunTrav(
-      "eval --out " + (root_ / "eval").string() +
-      " --terrains flat --scenes 1 --seed 5 --frames 6 --route-length 6 --no-ablation"
-      " --methods fsgp-bgk-fixed-gain,fsgp-bgk,fsgp-bgk-no-features --set "
-      "'terrain.boxes=[{name: crate, centre: [0, 0], half_extents: [0.4, 0.4], height: 1}]'");
+  const CommandResult run = CrateEval(1, "fsgp-bgk-fixed-gain,fsgp-bgk,fsgp-bgk-no-features");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const nlohmann::json methods = ReadJson(root_ / "eval" / "scenes" / "flat-5.json").at("methods");
   const double bgk_weight = methods.at("fsgp-bgk").at("mean_fusion_weight").get<double>();
