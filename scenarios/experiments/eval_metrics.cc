@@ -29,23 +29,24 @@ std::optional<double> MetricOf(const SceneMetrics& m, const std::string& name) {
   return std::nullopt;
 }
 
-std::optional<double> CalibratedMae(const HazardScores& scene,
-                                    const std::vector<const HazardScores*>& others) {
-  // the fit: per cost bin of the other scenes, the mean truth weighted by its cells
-  std::map<int, std::pair<double, double>> by_cost;  // cost bin -> (sum of truth, cells)
-  for (const HazardScores* other : others) {
-    for (const std::array<int, 3>& entry : other->cost_truth_histogram) {
-      by_cost[entry[0]].first += static_cast<double>(entry[1]) / kCostSteps * entry[2];
-      by_cost[entry[0]].second += entry[2];
-    }
+void AddCells(const HazardScores& scene, int sign, CostTruthSums* sums) {
+  for (const std::array<int, 3>& entry : scene.cost_truth_histogram) {
+    std::pair<long long, long long>& bin = (*sums)[entry[0]];
+    bin.first += sign * static_cast<long long>(entry[1]) * entry[2];
+    bin.second += sign * static_cast<long long>(entry[2]);
   }
-  if (by_cost.empty() || scene.cost_truth_histogram.empty()) return std::nullopt;
+}
+
+std::optional<double> CalibratedMae(const HazardScores& scene, const CostTruthSums& others) {
+  // the fit: per cost bin of the other scenes' cells, their mean truth weighted by their count
   std::vector<double> x, y, weights;
-  for (const auto& [bin, sums] : by_cost) {
+  for (const auto& [bin, sums] : others) {
+    if (sums.second <= 0) continue;
     x.push_back(static_cast<double>(bin) / kCostSteps);
-    y.push_back(sums.first / sums.second);
-    weights.push_back(sums.second);
+    y.push_back(static_cast<double>(sums.first) / static_cast<double>(sums.second) / kCostSteps);
+    weights.push_back(static_cast<double>(sums.second));
   }
+  if (x.empty() || scene.cost_truth_histogram.empty()) return std::nullopt;
   const common::IsotonicFit calibration(x, y, weights);
   double error = 0.0, cells = 0.0;
   for (const std::array<int, 3>& entry : scene.cost_truth_histogram) {
@@ -62,13 +63,15 @@ std::vector<SceneMetrics> MethodSceneMetrics(const std::vector<EvalSceneRecord>&
   for (const EvalSceneRecord& scene : scenes) {
     if (scene.methods.count(method) > 0) with_method.push_back(&scene);
   }
+  // every scene's cells once; each scene's fit takes its own back out
+  CostTruthSums all;
+  for (const EvalSceneRecord* scene : with_method)
+    AddCells(scene->methods.at(method).hazards, 1, &all);
   std::vector<SceneMetrics> metrics;
   for (const EvalSceneRecord* scene : with_method) {
     const EvalMethodRecord& record = scene->methods.at(method);
-    std::vector<const HazardScores*> others;
-    for (const EvalSceneRecord* other : with_method) {
-      if (other != scene) others.push_back(&other->methods.at(method).hazards);
-    }
+    CostTruthSums others = all;
+    AddCells(record.hazards, -1, &others);
     SceneMetrics m;
     m.id = scene->id;
     m.mean_error = record.mean_error;

@@ -3,6 +3,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json_fwd.hpp>
@@ -42,10 +43,16 @@ std::optional<double> MetricOf(const SceneMetrics& metrics, const std::string& n
 std::vector<SceneMetrics> MethodSceneMetrics(const std::vector<EvalSceneRecord>& scenes,
                                              const std::string& method);
 
-/// The calibrated error of `scene`'s cells (HazardScores::cost_truth_histogram) under the isotonic
-/// fit of truth on cost over `others`' cells; unset if either has no cell.
-std::optional<double> CalibratedMae(const HazardScores& scene,
-                                    const std::vector<const HazardScores*>& others);
+/// Cells of some scenes per cost bin (HazardScores::cost_truth_histogram): the sum of their truth
+/// bins and their count, in integers so that one scene's cells subtract exactly.
+using CostTruthSums = std::map<int, std::pair<long long, long long>>;
+
+/// Adds `scene`'s cells to `sums` (sign 1), or takes them out (sign -1).
+void AddCells(const HazardScores& scene, int sign, CostTruthSums* sums);
+
+/// The calibrated error of `scene`'s cells under the isotonic fit of truth on cost over the cells
+/// of `others` (the other scenes); unset if either has no cell.
+std::optional<double> CalibratedMae(const HazardScores& scene, const CostTruthSums& others);
 
 /// The mean over scenes of a method's metric minus the reference method's, on the scenes where
 /// both have it, with its 95 % percentile bootstrap interval (2,000 resamples, seeded).

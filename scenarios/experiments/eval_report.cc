@@ -273,7 +273,7 @@ void to_json(nlohmann::json& json, const EvalAggregate& row) {
           {"scenes", row.scenes},
           {"frames", row.frames},
           {"coverage", row.coverage},
-          {"cpu_ms_median", row.cpu_ms_median},
+          {"cpu_ms_median", row.runtime_ms_median},
           {"wall_ms_median", row.wall_ms_median},
           {"auroc", NumberOrNull(row.auroc)},
           {"average_precision", NumberOrNull(row.average_precision)},
@@ -295,7 +295,6 @@ void from_json(const nlohmann::json& json, EvalAggregate& row) {
   json.at("scenes").get_to(row.scenes);
   json.at("frames").get_to(row.frames);
   json.at("coverage").get_to(row.coverage);
-  json.at("cpu_ms_median").get_to(row.cpu_ms_median);
   json.at("wall_ms_median").get_to(row.wall_ms_median);
   row.auroc = OptionalNumber(json.at("auroc"));
   row.average_precision = OptionalNumber(json.at("average_precision"));
@@ -386,7 +385,6 @@ std::vector<EvalAggregate> AggregateScenes(const std::vector<EvalSceneRecord>& s
       row.coverage /= row.scenes;
       row.frames = static_cast<int>(runtimes.size());
       row.runtime_ms_median = common::Quantile(runtimes, 0.5);
-      row.cpu_ms_median = row.runtime_ms_median;
       row.wall_ms_median = common::Quantile(walls, 0.5);
       AddHazardMetrics(OfTerrain(metrics[method], scenes, terrain),
                        reference_metrics == metrics.end()
@@ -416,7 +414,7 @@ void WriteEvalResults(const fs::path& folder, const std::vector<EvalAggregate>& 
            common::FormatNumber("%.6g", row.runtime_ms_median) + "," +
            common::FormatNumber("%.6g", row.peak_memory_mb) + "," + std::to_string(row.scenes) +
            "," + std::to_string(row.frames) + "," + common::FormatNumber("%.4f", row.coverage) +
-           "," + common::FormatNumber("%.6g", row.cpu_ms_median) + "," +
+           "," + common::FormatNumber("%.6g", row.runtime_ms_median) + "," +
            common::FormatNumber("%.6g", row.wall_ms_median) + "," + optional(row.auroc) + "," +
            optional(row.average_precision) + "," + optional(row.spearman) + "," +
            optional(row.calibrated_mae) + "," + optional(row.elevation_rmse) + "\n";

@@ -18,11 +18,11 @@ struct EvalAggregate {
   int frames{0};               ///< frames over those scenes
   double mean_error{0.0};      ///< mean over scenes of the scene's mean (over frames) error
   double error_variance{0.0};  ///< mean over scenes of the scene's mean error variance
-  /// Median CPU time of an update over every frame of every scene (thread CPU clock) [ms].
+  /// Median CPU time of an update over every frame of every scene (thread CPU clock) [ms]; also
+  /// written as cpu_ms_median.
   double runtime_ms_median{0.0};
   double peak_memory_mb{0.0};  ///< largest heap growth of one scene's run [MiB]
   double coverage{0.0};        ///< mean over scenes of the observed cells the map knows at the end
-  double cpu_ms_median{0.0};   ///< runtime_ms_median, by its name
   double wall_ms_median{0.0};  ///< median wall time of an update [ms]
   /// Means over the scenes where each is defined (SceneMetrics); unset where none is.
   std::optional<double> auroc;

@@ -252,7 +252,6 @@ EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene
   record.error_variance = NumberOrNone(scored > 0 ? variance_sum / scored : std::nan(""));
   record.scored_frames = scored;
   record.runtime_ms_median = common::Quantile(runtime, 0.5);
-  record.cpu_ms_median = record.runtime_ms_median;
   record.wall_ms_median = common::Quantile(wall, 0.5);
   if (weighted_frames > 0) record.mean_fusion_weight = weight_sum / weighted_frames;
   record.hazards =
@@ -485,7 +484,7 @@ void to_json(nlohmann::json& json, const EvalMethodRecord& r) {
           {"scored_frames", r.scored_frames},
           {"runtime_ms_median", r.runtime_ms_median},
           {"runtime_ms_max", r.runtime_ms_max},
-          {"cpu_ms_median", r.cpu_ms_median},
+          {"cpu_ms_median", r.runtime_ms_median},
           {"wall_ms_median", r.wall_ms_median},
           {"mean_fusion_weight", NumberOrNull(r.mean_fusion_weight)},
           {"peak_memory_mb", r.peak_memory_mb},
@@ -500,9 +499,11 @@ void from_json(const nlohmann::json& json, EvalMethodRecord& r) {
   json.at("scored_frames").get_to(r.scored_frames);
   json.at("runtime_ms_median").get_to(r.runtime_ms_median);
   json.at("runtime_ms_max").get_to(r.runtime_ms_max);
-  json.at("cpu_ms_median").get_to(r.cpu_ms_median);
   json.at("wall_ms_median").get_to(r.wall_ms_median);
-  r.mean_fusion_weight = OptionalNumber(json.at("mean_fusion_weight"));
+  // absent in records written before the fusion weight was recorded: unset, as for a non-BGK method
+  r.mean_fusion_weight = json.contains("mean_fusion_weight")
+                             ? OptionalNumber(json.at("mean_fusion_weight"))
+                             : std::nullopt;
   json.at("peak_memory_mb").get_to(r.peak_memory_mb);
   json.at("coverage").get_to(r.coverage);
   json.at("frames").get_to(r.frames);

@@ -96,10 +96,10 @@ struct EvalMethodRecord {
   std::optional<double> mean_error;
   std::optional<double> error_variance;
   int scored_frames{0};
-  double runtime_ms_median{0.0};  ///< median CPU time of an update (cpu_ms_median) [ms]
-  double runtime_ms_max{0.0};     ///< largest CPU time of an update [ms]
-  double cpu_ms_median{0.0};      ///< median CPU time of an update (thread CPU clock) [ms]
-  double wall_ms_median{0.0};     ///< median wall time of an update [ms]
+  /// Median CPU time of an update (thread CPU clock; also written as cpu_ms_median) [ms].
+  double runtime_ms_median{0.0};
+  double runtime_ms_max{0.0};  ///< largest CPU time of an update [ms]
+  double wall_ms_median{0.0};  ///< median wall time of an update [ms]
   /// Mean over frames of the BGK uncertainty weight w_sigma (unset for methods without BGK).
   std::optional<double> mean_fusion_weight;
   double peak_memory_mb{0.0};  ///< largest heap growth [MiB]

@@ -342,6 +342,28 @@ TEST(BgkUpdateTest, AFixedGainWeighsEveryCellAlike) {
   EXPECT_NEAR(BgkUpdate(0.2, 0.01, 5.0, 0.01, 0.1, 0.0, &bgk_m, &bgk_v, &bgk_t), 1.0 / 0.6, 1e-9);
 }
 
+// The mapper reports the weight its fusion used: the uncertainty weight 1 / (sigma^2 + eps) by
+// default, exactly the fixed gain when one is set; no weight on the first frame (nothing to fuse).
+TEST(FsgpBgkMapperTest, ReportsTheFusionWeightAndTakesAFixedGain) {
+  const auto ground = [](double x, double) { return 0.1 * x; };
+  for (const double gain : {0.0, 4.0}) {
+    FsgpConfig config;
+    config.fixed_gain = gain;
+    FsgpBgkMapper dut(config);
+    EXPECT_TRUE(
+        std::isnan(dut.Update(Surface(ground, {0, 0}), RobotAt(0, 0), 0.0).mean_fusion_weight));
+    const double weight =
+        dut.Update(Surface(ground, {0, 0}), RobotAt(0, 0), 1.0).mean_fusion_weight;
+    if (gain > 0.0) {
+      EXPECT_EQ(weight, gain);
+    } else {
+      EXPECT_GT(weight, 1.0 / (1.0 + config.variance_epsilon));  // variance below 1
+      EXPECT_LE(weight, 1.0 / config.variance_epsilon);
+      EXPECT_NE(weight, 4.0);
+    }
+  }
+}
+
 TEST(BgkUpdateTest, OldValuesDecayWithTime) {
   float recent_m = 0.8f, recent_v = 0.01f, recent_t = 99.0f;
   float old_m = 0.8f, old_v = 0.01f, old_t = 0.0f;

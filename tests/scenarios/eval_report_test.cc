@@ -71,7 +71,6 @@ TEST(EvalSceneRecordTest, RoundTripsThroughJsonWithMissingErrorsAsNull) {
   em.runtime_ms_max = 2.0;
   em.peak_memory_mb = 3.0;
   em.coverage = 0.75;
-  em.cpu_ms_median = 1.5;
   em.wall_ms_median = 4.5;
   em.hazards.auroc = 0.875;
   em.hazards.hazard_cells = 1;
@@ -119,12 +118,21 @@ TEST(EvalMetricsTest, CalibrationMapsEachCostToTheOtherScenesMeanTruthMonotonica
   scene.cost_truth_histogram = {{10, 10, 2}, {90, 100, 1}};
   HazardScores other;
   other.cost_truth_histogram = {{10, 20, 1}, {90, 90, 1}};
+  CostTruthSums others;
+  AddCells(other, 1, &others);
   // f(0.1) = 0.2, f(0.9) = 0.9: (2 x 0.1 + 1 x 0.1) / 3 cells
-  EXPECT_DOUBLE_EQ(*CalibratedMae(scene, {&other}), 0.1);
+  EXPECT_DOUBLE_EQ(*CalibratedMae(scene, others), 0.1);
+  // a scene's own cells taken back out of a total leave exactly the others'
+  CostTruthSums all = others;
+  AddCells(scene, 1, &all);
+  AddCells(scene, -1, &all);
+  EXPECT_DOUBLE_EQ(*CalibratedMae(scene, all), 0.1);
   // a cost that falls as the truth rises is pooled into one level, 0.5
   HazardScores inverse;
   inverse.cost_truth_histogram = {{10, 80, 1}, {90, 20, 1}};
-  EXPECT_DOUBLE_EQ(*CalibratedMae(scene, {&inverse}), (2 * 0.4 + 0.5) / 3.0);
+  CostTruthSums inverted;
+  AddCells(inverse, 1, &inverted);
+  EXPECT_DOUBLE_EQ(*CalibratedMae(scene, inverted), (2 * 0.4 + 0.5) / 3.0);
   EXPECT_FALSE(CalibratedMae(scene, {}).has_value());
 }
 

@@ -163,8 +163,10 @@ TEST_F(EvaluationTest, RanksTheHazardsWithTheOracleAtOneAndAConstantAtOneHalf) {
   EXPECT_EQ(constant.paired_with, "fsgp-bgk");
   const EvalAggregate fsgp_bgk = Record(results, "fsgp-bgk");
   EXPECT_TRUE(fsgp_bgk.paired.empty());
-  EXPECT_GT(fsgp_bgk.cpu_ms_median, 0.0);
-  EXPECT_EQ(fsgp_bgk.cpu_ms_median, fsgp_bgk.runtime_ms_median);
+  EXPECT_GT(fsgp_bgk.runtime_ms_median, 0.0);
+  for (const nlohmann::json& record : results) {
+    EXPECT_EQ(record.at("cpu_ms_median"), record.at("runtime_ms_median"));  // one CPU figure
+  }
   ASSERT_TRUE(fsgp_bgk.elevation_rmse.has_value());
   EXPECT_LT(*fsgp_bgk.elevation_rmse, 0.1);
   // every compared metric of the constant against FSGP-BGK, over the two scenes
@@ -183,7 +185,8 @@ TEST_F(EvaluationTest, RanksTheHazardsWithTheOracleAtOneAndAConstantAtOneHalf) {
 }
 
 // The ablations of the paper's contributions: the fixed-gain filter fuses with FSGP-BGK's own mean
-// weight of the scene, the GP without (kappa, g) inputs maps the same frames.
+// weight of the scene (that the mapper uses the gain is FsgpBgkMapperTest's), the GP without
+// (kappa, g) inputs maps the same frames differently.
 TEST_F(EvaluationTest, TheContributionAblationsRunBesideFsgpBgk) {
   const CommandResult run = CrateEval(1, "fsgp-bgk-fixed-gain,fsgp-bgk,fsgp-bgk-no-features");
   ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -192,7 +195,10 @@ TEST_F(EvaluationTest, TheContributionAblationsRunBesideFsgpBgk) {
   EXPECT_GT(bgk_weight, 0.0);
   EXPECT_NEAR(methods.at("fsgp-bgk-fixed-gain").at("mean_fusion_weight").get<double>(), bgk_weight,
               1e-9 * bgk_weight);
+  // without the feature inputs the GP maps the same frames differently
   EXPECT_TRUE(methods.at("fsgp-bgk-no-features").at("mean_error").is_number());
+  EXPECT_NE(methods.at("fsgp-bgk-no-features").at("frames").at("mean_error"),
+            methods.at("fsgp-bgk").at("frames").at("mean_error"));
   EXPECT_TRUE(methods.at("constant=0.5").at("mean_fusion_weight").is_null());
   EXPECT_EQ(
       RunTrav("eval --out " + (root_ / "bad").string() + " --methods fsgp-bgk-no-gain").exit_code,
