@@ -27,17 +27,15 @@ common::GridLayers MakeMap(const MapArea& area) {
        layers::kLastObserved, layers::kObstacle});
 }
 
-// The window's points (ground-cropped as `area` says; `below_robot` the window before that crop),
-// timed; a status of kTooFewPoints when there are fewer than the minimum.
-Eigen::Matrix3Xf CropOrRefuse(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
-                              const MapArea& area, MapUpdateResult* result,
-                              Eigen::Matrix3Xf* below_robot) {
+// The window's points into `crop` (ground-cropped as `area` says), timed; a status of
+// kTooFewPoints when there are fewer than the minimum.
+void CropOrRefuse(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
+                  const MapArea& area, MapUpdateResult* result, WindowCrop* crop) {
   const common::Stopwatch start;
-  Eigen::Matrix3Xf window = CropWindow(points_W, p_WB, area.window_m, area.max_height_above_robot_m,
-                                       result, area.GroundCropHeight(), below_robot);
+  crop->Crop(points_W, p_WB, area.window_m, area.max_height_above_robot_m, area.GroundCropHeight(),
+             result);
   result->times.crop = start.ElapsedMilliseconds();
-  if (window.cols() < kMinimumPoints) result->status = MapUpdateStatus::kTooFewPoints;
-  return window;
+  if (crop->window().cols() < kMinimumPoints) result->status = MapUpdateStatus::kTooFewPoints;
 }
 
 }  // namespace
@@ -48,8 +46,8 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
                                   double t_s) {
   MapUpdateResult result;
   const Eigen::Vector3d p_WB = X_WB.translation();
-  Eigen::Matrix3Xf below_robot;
-  const Eigen::Matrix3Xf window = CropOrRefuse(points_W, p_WB, config_.area, &result, &below_robot);
+  CropOrRefuse(points_W, p_WB, config_.area, &result, &crop_);
+  const auto window = crop_.window();
   if (result.status != MapUpdateStatus::kUpdated) return result;
   // inducing points on a stride of the points sorted by x
   common::Stopwatch stage;
@@ -98,10 +96,10 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
   Eigen::MatrixXd test(static_cast<Eigen::Index>(cells.size()), 2);
   for (std::size_t k = 0; k < cells.size(); ++k)
     test.row(static_cast<Eigen::Index>(k)) = g.CellCenter(cells[k].x(), cells[k].y()).transpose();
-  Eigen::VectorXd f, variance;
-  Eigen::MatrixXd gradient;
-  gp_.Predict(test, &f, &gradient);
-  gp_.PredictVariance(test, &variance);
+  Eigen::VectorXd f(test.rows()), variance(test.rows());
+  Eigen::MatrixXd gradient(test.rows(), test.cols());
+  gp_.Predict(test, f, gradient);
+  gp_.PredictVariance(test, variance);
   Eigen::MatrixXf& elevation = map_.Layer(layers::kElevation);
   for (std::size_t k = 0; k < cells.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
@@ -118,8 +116,8 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
   stage.Restart();
   ScoreCells(cells);
   if (config_.area.obstacle_layer) {
-    MarkObstacles(below_robot, low, high, config_.area.max_height_above_ground_m, kObstacleMargin,
-                  &map_);
+    obstacles_.Mark(crop_.below_robot(), low, high, config_.area.max_height_above_ground_m,
+                    kObstacleMargin, &map_);
   }
   result.observed_cells = static_cast<int>(cells.size());
   result.times.fusion = stage.ElapsedMilliseconds();
@@ -171,8 +169,8 @@ MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
                                         const Eigen::Isometry3d& X_WB, double t_s) {
   MapUpdateResult result;
   const Eigen::Vector3d p_WB = X_WB.translation();
-  Eigen::Matrix3Xf below_robot;
-  const Eigen::Matrix3Xf window = CropOrRefuse(points_W, p_WB, config_.area, &result, &below_robot);
+  CropOrRefuse(points_W, p_WB, config_.area, &result, &crop_);
+  const auto window = crop_.window();
   if (result.status != MapUpdateStatus::kUpdated) return result;
   // per-cell Kalman fusion of the point heights
   common::Stopwatch stage;
@@ -253,8 +251,8 @@ MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
     }
   }
   if (config_.area.obstacle_layer) {
-    MarkObstacles(below_robot, low, high, config_.area.max_height_above_ground_m, kObstacleMargin,
-                  &map_);
+    obstacles_.Mark(crop_.below_robot(), low, high, config_.area.max_height_above_ground_m,
+                    kObstacleMargin, &map_);
   }
   result.times.smoothing = stage.ElapsedMilliseconds();
   return result;

@@ -4,6 +4,7 @@
 #include "mapping/fsgp_config.h"
 #include "mapping/sparse_gp.h"
 #include "mapping/traversability_mapper.h"
+#include "mapping/window.h"
 
 namespace trav::mapping {
 
@@ -38,6 +39,8 @@ class SgpMapper final : public TraversabilityMapper {
   SgpConfig config_;
   common::GridLayers map_;
   SparseGp gp_;
+  WindowCrop crop_;
+  ObstacleMarker obstacles_;
 };
 
 /// Settings of the elevation-map baseline (Fankhauser et al., RA-L 2018;
@@ -64,6 +67,8 @@ class ElevationMapper final : public TraversabilityMapper {
   ElevationMapConfig config_;
   FsgpConfig score_;
   common::GridLayers map_;
+  WindowCrop crop_;
+  ObstacleMarker obstacles_;
 };
 
 }  // namespace trav::mapping

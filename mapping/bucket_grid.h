@@ -1,5 +1,8 @@
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -7,13 +10,31 @@
 namespace trav::mapping {
 
 /// Points of the plane sorted into square buckets over their bounding box, stored compressed (the
-/// point indices ordered by bucket, and where each bucket starts). For neighbour searches among a
-/// few hundred points, where a kd-tree costs more to build than it saves.
+/// point indices ordered by bucket, and where each bucket starts). The neighbour structure of the
+/// mapper: for a few hundred to a few thousand points a kd-tree costs more to build than it saves,
+/// and a grid rebuilt in place allocates nothing once its sizes have been seen (PCL's kd-tree
+/// allocated its index on every frame).
 class BucketGrid {
  public:
+  /// A (distance, point index) pair of a neighbour search.
+  using Neighbour = std::pair<double, int>;
+
   BucketGrid() = default;
-  /// Buckets of side `bucket_size` (> 0) over the bounding box of `points` (one per column).
+  /// The most buckets per point: where points spread so thinly that buckets of the size asked for
+  /// would be more, the buckets are made larger.
+  static constexpr double kMaxBucketsPerPoint = 4.0;
+
+  /// Buckets of side `bucket_size` (> 0, or larger: kMaxBucketsPerPoint) over the bounding box of
+  /// `points` (one per column).
   BucketGrid(const Eigen::Ref<const Eigen::Matrix2Xd>& points, double bucket_size);
+
+  /// Sorts `points` into buckets of side `bucket_size` (> 0, or larger: kMaxBucketsPerPoint),
+  /// reusing the storage of earlier calls.
+  void Rebuild(const Eigen::Ref<const Eigen::Matrix2Xd>& points, double bucket_size);
+
+  /// A bucket side that puts about `per_bucket` of `points` in a bucket if they spread evenly over
+  /// their bounding box (at least 1 mm).
+  static double SideFor(const Eigen::Ref<const Eigen::Matrix2Xd>& points, double per_bucket);
 
   /// The bucket holding `p`, clamped to the grid (points outside it go to the nearest border
   /// bucket).
@@ -28,6 +49,17 @@ class BucketGrid {
       visit(points_[static_cast<std::size_t>(k)]);
   }
 
+  /// The `k` points nearest to `p` under `distance(j)`, sorted by (distance, index), into `found`
+  /// (cleared first; it keeps its capacity). `distance(j)` may measure more than the plane (3-D
+  /// points whose (x, y) were bucketed) but never less than the planar distance from `p` to point
+  /// j: rings of buckets are searched outwards until no point beyond the ring can be nearer than
+  /// the k-th found. The search also stops once the ring reaches past `support_radius` with nothing
+  /// found within it: then `found` may hold fewer or farther points, and its first is beyond the
+  /// radius (or it is empty).
+  template <typename Distance>
+  void KNearest(const Eigen::Vector2d& p, int k, double support_radius, Distance distance,
+                std::vector<Neighbour>* found) const;
+
   /// Lower corner of bucket (0, 0).
   const Eigen::Vector2d& origin() const { return origin_; }
   double bucket_size() const { return bucket_size_; }
@@ -38,8 +70,54 @@ class BucketGrid {
   Eigen::Vector2d origin_{Eigen::Vector2d::Zero()};
   double bucket_size_{1.0};
   Eigen::Vector2i count_{Eigen::Vector2i::Zero()};
-  std::vector<int> start_;   // bucket b holds points_[start_[b] .. start_[b + 1])
-  std::vector<int> points_;  // point indices, ordered by bucket
+  std::vector<int> start_;      // bucket b holds points_[start_[b] .. start_[b + 1])
+  std::vector<int> points_;     // point indices, ordered by bucket
+  std::vector<int> bucket_of_;  // the bucket of each point (scratch of Rebuild)
 };
+
+template <typename Distance>
+void BucketGrid::KNearest(const Eigen::Vector2d& p, int k, double support_radius, Distance distance,
+                          std::vector<Neighbour>* found) const {
+  found->clear();
+  if (k <= 0 || points_.empty()) return;
+  auto visit_bucket = [&](int bx, int by) {
+    ForPointsIn(Eigen::Vector2i(bx, by), [&](int j) {
+      const Neighbour candidate(distance(j), j);
+      if (static_cast<int>(found->size()) == k && !(candidate < found->back())) return;
+      found->insert(std::upper_bound(found->begin(), found->end(), candidate), candidate);
+      if (static_cast<int>(found->size()) > k) found->pop_back();
+    });
+  };
+  const Eigen::Vector2i centre = BucketOf(p);
+  const int qx = centre.x(), qy = centre.y();
+  // distance from the query to the outside of its bucket neighbourhood of `ring` rings
+  const double inside_x = std::min(p.x() - (origin_.x() + qx * bucket_size_),
+                                   origin_.x() + (qx + 1) * bucket_size_ - p.x());
+  const double inside_y = std::min(p.y() - (origin_.y() + qy * bucket_size_),
+                                   origin_.y() + (qy + 1) * bucket_size_ - p.y());
+  const double inside = std::max(0.0, std::min(inside_x, inside_y));
+  const int max_ring = count_.sum();  // rings beyond this hold nothing
+  for (int ring = 0;; ++ring) {
+    if (ring == 0) {
+      visit_bucket(qx, qy);
+    } else {  // the ring's perimeter: top and bottom rows, then the sides between them
+      for (int bx = qx - ring; bx <= qx + ring; ++bx) {
+        visit_bucket(bx, qy - ring);
+        visit_bucket(bx, qy + ring);
+      }
+      for (int by = qy - ring + 1; by <= qy + ring - 1; ++by) {
+        visit_bucket(qx - ring, by);
+        visit_bucket(qx + ring, by);
+      }
+    }
+    // every point beyond this ring is at least `reach` away
+    const double reach = inside + ring * bucket_size_;
+    const bool covered = ring >= max_ring;
+    const bool complete = static_cast<int>(found->size()) == k && found->back().first <= reach;
+    const bool unsupported =
+        reach > support_radius && (found->empty() || found->front().first > support_radius);
+    if (covered || complete || unsupported) return;
+  }
+}
 
 }  // namespace trav::mapping

@@ -2,76 +2,75 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <limits>
-#include <unordered_map>
-#include <vector>
 
 #include <Eigen/Eigenvalues>
-#include <pcl/filters/voxel_grid.h>
-#include <pcl/kdtree/kdtree_flann.h>
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
-
-#include "mapping/bucket_grid.h"
 
 namespace trav::mapping {
-namespace {
 
-std::int64_t VoxelKey(const Eigen::Vector3d& p, double voxel) {
-  const auto ix = static_cast<std::int64_t>(std::floor(p.x() / voxel)) & 0x1FFFFF;
-  const auto iy = static_cast<std::int64_t>(std::floor(p.y() / voxel)) & 0x1FFFFF;
-  const auto iz = static_cast<std::int64_t>(std::floor(p.z() / voxel)) & 0x1FFFFF;
-  return (ix << 42) | (iy << 21) | iz;
+template <typename Scalar>
+TrainingSetExtractor::VoxelEntry TrainingSetExtractor::EntryOf(const Eigen::Matrix<Scalar, 3, 1>& p,
+                                                               Scalar inverse_voxel, int index) {
+  if (!(inverse_voxel > 0) || !std::isfinite(inverse_voxel)) return {index, 0, 0, index};
+  // clamped before the cast: a far point must not overflow
+  const Eigen::Array3d c =
+      (p * inverse_voxel).array().floor().template cast<double>().max(-4e18).min(4e18);
+  return {static_cast<std::int64_t>(c.x()), static_cast<std::int64_t>(c.y()),
+          static_cast<std::int64_t>(c.z()), index};
 }
 
-// Every point of the voxel-downsampled cloud with its features: the covariance eigenvalue ratio
-// (curvature) and the mean height difference (gradient) over its k nearest neighbours.
-TrainingSet PointsWithFeatures(const Eigen::Matrix3Xf& points_W, const FsgpConfig& config) {
-  // voxel pre-downsampling (voxel centroids)
-  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
-  cloud->resize(static_cast<std::size_t>(points_W.cols()));
-  for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
-    (*cloud)[static_cast<std::size_t>(i)] =
-        pcl::PointXYZ(points_W(0, i), points_W(1, i), points_W(2, i));
+void TrainingSetExtractor::Downsample(const Eigen::Ref<const Eigen::Matrix3Xf>& points_W,
+                                      double voxel_m) {
+  // in single precision as PCL's VoxelGrid does (points on a voxel boundary fall alike)
+  const float inverse_voxel = voxel_m > 0.0 ? 1.0f / static_cast<float>(voxel_m) : 0.0f;
+  voxels_.clear();
+  for (Eigen::Index i = 0; i < points_W.cols(); ++i)
+    voxels_.push_back(EntryOf<float>(points_W.col(i), inverse_voxel, static_cast<int>(i)));
+  std::sort(voxels_.begin(), voxels_.end());
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < voxels_.size(); ++i)
+    count += (i == 0 || !voxels_[i].SameVoxel(voxels_[i - 1])) ? 1 : 0;
+  auto centroids = points_W_.Resize(3, static_cast<Eigen::Index>(count));
+  // each voxel's points are consecutive: their mean, summed in single precision in the order of
+  // the input
+  Eigen::Index at = 0;
+  for (std::size_t first = 0; first < voxels_.size();) {
+    std::size_t last = first + 1;
+    while (last < voxels_.size() && voxels_[last].SameVoxel(voxels_[first])) ++last;
+    Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+    for (std::size_t i = first; i < last; ++i) sum += points_W.col(voxels_[i].index);
+    centroids.col(at++) = (sum / static_cast<float>(last - first)).cast<double>();
+    first = last;
   }
-  pcl::PointCloud<pcl::PointXYZ>::Ptr voxelised(new pcl::PointCloud<pcl::PointXYZ>);
-  pcl::VoxelGrid<pcl::PointXYZ> grid;
-  grid.setInputCloud(cloud);
-  const float leaf = static_cast<float>(config.pre_voxel_m);
-  grid.setLeafSize(leaf, leaf, leaf);
-  grid.filter(*voxelised);
-  const int n = static_cast<int>(voxelised->size());
+}
 
-  TrainingSet all;
-  all.pre_voxel_points = n;
-  all.points_W.resize(3, n);
-  all.curvature.resize(n);
-  all.gradient.resize(n);
-  if (n == 0) return all;
-
-  // k nearest neighbours (the point itself included), covariance eigenvalues, height differences
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(voxelised);
-  const int k = std::min(config.neighbours, n);
-  std::vector<int> indices(static_cast<std::size_t>(k));
-  std::vector<float> distances(static_cast<std::size_t>(k));
-  for (int i = 0; i < n; ++i) {
-    const pcl::PointXYZ& p = (*voxelised)[static_cast<std::size_t>(i)];
-    all.points_W.col(i) = Eigen::Vector3d(p.x, p.y, p.z);
-    tree.nearestKSearch(p, k, indices, distances);
+void TrainingSetExtractor::ComputeFeatures(int neighbours) {
+  const auto points = points_W_.view();
+  const Eigen::Index n = points.cols();
+  auto curvature = curvature_.Resize(n);
+  auto gradient = gradient_.Resize(n);
+  if (n == 0) return;
+  // about one neighbourhood in the 3 x 3 buckets around a point on open ground
+  buckets_.Rebuild(points.topRows<2>(),
+                   BucketGrid::SideFor(points.topRows<2>(), 0.25 * neighbours));
+  const int k = static_cast<int>(std::min<Eigen::Index>(neighbours, n));
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Vector3d p = points.col(i);
+    // k nearest in 3-D (the point itself included): never nearer than in the plane
+    buckets_.KNearest(
+        p.head<2>(), k, std::numeric_limits<double>::infinity(),
+        [&](int j) { return (points.col(j) - p).norm(); }, &neighbours_);
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     double height_differences = 0.0;
-    for (int j : indices) {
-      const pcl::PointXYZ& q = (*voxelised)[static_cast<std::size_t>(j)];
-      mean += Eigen::Vector3d(q.x, q.y, q.z);
-      height_differences += std::abs(static_cast<double>(q.z) - p.z);
+    for (const BucketGrid::Neighbour& neighbour : neighbours_) {
+      const Eigen::Vector3d q = points.col(neighbour.second);
+      mean += q;
+      height_differences += std::abs(q.z() - p.z());
     }
     mean /= k;
     Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-    for (int j : indices) {
-      const pcl::PointXYZ& q = (*voxelised)[static_cast<std::size_t>(j)];
-      const Eigen::Vector3d d = Eigen::Vector3d(q.x, q.y, q.z) - mean;
+    for (const BucketGrid::Neighbour& neighbour : neighbours_) {
+      const Eigen::Vector3d d = points.col(neighbour.second) - mean;
       covariance += d * d.transpose();
     }
     covariance /= std::max(1, k - 1);
@@ -79,32 +78,35 @@ TrainingSet PointsWithFeatures(const Eigen::Matrix3Xf& points_W, const FsgpConfi
     const Eigen::Vector3d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>()
                                             .computeDirect(covariance, Eigen::EigenvaluesOnly)
                                             .eigenvalues();
-    all.curvature[i] = std::max(0.0, eigenvalues[0]) / (eigenvalues.sum() + 1e-6);
-    all.gradient[i] = height_differences / k;
+    curvature[i] = std::max(0.0, eigenvalues[0]) / (eigenvalues.sum() + 1e-6);
+    gradient[i] = height_differences / k;
   }
-
-  return all;
 }
 
-// The indices of the training points of `all`, in order: the feature points whole and the others
-// one per voxel, sampled down to max_training_points (seeded). Sets all->feature_points.
-std::vector<int> SelectTrainingPoints(TrainingSet* all_points, const FsgpConfig& config,
-                                      common::Random* random) {
-  TrainingSet& all = *all_points;
-  const int n = static_cast<int>(all.points_W.cols());
+int TrainingSetExtractor::SelectTrainingPoints(const FsgpConfig& config, common::Random* random) {
+  const auto points = points_W_.view();
+  const auto curvature = curvature_.view();
+  const auto gradient = gradient_.view();
+  const Eigen::Index n = points.cols();
   // feature points whole; the others one per voxel (the first in order, keeping its features)
-  std::vector<int> features, rest;
-  std::unordered_map<std::int64_t, int> voxel_owner;
-  for (int i = 0; i < n; ++i) {
-    if (all.curvature[i] > config.curvature_threshold ||
-        all.gradient[i] > config.gradient_threshold_m) {
-      features.push_back(i);
-    } else if (voxel_owner.emplace(VoxelKey(all.points_W.col(i), config.feature_voxel_m), i)
-                   .second) {
-      rest.push_back(i);
+  features_.clear();
+  rest_.clear();
+  voxels_.clear();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (curvature[i] > config.curvature_threshold || gradient[i] > config.gradient_threshold_m) {
+      features_.push_back(static_cast<int>(i));
+    } else {
+      voxels_.push_back(EntryOf<double>(
+          points.col(i), config.feature_voxel_m > 0.0 ? 1.0 / config.feature_voxel_m : 0.0,
+          static_cast<int>(i)));
     }
   }
-  all.feature_points = static_cast<int>(features.size());
+  std::sort(voxels_.begin(), voxels_.end());
+  for (std::size_t i = 0; i < voxels_.size(); ++i) {
+    if (i == 0 || !voxels_[i].SameVoxel(voxels_[i - 1])) rest_.push_back(voxels_[i].index);
+  }
+  std::sort(rest_.begin(), rest_.end());
+  const int feature_points = static_cast<int>(features_.size());
   // seeded sampling down to M, features first: the random cap must not thin out the few points
   // that carry the terrain's structure
   auto sample = [&](std::vector<int>* from, std::size_t count) {
@@ -117,111 +119,63 @@ std::vector<int> SelectTrainingPoints(TrainingSet* all_points, const FsgpConfig&
   const auto budget = static_cast<std::size_t>(config.max_training_points);
   // features take at most half of the budget when there are enough other points: the rest keeps
   // the ground covered (indoors, wall points alone would otherwise fill M)
-  sample(&features, std::max(budget / 2, budget - std::min(budget, rest.size())));
-  sample(&rest, budget - features.size());
-  std::vector<int> selected = features;
-  selected.insert(selected.end(), rest.begin(), rest.end());
-  std::sort(selected.begin(), selected.end());
-
-  return selected;
+  sample(&features_, std::max(budget / 2, budget - std::min(budget, rest_.size())));
+  sample(&rest_, budget - features_.size());
+  selected_.assign(features_.begin(), features_.end());
+  selected_.insert(selected_.end(), rest_.begin(), rest_.end());
+  std::sort(selected_.begin(), selected_.end());
+  return feature_points;
 }
 
-}  // namespace
-
-TrainingSet ExtractTrainingSet(const Eigen::Matrix3Xf& points_W, const FsgpConfig& config,
-                               common::Random* random) {
-  TrainingSet all = PointsWithFeatures(points_W, config);
-  if (all.points_W.cols() == 0) return all;
-  const std::vector<int> selected = SelectTrainingPoints(&all, config, random);
-  TrainingSet training;
-  training.pre_voxel_points = all.pre_voxel_points;
-  training.feature_points = all.feature_points;
-  const auto m = static_cast<Eigen::Index>(selected.size());
-  training.points_W.resize(3, m);
-  training.curvature.resize(m);
-  training.gradient.resize(m);
+TrainingSet TrainingSetExtractor::Extract(const Eigen::Ref<const Eigen::Matrix3Xf>& points_W,
+                                          const FsgpConfig& config, common::Random* random) {
+  Downsample(points_W, config.pre_voxel_m);
+  ComputeFeatures(config.neighbours);
+  const auto pre_voxel_points = static_cast<int>(points_W_.cols());
+  selected_.clear();
+  const int feature_points = pre_voxel_points > 0 ? SelectTrainingPoints(config, random) : 0;
+  const auto m = static_cast<Eigen::Index>(selected_.size());
+  auto training_W = training_W_.Resize(3, m);
+  auto curvature = training_curvature_.Resize(m);
+  auto gradient = training_gradient_.Resize(m);
   for (Eigen::Index s = 0; s < m; ++s) {
-    const int i = selected[static_cast<std::size_t>(s)];
-    training.points_W.col(s) = all.points_W.col(i);
-    training.curvature[s] = all.curvature[i];
-    training.gradient[s] = all.gradient[i];
+    const int i = selected_[static_cast<std::size_t>(s)];
+    training_W.col(s) = points_W_.view().col(i);
+    curvature[s] = curvature_.view()[i];
+    gradient[s] = gradient_.view()[i];
   }
-  return training;
+  return {training_W_.const_view(), training_curvature_.const_view(),
+          training_gradient_.const_view(), pre_voxel_points, feature_points};
 }
 
-void InverseDistanceWeights(const Eigen::Matrix3Xd& training_W, const Eigen::Matrix2Xd& queries_W,
-                            int k, double support_radius_m, Eigen::MatrixXi* indices,
-                            Eigen::MatrixXd* weights, Eigen::VectorXd* nearest_m) {
-  // the training points in square buckets of about two points each; a query searches rings of
-  // buckets outwards until the ring cannot hold anything closer than its K-th neighbour (a kd-tree
-  // costs more to build and query at a few hundred points)
+void InverseDistanceWeighting::Compute(const Eigen::Ref<const Eigen::Matrix3Xd>& training_W,
+                                       const Eigen::Ref<const Eigen::Matrix2Xd>& queries_W, int k,
+                                       double support_radius_m) {
+  // the training points in square buckets of about two points each
   const Eigen::Index m = training_W.cols();
   const int kk = static_cast<int>(std::min<Eigen::Index>(k, m));
-  indices->setConstant(kk, queries_W.cols(), -1);
-  weights->setZero(kk, queries_W.cols());
-  nearest_m->setConstant(queries_W.cols(), std::numeric_limits<double>::infinity());
+  auto indices = indices_.Resize(kk, queries_W.cols());
+  auto weights = weights_.Resize(kk, queries_W.cols());
+  auto nearest_m = nearest_m_.Resize(queries_W.cols());
+  indices.setConstant(-1);
+  weights.setZero();
+  nearest_m.setConstant(std::numeric_limits<double>::infinity());
   if (kk == 0) return;
-  const Eigen::Matrix2Xd training_xy = training_W.topRows<2>();
-  const Eigen::Vector2d extent =
-      (training_xy.rowwise().maxCoeff() - training_xy.rowwise().minCoeff()).cwiseMax(1e-3);
-  const BucketGrid buckets(training_xy,
-                           std::max(1e-3, std::sqrt(2.0 * extent.prod() / static_cast<double>(m))));
-  const double bucket = buckets.bucket_size();
-  const Eigen::Vector2d& low = buckets.origin();
-  const int max_ring = buckets.count().sum();  // rings beyond this hold nothing
-
-  // the kk nearest so far, sorted by (distance, index)
-  std::vector<std::pair<double, int>> found;
-  found.reserve(static_cast<std::size_t>(kk) + 1);
-  auto visit_bucket = [&](int bx, int by, const Eigen::Vector2d& p) {
-    buckets.ForPointsIn(Eigen::Vector2i(bx, by), [&](int j) {
-      const std::pair<double, int> candidate((training_xy.col(j) - p).norm(), j);
-      if (static_cast<int>(found.size()) == kk && !(candidate < found.back())) return;
-      found.insert(std::upper_bound(found.begin(), found.end(), candidate), candidate);
-      if (static_cast<int>(found.size()) > kk) found.pop_back();
-    });
-  };
+  const auto training_xy = training_W.topRows<2>();
+  buckets_.Rebuild(training_xy, BucketGrid::SideFor(training_xy, 2.0));
   for (Eigen::Index q = 0; q < queries_W.cols(); ++q) {
     const Eigen::Vector2d p = queries_W.col(q);
-    const Eigen::Vector2i centre = buckets.BucketOf(p);
-    const int qx = centre.x(), qy = centre.y();
-    // distance from the query to the outside of its bucket neighbourhood of `ring` rings
-    const double inside_x =
-        std::min(p.x() - (low.x() + qx * bucket), low.x() + (qx + 1) * bucket - p.x());
-    const double inside_y =
-        std::min(p.y() - (low.y() + qy * bucket), low.y() + (qy + 1) * bucket - p.y());
-    const double inside = std::max(0.0, std::min(inside_x, inside_y));
-    found.clear();
-    for (int ring = 0;; ++ring) {
-      if (ring == 0) {
-        visit_bucket(qx, qy, p);
-      } else {  // the ring's perimeter: top and bottom rows, then the sides between them
-        for (int bx = qx - ring; bx <= qx + ring; ++bx) {
-          visit_bucket(bx, qy - ring, p);
-          visit_bucket(bx, qy + ring, p);
-        }
-        for (int by = qy - ring + 1; by <= qy + ring - 1; ++by) {
-          visit_bucket(qx - ring, by, p);
-          visit_bucket(qx + ring, by, p);
-        }
-      }
-      // every point beyond this ring is at least `reach` away
-      const double reach = inside + ring * bucket;
-      const bool covered = ring >= max_ring;
-      const bool complete = static_cast<int>(found.size()) == kk && found.back().first <= reach;
-      const bool unsupported =
-          reach > support_radius_m && (found.empty() || found.front().first > support_radius_m);
-      if (covered || complete || unsupported) break;
-    }
-    if (found.empty() || found.front().first > support_radius_m) continue;
+    buckets_.KNearest(
+        p, kk, support_radius_m, [&](int j) { return (training_xy.col(j) - p).norm(); }, &found_);
+    if (found_.empty() || found_.front().first > support_radius_m) continue;
     double total = 0.0;
     for (int j = 0; j < kk; ++j) {
-      (*indices)(j, q) = found[static_cast<std::size_t>(j)].second;
-      (*weights)(j, q) = 1.0 / (found[static_cast<std::size_t>(j)].first + 1e-6);
-      total += (*weights)(j, q);
+      indices(j, q) = found_[static_cast<std::size_t>(j)].second;
+      weights(j, q) = 1.0 / (found_[static_cast<std::size_t>(j)].first + 1e-6);
+      total += weights(j, q);
     }
-    weights->col(q) /= total;
-    (*nearest_m)[q] = found[0].first;
+    weights.col(q) /= total;
+    nearest_m[q] = found_[0].first;
   }
 }
 

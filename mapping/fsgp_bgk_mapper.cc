@@ -4,12 +4,10 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <Eigen/QR>
 
 #include "common/stopwatch.h"
-#include "mapping/features.h"
-#include "mapping/window.h"
 
 namespace trav::mapping {
 namespace {
@@ -19,36 +17,50 @@ constexpr int kMinimumPoints = 10;
 
 }  // namespace
 
-FsgpBgkMapper::GpInputs FsgpBgkMapper::StandardisedInputs(const TrainingSet& training, bool pca) {
+void FsgpBgkMapper::StandardiseInputs(const TrainingSet& training) {
   // inputs (x, y, kappa, g), standardised; optional PCA fitted on the training set
-  GpInputs gp;
+  GpInputs& gp = inputs_;
   const Eigen::Index m = training.points_W.cols();
-  Eigen::MatrixXd raw(m, 4);
-  raw.col(0) = training.points_W.row(0).transpose();
-  raw.col(1) = training.points_W.row(1).transpose();
-  raw.col(2) = training.curvature;
-  raw.col(3) = training.gradient;
-  gp.mean = raw.colwise().mean();
-  gp.scale = ((raw.rowwise() - gp.mean).colwise().squaredNorm() / static_cast<double>(m))
+  auto inputs = gp.inputs.Resize(m, 4);
+  inputs.col(0) = training.points_W.row(0).transpose();
+  inputs.col(1) = training.points_W.row(1).transpose();
+  inputs.col(2) = training.curvature;
+  inputs.col(3) = training.gradient;
+  gp.mean = inputs.colwise().mean();
+  gp.scale = ((inputs.rowwise() - gp.mean).colwise().squaredNorm() / static_cast<double>(m))
                  .cwiseSqrt()
                  .cwiseMax(1e-3);
   // u = (raw - mean) / scale, then u' = u R (R: PCA rotation or identity)
   gp.rotation = Eigen::Matrix4d::Identity();
-  gp.inputs = (raw.rowwise() - gp.mean).array().rowwise() / gp.scale.array();
-  if (pca) {
-    const Eigen::Matrix4d covariance = gp.inputs.transpose() * gp.inputs / static_cast<double>(m);
+  inputs = ((inputs.rowwise() - gp.mean).array().rowwise() / gp.scale.array()).matrix();
+  if (config_.pca) {
+    // the product straight into a fixed-size matrix: inside the quotient Eigen would evaluate it
+    // into a heap temporary first
+    Eigen::Matrix4d covariance;
+    covariance.noalias() = inputs.transpose() * inputs;
+    covariance /= static_cast<double>(m);
     gp.rotation = Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(covariance).eigenvectors();
-    gp.inputs = gp.inputs * gp.rotation;
+    for (Eigen::Index i = 0; i < m; ++i) inputs.row(i) = inputs.row(i) * gp.rotation;
   }
   // a least-squares plane carries the terrain's trend; the GP models the deviations from it (a
   // constant-mean GP with short length scales bends back to its mean between training points and
-  // overestimates slopes by 10-20 %)
-  Eigen::MatrixXd design(m, 3);
-  design << raw.col(0), raw.col(1), Eigen::VectorXd::Ones(m);
-  const Eigen::VectorXd observed = training.points_W.row(2).transpose();
-  gp.plane = design.colPivHouseholderQr().solve(observed);
-  gp.heights = observed - design * gp.plane;
-  return gp;
+  // overestimates slopes by 10-20 %). Normal equations in coordinates centred on the training
+  // points' mean: well conditioned, and solved on the stack.
+  const Eigen::Vector3d mean_W = training.points_W.rowwise().mean();
+  Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d moment = Eigen::Vector2d::Zero();
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const Eigen::Vector3d d = training.points_W.col(i) - mean_W;
+    normal += d.head<2>() * d.head<2>().transpose();
+    moment += d.head<2>() * d.z();
+  }
+  const Eigen::Vector2d slope = normal.ldlt().solve(moment);
+  gp.plane << slope, mean_W.z() - slope.dot(mean_W.head<2>());
+  auto heights = gp.heights.Resize(m);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    heights[i] = training.points_W(2, i) - (gp.plane[0] * training.points_W(0, i) +
+                                            gp.plane[1] * training.points_W(1, i) + gp.plane[2]);
+  }
 }
 
 double BgkUpdate(double m_pre, double variance_pre, double t_s, double decay_rate, double epsilon,
@@ -86,26 +98,32 @@ FsgpBgkMapper::FsgpBgkMapper(const FsgpConfig& config)
                  layers::kGradient, layers::kTraversability, layers::kTraversabilityVariance,
                  layers::kLastObserved, layers::kObstacle});
   fused_ = common::GridLayers(geometry, {kFused});
+  if (config_.accumulate_frames > 1)
+    history_.resize(static_cast<std::size_t>(config_.accumulate_frames));
 }
 
-Eigen::Matrix3Xf FsgpBgkMapper::AccumulateFrames(const Eigen::Matrix3Xf& window,
-                                                 const Eigen::Vector3d& p_WB) {
+common::ScratchMatrix<float, 3>::ConstView FsgpBgkMapper::AccumulateFrames(
+    const Eigen::Ref<const Eigen::Matrix3Xf>& window, const Eigen::Vector3d& p_WB) {
   const double half = 0.5 * config_.area.window_m;
-  history_.push_back(window);
-  while (static_cast<int>(history_.size()) > config_.accumulate_frames) history_.pop_front();
+  const std::size_t frames = history_.size();
+  history_[history_next_ % frames].Resize(3, window.cols()) = window;
+  ++history_next_;
+  // the stored frames, oldest first
+  const std::size_t first = history_next_ - std::min(history_next_, frames);
   Eigen::Index total = 0;
-  for (const Eigen::Matrix3Xf& frame : history_) total += frame.cols();
-  Eigen::Matrix3Xf accumulated(3, total);
+  for (std::size_t k = first; k < history_next_; ++k) total += history_[k % frames].cols();
+  auto accumulated = accumulated_.Resize(3, total);
   Eigen::Index at = 0;
-  for (const Eigen::Matrix3Xf& frame : history_) {
+  for (std::size_t k = first; k < history_next_; ++k) {
+    const auto frame = history_[k % frames].view();
     for (Eigen::Index i = 0; i < frame.cols(); ++i) {
       const Eigen::Vector3f p = frame.col(i);
       if (std::abs(p.x() - p_WB.x()) <= half && std::abs(p.y() - p_WB.y()) <= half)
         accumulated.col(at++) = p;
     }
   }
-  accumulated.conservativeResize(3, at);
-  return accumulated;
+  accumulated_.Resize(3, at);
+  return accumulated_.const_view();
 }
 
 MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
@@ -115,12 +133,11 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
 
   // 1. crop to the window (and drop invalid points and overhangs such as tree crowns)
   common::Stopwatch stage;
-  Eigen::Matrix3Xf below_robot;
-  Eigen::Matrix3Xf window =
-      CropWindow(points_W, p_WB, config_.area.window_m, config_.area.max_height_above_robot_m,
-                 &result, config_.area.GroundCropHeight(), &below_robot);
+  crop_.Crop(points_W, p_WB, config_.area.window_m, config_.area.max_height_above_robot_m,
+             config_.area.GroundCropHeight(), &result);
   // FSGP-Accumulation: the last N frames' clouds together
-  if (config_.accumulate_frames > 1) window = AccumulateFrames(window, p_WB);
+  const common::ScratchMatrix<float, 3>::ConstView window =
+      config_.accumulate_frames > 1 ? AccumulateFrames(crop_.window(), p_WB) : crop_.window();
   result.window_points = static_cast<int>(window.cols());
   result.times.crop = stage.ElapsedMilliseconds();
   if (window.cols() < kMinimumPoints) {
@@ -130,7 +147,7 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
 
   // 2-3. features and the training set
   stage.Restart();
-  const TrainingSet training = ExtractTrainingSet(window, config_, &random_);
+  const TrainingSet training = extractor_.Extract(window, config_, &random_);
   result.training_points = static_cast<int>(training.points_W.cols());
   result.times.features = stage.ElapsedMilliseconds();
   if (training.points_W.cols() < kMinimumPoints) {
@@ -141,10 +158,10 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   // 4-5. inputs and the sparse GP (optionally a few L-BFGS steps on the hyperparameters,
   // warm-started)
   stage.Restart();
-  const GpInputs inputs = StandardisedInputs(training, config_.pca);
-  SparseGp::OptimiseHyperparameters(inputs.inputs, inputs.heights, config_.lbfgs_iterations,
-                                    &hyper_);
-  if (!gp_.Fit(inputs.inputs, inputs.heights, hyper_)) {
+  StandardiseInputs(training);
+  SparseGp::OptimiseHyperparameters(inputs_.inputs.view(), inputs_.heights.view(),
+                                    config_.lbfgs_iterations, &hyper_);
+  if (!gp_.Fit(inputs_.inputs.view(), inputs_.heights.view(), hyper_)) {
     result.status = MapUpdateStatus::kModelFailed;
     return result;
   }
@@ -155,133 +172,141 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   map_.Recenter(p_WB.head<2>());
   fused_.Recenter(p_WB.head<2>());
   const auto [low, high] = WindowCells(map_.geometry(), p_WB, config_.area.window_m);
-  const CellPrediction prediction = PredictCells(training, inputs, low, high);
+  PredictCells(training, low, high);
   result.times.predict = stage.ElapsedMilliseconds();
 
   // 7-8. preliminary score and fusion per world cell
   stage.Restart();
-  result.mean_fusion_weight = Fuse(prediction, t_s);
-  result.observed_cells = static_cast<int>(prediction.cells.size());
+  result.mean_fusion_weight = Fuse(t_s);
+  result.observed_cells = static_cast<int>(prediction_.cells.size());
   result.times.fusion = stage.ElapsedMilliseconds();
 
   // 9. normalised Gaussian smoothing over the known cells of the window
   stage.Restart();
   Smooth(low, high);
-  if (config_.area.obstacle_layer) MarkObstacles(below_robot, low, high);
+  if (config_.area.obstacle_layer) {
+    // the smoothed cost changed in the window and its margin: the closing must be redone there
+    obstacles_.Mark(crop_.below_robot(), low, high, config_.area.max_height_above_ground_m,
+                    std::max(SmoothingRadiusCells(), 2), &map_);
+  }
   result.times.smoothing = stage.ElapsedMilliseconds();
   return result;
 }
 
-FsgpBgkMapper::CellPrediction FsgpBgkMapper::PredictCells(const TrainingSet& training,
-                                                          const GpInputs& inputs,
-                                                          const Eigen::Vector2i& low,
-                                                          const Eigen::Vector2i& high) const {
+void FsgpBgkMapper::PredictCells(const TrainingSet& training, const Eigen::Vector2i& low,
+                                 const Eigen::Vector2i& high) {
   // kappa*, g* by IDW on the cells with a training point within the support radius
   const common::GridGeometry& g = map_.geometry();
-  Eigen::Matrix2Xd centres(2, (high - low + Eigen::Vector2i::Ones()).prod());
-  std::vector<Eigen::Vector2i> cell_index;
+  PredictionScratch& s = scratch_;
+  auto centres = s.centres_W.Resize(2, (high - low + Eigen::Vector2i::Ones()).prod());
+  s.window_cells.clear();
   for (int ix = low.x(); ix <= high.x(); ++ix) {
     for (int iy = low.y(); iy <= high.y(); ++iy) {
-      centres.col(static_cast<Eigen::Index>(cell_index.size())) = g.CellCenter(ix, iy);
-      cell_index.emplace_back(ix, iy);
+      centres.col(static_cast<Eigen::Index>(s.window_cells.size())) = g.CellCenter(ix, iy);
+      s.window_cells.emplace_back(ix, iy);
     }
   }
-  Eigen::MatrixXi idw_indices;
-  Eigen::MatrixXd idw_weights;
-  Eigen::VectorXd nearest;
-  InverseDistanceWeights(training.points_W, centres, config_.idw_neighbours,
-                         config_.support_radius_m, &idw_indices, &idw_weights, &nearest);
-  CellPrediction prediction;
-  std::vector<Eigen::Index> supported;
+  idw_.Compute(training.points_W, centres, config_.idw_neighbours, config_.support_radius_m);
+  const auto idw_indices = idw_.indices();
+  const auto idw_weights = idw_.weights();
+  const auto nearest = idw_.nearest_m();
+  CellPrediction& prediction = prediction_;
+  prediction.cells.clear();
+  s.supported.clear();
   for (Eigen::Index c = 0; c < centres.cols(); ++c) {
     if (nearest[c] > config_.support_radius_m) continue;
-    supported.push_back(c);
-    prediction.cells.push_back(cell_index[static_cast<std::size_t>(c)]);
+    s.supported.push_back(c);
+    prediction.cells.push_back(s.window_cells[static_cast<std::size_t>(c)]);
   }
-  const auto t_count = static_cast<Eigen::Index>(supported.size());
-  Eigen::MatrixXd test(t_count, 4);
-  for (Eigen::Index s = 0; s < t_count; ++s) {
-    const Eigen::Index c = supported[static_cast<std::size_t>(s)];
+  const auto t_count = static_cast<Eigen::Index>(s.supported.size());
+  auto raw = prediction.raw_inputs.Resize(t_count, 4);
+  for (Eigen::Index t = 0; t < t_count; ++t) {
+    const Eigen::Index c = s.supported[static_cast<std::size_t>(t)];
     double curvature = 0.0, gradient = 0.0;
     for (Eigen::Index j = 0; j < idw_indices.rows(); ++j) {
       curvature += idw_weights(j, c) * training.curvature[idw_indices(j, c)];
       gradient += idw_weights(j, c) * training.gradient[idw_indices(j, c)];
     }
-    test.row(s) << centres(0, c), centres(1, c), curvature, gradient;
+    raw.row(t) << centres(0, c), centres(1, c), curvature, gradient;
   }
-  prediction.raw_inputs = test;
   // then the GP's mean, variance and slope
-  test = ((test.rowwise() - inputs.mean).array().rowwise() / inputs.scale.array()).matrix() *
-         inputs.rotation;
-  Eigen::MatrixXd df_du;
-  gp_.Predict(test, &prediction.elevation, &df_du);
-  prediction.variance = StridedVariance(test, prediction.cells, low, high);
+  auto test = s.test.Resize(t_count, 4);
+  test = ((raw.rowwise() - inputs_.mean).array().rowwise() / inputs_.scale.array()).matrix();
+  for (Eigen::Index t = 0; t < t_count; ++t) test.row(t) = test.row(t) * inputs_.rotation;
+  auto elevation = prediction.elevation.Resize(t_count);
+  auto df_du = s.df_du.Resize(t_count, 4);
+  gp_.Predict(test, elevation, df_du);
+  StridedVariance(low, high);
   // the plane back in, and the slope over x and y only: d f / d x = a + sum_d d f / d u'_d R(x, d)
   // / s_x
-  const Eigen::Vector3d& plane = inputs.plane;
-  prediction.elevation.array() += plane[0] * prediction.raw_inputs.col(0).array() +
-                                  plane[1] * prediction.raw_inputs.col(1).array() + plane[2];
-  prediction.df_dx =
-      (df_du * inputs.rotation.row(0).transpose() / inputs.scale[0]).array() + plane[0];
-  prediction.df_dy =
-      (df_du * inputs.rotation.row(1).transpose() / inputs.scale[1]).array() + plane[1];
-  return prediction;
+  const Eigen::Vector3d& plane = inputs_.plane;
+  auto df_dx = prediction.df_dx.Resize(t_count);
+  auto df_dy = prediction.df_dy.Resize(t_count);
+  for (Eigen::Index t = 0; t < t_count; ++t) {
+    elevation[t] += plane[0] * raw(t, 0) + plane[1] * raw(t, 1) + plane[2];
+    df_dx[t] = df_du.row(t).dot(inputs_.rotation.row(0)) / inputs_.scale[0] + plane[0];
+    df_dy[t] = df_du.row(t).dot(inputs_.rotation.row(1)) / inputs_.scale[1] + plane[1];
+  }
 }
 
-Eigen::VectorXd FsgpBgkMapper::StridedVariance(const Eigen::MatrixXd& test,
-                                               const std::vector<Eigen::Vector2i>& cells,
-                                               const Eigen::Vector2i& low,
-                                               const Eigen::Vector2i& high) const {
+void FsgpBgkMapper::StridedVariance(const Eigen::Vector2i& low, const Eigen::Vector2i& high) {
   // the variance on every n-th cell; the others take it from the cell at the start of their block
   const int stride = config_.variance_stride;
+  PredictionScratch& s = scratch_;
+  const std::vector<Eigen::Vector2i>& cells = prediction_.cells;
+  const auto test = s.test.view();
   const auto t_count = static_cast<Eigen::Index>(cells.size());
-  std::vector<Eigen::Index> sampled;
-  for (Eigen::Index s = 0; s < t_count; ++s) {
-    const Eigen::Vector2i& cell = cells[static_cast<std::size_t>(s)];
-    if (cell.x() % stride == 0 && cell.y() % stride == 0) sampled.push_back(s);
+  s.sampled.clear();
+  for (Eigen::Index t = 0; t < t_count; ++t) {
+    const Eigen::Vector2i& cell = cells[static_cast<std::size_t>(t)];
+    if (cell.x() % stride == 0 && cell.y() % stride == 0) s.sampled.push_back(t);
   }
-  Eigen::MatrixXd sampled_inputs(static_cast<Eigen::Index>(sampled.size()), test.cols());
-  for (std::size_t k = 0; k < sampled.size(); ++k)
-    sampled_inputs.row(static_cast<Eigen::Index>(k)) = test.row(sampled[k]);
-  Eigen::VectorXd sampled_variance;
-  gp_.PredictVariance(sampled_inputs, &sampled_variance);
+  const auto sampled_count = static_cast<Eigen::Index>(s.sampled.size());
+  auto sampled_inputs = s.sampled_inputs.Resize(sampled_count, test.cols());
+  for (Eigen::Index k = 0; k < sampled_count; ++k)
+    sampled_inputs.row(k) = test.row(s.sampled[static_cast<std::size_t>(k)]);
+  auto sampled_variance = s.sampled_variance.Resize(sampled_count);
+  gp_.PredictVariance(sampled_inputs, sampled_variance);
   // the sampled variances on the window's cells (NaN elsewhere), indexed from `low`
   const Eigen::Vector2i window_size = high - low + Eigen::Vector2i::Ones();
-  Eigen::MatrixXd block_variance = Eigen::MatrixXd::Constant(
-      window_size.x(), window_size.y(), std::numeric_limits<double>::quiet_NaN());
-  for (std::size_t k = 0; k < sampled.size(); ++k) {
-    const Eigen::Vector2i& cell = cells[static_cast<std::size_t>(sampled[k])];
-    block_variance(cell.x() - low.x(), cell.y() - low.y()) =
-        sampled_variance[static_cast<Eigen::Index>(k)];
+  auto block_variance = s.block_variance.Resize(window_size.x(), window_size.y());
+  block_variance.setConstant(std::numeric_limits<double>::quiet_NaN());
+  for (Eigen::Index k = 0; k < sampled_count; ++k) {
+    const Eigen::Vector2i& cell =
+        cells[static_cast<std::size_t>(s.sampled[static_cast<std::size_t>(k)])];
+    block_variance(cell.x() - low.x(), cell.y() - low.y()) = sampled_variance[k];
   }
-  Eigen::VectorXd variance(t_count);
-  for (Eigen::Index s = 0; s < t_count; ++s) {
-    const Eigen::Vector2i& cell = cells[static_cast<std::size_t>(s)];
+  auto variance = prediction_.variance.Resize(t_count);
+  for (Eigen::Index t = 0; t < t_count; ++t) {
+    const Eigen::Vector2i& cell = cells[static_cast<std::size_t>(t)];
     const Eigen::Vector2i corner =
         Eigen::Vector2i(cell.x() - cell.x() % stride, cell.y() - cell.y() % stride) - low;
     const double v = (corner.array() >= 0).all() ? block_variance(corner.x(), corner.y())
                                                  : std::numeric_limits<double>::quiet_NaN();
     // a block whose corner cell is unsupported: the prior variance (least certain)
-    variance[s] = std::isnan(v) ? gp_.prior_variance() : v;
+    variance[t] = std::isnan(v) ? gp_.prior_variance() : v;
   }
-  return variance;
 }
 
-double FsgpBgkMapper::Fuse(const CellPrediction& prediction, double t_s) {
+double FsgpBgkMapper::Fuse(double t_s) {
+  const CellPrediction& prediction = prediction_;
+  const auto raw_test = prediction.raw_inputs.view();
+  const auto elevation = prediction.elevation.view();
+  const auto variances = prediction.variance.view();
+  const auto df_dx = prediction.df_dx.view();
+  const auto df_dy = prediction.df_dy.view();
   double weight_sum = 0.0;
   int weights = 0;
   Eigen::MatrixXf& fused = fused_.Layer(kFused);
   Eigen::MatrixXf& fused_variance = map_.Layer(layers::kTraversabilityVariance);
   Eigen::MatrixXf& last = map_.Layer(layers::kLastObserved);
-  const Eigen::MatrixXd& raw_test = prediction.raw_inputs;
   for (std::size_t k = 0; k < prediction.cells.size(); ++k) {
     const auto s = static_cast<Eigen::Index>(k);
     const Eigen::Vector2i& cell = prediction.cells[k];
-    const double variance = prediction.variance[s];
-    const double slope = std::atan(std::hypot(prediction.df_dx[s], prediction.df_dy[s]));
+    const double variance = variances[s];
+    const double slope = std::atan(std::hypot(df_dx[s], df_dy[s]));
     const double score = PreliminaryScore(config_, raw_test(s, 2), raw_test(s, 3), slope);
-    map_.Layer(layers::kElevation)(cell.x(), cell.y()) =
-        static_cast<float>(prediction.elevation[s]);
+    map_.Layer(layers::kElevation)(cell.x(), cell.y()) = static_cast<float>(elevation[s]);
     map_.Layer(layers::kElevationVariance)(cell.x(), cell.y()) = static_cast<float>(variance);
     map_.Layer(layers::kSlope)(cell.x(), cell.y()) = static_cast<float>(slope);
     map_.Layer(layers::kCurvature)(cell.x(), cell.y()) = static_cast<float>(raw_test(s, 2));
@@ -304,13 +329,6 @@ double FsgpBgkMapper::Fuse(const CellPrediction& prediction, double t_s) {
     }
   }
   return weights > 0 ? weight_sum / weights : std::numeric_limits<double>::quiet_NaN();
-}
-
-void FsgpBgkMapper::MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eigen::Vector2i& low,
-                                  const Eigen::Vector2i& high) {
-  // the smoothed cost changed in the window and its margin: the closing must be redone there
-  mapping::MarkObstacles(below_robot, low, high, config_.area.max_height_above_ground_m,
-                         std::max(SmoothingRadiusCells(), 2), &map_);
 }
 
 int FsgpBgkMapper::SmoothingRadiusCells() const {

@@ -1,15 +1,16 @@
 #pragma once
 
-#include <deque>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "common/random.h"
+#include "common/scratch.h"
 #include "mapping/features.h"
 #include "mapping/fsgp_config.h"
 #include "mapping/sparse_gp.h"
 #include "mapping/traversability_mapper.h"
+#include "mapping/window.h"
 
 namespace trav::mapping {
 
@@ -39,35 +40,43 @@ class FsgpBgkMapper final : public TraversabilityMapper {
     Eigen::RowVector4d mean;
     Eigen::RowVector4d scale;
     Eigen::Matrix4d rotation;
-    Eigen::MatrixXd inputs;
+    common::ScratchMatrix<double> inputs;
     Eigen::Vector3d plane;
-    Eigen::VectorXd heights;
+    common::ScratchMatrix<double, Eigen::Dynamic, 1> heights;
   };
   // The prediction on the window's supported cells: inputs before standardisation (x, y, kappa,
   // g), elevation, variance and slope components.
   struct CellPrediction {
     std::vector<Eigen::Vector2i> cells;
-    Eigen::MatrixXd raw_inputs;
-    Eigen::VectorXd elevation;
-    Eigen::VectorXd variance;
-    Eigen::VectorXd df_dx;
-    Eigen::VectorXd df_dy;
+    common::ScratchMatrix<double> raw_inputs;
+    common::ScratchMatrix<double, Eigen::Dynamic, 1> elevation, variance, df_dx, df_dy;
+  };
+  // Storage of the prediction's intermediate steps, kept between frames.
+  struct PredictionScratch {
+    common::ScratchMatrix<double, 2> centres_W;
+    std::vector<Eigen::Vector2i> window_cells;
+    std::vector<Eigen::Index> supported;
+    common::ScratchMatrix<double> test, df_du;
+    std::vector<Eigen::Index> sampled;
+    common::ScratchMatrix<double> sampled_inputs;
+    common::ScratchMatrix<double, Eigen::Dynamic, 1> sampled_variance;
+    common::ScratchMatrix<double> block_variance;
   };
 
-  static GpInputs StandardisedInputs(const TrainingSet& training, bool pca);
+  // Fills inputs_ from the training set.
+  void StandardiseInputs(const TrainingSet& training);
   // FSGP-Accumulation: the last accumulate_frames windows within the window around p_WB.
-  Eigen::Matrix3Xf AccumulateFrames(const Eigen::Matrix3Xf& window, const Eigen::Vector3d& p_WB);
-  CellPrediction PredictCells(const TrainingSet& training, const GpInputs& inputs,
-                              const Eigen::Vector2i& low, const Eigen::Vector2i& high) const;
-  // The GP variance on every variance_stride-th cell, spread over the others of its block.
-  Eigen::VectorXd StridedVariance(const Eigen::MatrixXd& test,
-                                  const std::vector<Eigen::Vector2i>& cells,
-                                  const Eigen::Vector2i& low, const Eigen::Vector2i& high) const;
+  Eigen::Map<const Eigen::Matrix3Xf, Eigen::Aligned16> AccumulateFrames(
+      const Eigen::Ref<const Eigen::Matrix3Xf>& window, const Eigen::Vector3d& p_WB);
+  // Fills prediction_ on the window's cells between low and high.
+  void PredictCells(const TrainingSet& training, const Eigen::Vector2i& low,
+                    const Eigen::Vector2i& high);
+  // The GP variance on every variance_stride-th cell of prediction_, spread over the others of
+  // its block.
+  void StridedVariance(const Eigen::Vector2i& low, const Eigen::Vector2i& high);
   // The preliminary score of each predicted cell fused into the map (BGK, or replaced); returns
   // the mean uncertainty weight w_sigma over the cells fused (NaN: none, or no fusion).
-  double Fuse(const CellPrediction& prediction, double t_s);
-  void MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eigen::Vector2i& low,
-                     const Eigen::Vector2i& high);
+  double Fuse(double t_s);
   void Smooth(const Eigen::Vector2i& low, const Eigen::Vector2i& high);
   // The smoothing kernel's radius in cells (0: no smoothing).
   int SmoothingRadiusCells() const;
@@ -76,9 +85,19 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   GpHyperparameters hyper_;
   common::Random random_;
   common::GridLayers map_;
-  common::GridLayers fused_;              // BGK state M before smoothing, on the map's geometry
-  std::deque<Eigen::Matrix3Xf> history_;  // FSGP-Accumulation
+  common::GridLayers fused_;  // BGK state M before smoothing, on the map's geometry
   SparseGp gp_;
+  // Storage reused by every frame: after the first frames of a drive an update allocates nothing.
+  WindowCrop crop_;
+  std::vector<common::ScratchMatrix<float, 3>> history_;  // FSGP-Accumulation, a ring
+  std::size_t history_next_{0};
+  common::ScratchMatrix<float, 3> accumulated_;
+  TrainingSetExtractor extractor_;
+  GpInputs inputs_;
+  InverseDistanceWeighting idw_;
+  PredictionScratch scratch_;
+  CellPrediction prediction_;
+  ObstacleMarker obstacles_;
 };
 
 /// The BGK update of one cell (the paper's equations): with w_t = exp(-lambda (t - t0)) and

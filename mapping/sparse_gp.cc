@@ -11,11 +11,14 @@
 
 #include <Eigen/Cholesky>
 
+#include "common/check.h"
+
 namespace trav::mapping {
 namespace {
 
 // Pairwise squared distances between the rows of a and b, scaled by the length scales.
-Eigen::MatrixXd ScaledSquaredDistances(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b,
+Eigen::MatrixXd ScaledSquaredDistances(const Eigen::Ref<const Eigen::MatrixXd>& a,
+                                       const Eigen::Ref<const Eigen::MatrixXd>& b,
                                        const Eigen::VectorXd& length_scales) {
   const Eigen::MatrixXd as = a * length_scales.cwiseInverse().asDiagonal();
   const Eigen::MatrixXd bs = b * length_scales.cwiseInverse().asDiagonal();
@@ -67,7 +70,7 @@ double KernelOfSquaredDistance(const GpHyperparameters& hyper, double signal_var
          std::pow(1.0 + squared_distance / (2.0 * hyper.rq_alpha), -hyper.rq_alpha);
 }
 
-double HeightVariance(const Eigen::VectorXd& heights) {
+double HeightVariance(const Eigen::Ref<const Eigen::VectorXd>& heights) {
   const double mean = heights.mean();
   return std::max(1e-4, (heights.array() - mean).square().mean());
 }
@@ -106,7 +109,7 @@ void SparseGp::ForNeighbours(const double* query, Visit visit) const {
   for (int dy = -1; dy <= 1; ++dy) {
     for (int dx = -1; dx <= 1; ++dx) {
       buckets_.ForPointsIn(centre + Eigen::Vector2i(dx, dy), [&](int j) {
-        const double* z = scaled_inputs_.col(j).data();
+        const double* z = scaled_inputs_.view().col(j).data();
         double squared_distance = 0.0;
         for (Eigen::Index d = 0; d < dims_; ++d)
           squared_distance += (query[d] - z[d]) * (query[d] - z[d]);
@@ -116,96 +119,119 @@ void SparseGp::ForNeighbours(const double* query, Visit visit) const {
   }
 }
 
-bool SparseGp::Fit(const Eigen::MatrixXd& inputs, const Eigen::VectorXd& heights,
+bool SparseGp::Fit(const Eigen::Ref<const Eigen::MatrixXd>& inputs,
+                   const Eigen::Ref<const Eigen::VectorXd>& heights,
                    const GpHyperparameters& hyper) {
+  TRAV_DEMAND(inputs.cols() >= 2 && inputs.cols() <= kMaxDims);
+  TRAV_DEMAND(heights.size() == inputs.rows());
   hyper_ = hyper;
   dims_ = inputs.cols();
   const Eigen::Index m = inputs.rows();
   mean_ = heights.mean();
   signal_variance_ = hyper.signal_variance_ratio * HeightVariance(heights);
   inverse_length_scales_ = hyper_.length_scales.head(dims_).cwiseInverse();
-  scaled_inputs_ = (inputs * inverse_length_scales_.asDiagonal()).transpose();
+  auto scaled_inputs = scaled_inputs_.Resize(dims_, m);
+  scaled_inputs.noalias() = (inputs * inverse_length_scales_.asDiagonal()).transpose();
 
   // the bucket grid over the scaled (x, y): one bucket when every pair counts
   const double cutoff = CutoffSquaredDistance();
-  const Eigen::Matrix2Xd scaled_xy = scaled_inputs_.topRows<2>();
+  const auto scaled_xy = scaled_inputs.topRows<2>();
   const double extent =
       (scaled_xy.rowwise().maxCoeff() - scaled_xy.rowwise().minCoeff()).maxCoeff();
-  buckets_ =
-      BucketGrid(scaled_xy, std::isfinite(cutoff) ? std::sqrt(cutoff) : std::max(1.0, extent));
+  buckets_.Rebuild(scaled_xy, std::isfinite(cutoff) ? std::sqrt(cutoff) : std::max(1.0, extent));
 
   // K_MM + s_n^2 I, lower triangle (the upper is never read)
-  kernel_.setZero(m, m);
+  auto kernel = kernel_.Resize(m, m);
+  kernel.setZero();
   for (Eigen::Index i = 0; i < m; ++i) {
-    ForNeighbours(scaled_inputs_.col(i).data(), [&](int j, double squared_distance) {
-      if (j >= i) kernel_(j, i) = KernelOf(squared_distance);
+    ForNeighbours(scaled_inputs.col(i).data(), [&](int j, double squared_distance) {
+      if (j >= i) kernel(j, i) = KernelOf(squared_distance);
     });
   }
-  kernel_.diagonal().array() += hyper_.noise_std_m * hyper_.noise_std_m;
+  kernel.diagonal().array() += hyper_.noise_std_m * hyper_.noise_std_m;
   const FlushDenormalsToZero flush;
-  factor_.compute(kernel_.cast<float>());
-  if (factor_.info() != Eigen::Success) return false;
+  auto factor_storage = factor_storage_.Resize(m, m);
+  factor_storage = kernel.cast<float>();
+  factor_.emplace(factor_storage);
+  if (factor_->info() != Eigen::Success) return false;
 
   // iterative refinement: alpha += K^-1 (y - K alpha), the solve in single precision and the
   // residual in double; each step gains about -log10(cond(K) * 6e-8) digits
   constexpr int kRefinementSteps = 3;
-  const Eigen::VectorXd centred = heights.array() - mean_;
-  alpha_.setZero(m);
-  Eigen::VectorXd residual = centred;
+  auto centred = centred_.Resize(m);
+  centred = heights.array() - mean_;
+  auto alpha = alpha_.Resize(m);
+  alpha.setZero();
+  auto residual = residual_.Resize(m);
+  residual = centred;
+  auto correction = correction_.Resize(m);
   for (int step = 0; step <= kRefinementSteps; ++step) {
-    alpha_ += factor_.solve(residual.cast<float>()).cast<double>();
-    residual.noalias() = centred - kernel_.selfadjointView<Eigen::Lower>() * alpha_;
+    correction = residual.cast<float>();
+    factor_->solveInPlace(correction);
+    alpha += correction.cast<double>();
+    residual = centred;
+    residual.noalias() -= kernel.selfadjointView<Eigen::Lower>() * alpha;
   }
-  return alpha_.allFinite();
+  return alpha.allFinite();
 }
 
-void SparseGp::PredictVariance(const Eigen::MatrixXd& test_inputs,
-                               Eigen::VectorXd* variance) const {
+void SparseGp::PredictVariance(const Eigen::Ref<const Eigen::MatrixXd>& test_inputs,
+                               Eigen::Ref<Eigen::VectorXd> variance) const {
   const Eigen::Index t_count = test_inputs.rows();
-  cross_kernel_.setZero(scaled_inputs_.cols(), t_count);
-  Eigen::VectorXd query(dims_);
+  TRAV_DEMAND(variance.size() == t_count);
+  auto cross_kernel = cross_kernel_.Resize(scaled_inputs_.cols(), t_count);
+  cross_kernel.setZero();
+  DimsVector query(dims_);
   for (Eigen::Index t = 0; t < t_count; ++t) {
     query = test_inputs.row(t).transpose().cwiseProduct(inverse_length_scales_);
     ForNeighbours(query.data(), [&](int j, double squared_distance) {
-      cross_kernel_(j, t) = static_cast<float>(KernelOf(squared_distance));
+      cross_kernel(j, t) = static_cast<float>(KernelOf(squared_distance));
     });
   }
-  // k** - |L^-1 k_M*|^2
+  // k** - |L^-1 k_M*|^2, solved a block of columns at a time: the blocking buffers of Eigen's
+  // triangular solve then stay within EIGEN_STACK_ALLOCATION_LIMIT whatever the number of columns
   const FlushDenormalsToZero flush;
-  factor_.matrixL().solveInPlace(cross_kernel_);
-  *variance =
-      (signal_variance_ - cross_kernel_.colwise().squaredNorm().transpose().cast<double>().array())
-          .cwiseMax(0.0)
-          .matrix();
+  constexpr Eigen::Index kColumns = 32;
+  for (Eigen::Index first = 0; first < t_count; first += kColumns) {
+    factor_->matrixL().solveInPlace(
+        cross_kernel.middleCols(first, std::min(kColumns, t_count - first)));
+  }
+  for (Eigen::Index t = 0; t < t_count; ++t) {
+    variance[t] =
+        std::max(0.0, signal_variance_ - static_cast<double>(cross_kernel.col(t).squaredNorm()));
+  }
 }
 
-void SparseGp::Predict(const Eigen::MatrixXd& test_inputs, Eigen::VectorXd* mean,
-                       Eigen::MatrixXd* mean_gradient) const {
+void SparseGp::Predict(const Eigen::Ref<const Eigen::MatrixXd>& test_inputs,
+                       Eigen::Ref<Eigen::VectorXd> mean,
+                       Eigen::Ref<Eigen::MatrixXd> mean_gradient) const {
   // f* = m + sum_j k_j alpha_j; d f* / d u_d = -(1 / l_d^2) sum_j G_j alpha_j (u_d - z_jd)
   const Eigen::Index t_count = test_inputs.rows();
-  mean->resize(t_count);
-  mean_gradient->resize(t_count, dims_);
+  TRAV_DEMAND(mean.size() == t_count);
+  TRAV_DEMAND(mean_gradient.rows() == t_count && mean_gradient.cols() == dims_);
   const bool squared_exponential = hyper_.kernel == KernelType::kSquaredExponential;  // G = k
-  Eigen::VectorXd query(dims_), gradient(dims_);
+  const auto scaled_inputs = scaled_inputs_.view();
+  const auto alpha = alpha_.view();
+  DimsVector query(dims_), gradient(dims_);
   for (Eigen::Index t = 0; t < t_count; ++t) {
     query = test_inputs.row(t).transpose().cwiseProduct(inverse_length_scales_);
     double sum = 0.0;
     gradient.setZero();
     ForNeighbours(query.data(), [&](int j, double squared_distance) {
-      const double a = alpha_[j];
+      const double a = alpha[j];
       const double k = KernelOf(squared_distance);
       sum += k * a;
       const double g = (squared_exponential ? k : RadialFactorOf(squared_distance)) * a;
       // scaled difference (u_d - z_jd) / l_d: one more 1 / l_d below
-      for (Eigen::Index d = 0; d < dims_; ++d) gradient[d] -= g * (query[d] - scaled_inputs_(d, j));
+      for (Eigen::Index d = 0; d < dims_; ++d) gradient[d] -= g * (query[d] - scaled_inputs(d, j));
     });
-    (*mean)[t] = mean_ + sum;
-    mean_gradient->row(t) = gradient.cwiseProduct(inverse_length_scales_).transpose();
+    mean[t] = mean_ + sum;
+    mean_gradient.row(t) = gradient.cwiseProduct(inverse_length_scales_).transpose();
   }
 }
 
-double SparseGp::LogMarginalLikelihood(const Eigen::MatrixXd& inputs,
-                                       const Eigen::VectorXd& heights,
+double SparseGp::LogMarginalLikelihood(const Eigen::Ref<const Eigen::MatrixXd>& inputs,
+                                       const Eigen::Ref<const Eigen::VectorXd>& heights,
                                        const GpHyperparameters& hyper, Eigen::VectorXd* gradient) {
   const int dims = static_cast<int>(inputs.cols());
   const int n = static_cast<int>(inputs.rows());
@@ -252,8 +278,8 @@ namespace {
 
 // liblbfgs works on a C callback; the instance pointer carries the problem.
 struct LbfgsProblem {
-  const Eigen::MatrixXd* inputs;
-  const Eigen::VectorXd* heights;
+  const Eigen::Ref<const Eigen::MatrixXd>* inputs;
+  const Eigen::Ref<const Eigen::VectorXd>* heights;
   GpHyperparameters hyper;
   int iterations{0};
 };
@@ -290,7 +316,8 @@ lbfgsfloatval_t Evaluate(void* instance, const lbfgsfloatval_t* theta, lbfgsfloa
 
 }  // namespace
 
-int SparseGp::OptimiseHyperparameters(const Eigen::MatrixXd& inputs, const Eigen::VectorXd& heights,
+int SparseGp::OptimiseHyperparameters(const Eigen::Ref<const Eigen::MatrixXd>& inputs,
+                                      const Eigen::Ref<const Eigen::VectorXd>& heights,
                                       int iterations, GpHyperparameters* hyper) {
   if (iterations <= 0) return 0;
   const int dims = static_cast<int>(inputs.cols());

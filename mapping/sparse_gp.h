@@ -1,8 +1,11 @@
 #pragma once
 
+#include <optional>
+
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include "common/scratch.h"
 #include "mapping/bucket_grid.h"
 #include "mapping/fsgp_config.h"
 
@@ -24,32 +27,41 @@ namespace trav::mapping {
 ///   (K_MM + s_n^2 I)^-1 (z - m) are refined to double precision by iterative refinement against
 ///   the double-precision K_MM, as LAPACK's dsposv does; the variance, which only weighs the
 ///   fusion, is taken from the single-precision factor.
+///
+/// Fitting and prediction reuse the model's storage (the kernel matrix is factorised in place):
+/// once its sizes have been seen they allocate nothing. The L-BFGS steps do.
 class SparseGp {
  public:
-  /// Factorises the kernel matrix of `inputs` (one row per point) for `heights`.
-  /// @returns false if the factorisation fails (then the model is unusable).
-  bool Fit(const Eigen::MatrixXd& inputs, const Eigen::VectorXd& heights,
-           const GpHyperparameters& hyper);
+  /// The most input dimensions (x, y, kappa, g).
+  static constexpr int kMaxDims = 4;
+
+  /// Factorises the kernel matrix of `inputs` (one row per point, 2 to kMaxDims columns) for
+  /// `heights`. @returns false if the factorisation fails (then the model is unusable).
+  bool Fit(const Eigen::Ref<const Eigen::MatrixXd>& inputs,
+           const Eigen::Ref<const Eigen::VectorXd>& heights, const GpHyperparameters& hyper);
 
   /// Mean at each row of `test_inputs` and the analytic gradient of the mean with respect to every
-  /// input dimension (standardised units), one row per test point. O(T M D), M the training
-  /// points within the kernel's cutoff.
-  void Predict(const Eigen::MatrixXd& test_inputs, Eigen::VectorXd* mean,
-               Eigen::MatrixXd* mean_gradient) const;
+  /// input dimension (standardised units), one row per test point; the caller sizes the outputs
+  /// T and T x D. O(T M D), M the training points within the kernel's cutoff.
+  void Predict(const Eigen::Ref<const Eigen::MatrixXd>& test_inputs,
+               Eigen::Ref<Eigen::VectorXd> mean, Eigen::Ref<Eigen::MatrixXd> mean_gradient) const;
 
-  /// Predictive variance at each row of `test_inputs`, from the single-precision factor (relative
-  /// error about 1e-5 of s_f^2). O(T M^2): the expensive part.
-  void PredictVariance(const Eigen::MatrixXd& test_inputs, Eigen::VectorXd* variance) const;
+  /// Predictive variance at each row of `test_inputs` (the caller sizes `variance` T), from the
+  /// single-precision factor (relative error about 1e-5 of s_f^2). O(T M^2): the expensive part.
+  void PredictVariance(const Eigen::Ref<const Eigen::MatrixXd>& test_inputs,
+                       Eigen::Ref<Eigen::VectorXd> variance) const;
 
   /// Log marginal likelihood of the training heights under `hyper` and its gradient with respect to
   /// theta = (log l_1..log l_D, log s_f^2, log s_n^2, log alpha (RQ only; 0 for SE)).
   /// Cost O(M^3). @returns -infinity if the kernel matrix is not positive definite.
-  static double LogMarginalLikelihood(const Eigen::MatrixXd& inputs, const Eigen::VectorXd& heights,
+  static double LogMarginalLikelihood(const Eigen::Ref<const Eigen::MatrixXd>& inputs,
+                                      const Eigen::Ref<const Eigen::VectorXd>& heights,
                                       const GpHyperparameters& hyper, Eigen::VectorXd* gradient);
 
   /// Raises the log marginal likelihood with up to `iterations` L-BFGS steps (liblbfgs) from
   /// `hyper`, which is updated in place when the likelihood improved. @returns the iterations made.
-  static int OptimiseHyperparameters(const Eigen::MatrixXd& inputs, const Eigen::VectorXd& heights,
+  static int OptimiseHyperparameters(const Eigen::Ref<const Eigen::MatrixXd>& inputs,
+                                     const Eigen::Ref<const Eigen::VectorXd>& heights,
                                      int iterations, GpHyperparameters* hyper);
 
   /// The prior variance s_f^2 of the fitted model (the variance far from any data).
@@ -72,18 +84,25 @@ class SparseGp {
   template <typename Visit>
   void ForNeighbours(const double* query, Visit visit) const;
 
+  // A vector of at most kMaxDims entries, on the stack.
+  using DimsVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxDims, 1>;
+
   GpHyperparameters hyper_{};
   double signal_variance_{1.0};
   double mean_{0.0};
   Eigen::Index dims_{0};
-  Eigen::VectorXd inverse_length_scales_;
-  Eigen::MatrixXd
-      scaled_inputs_;       // D x M: training inputs over their length scales, one per column
-  BucketGrid buckets_;      // the scaled training inputs' (x, y), buckets as wide as the cutoff
-  Eigen::MatrixXd kernel_;  // K_MM + s_n^2 I (lower triangle), reused between frames
-  Eigen::LLT<Eigen::MatrixXf> factor_;    // its single-precision Cholesky factor
-  Eigen::VectorXd alpha_;                 // (K_MM + s_n^2 I)^-1 (z - m)
-  mutable Eigen::MatrixXf cross_kernel_;  // K_M* of the last variance query, reused
+  DimsVector inverse_length_scales_;
+  // D x M: training inputs over their length scales, one per column
+  common::ScratchMatrix<double> scaled_inputs_;
+  BucketGrid buckets_;  // the scaled training inputs' (x, y), buckets as wide as the cutoff
+  common::ScratchMatrix<double> kernel_;  // K_MM + s_n^2 I (lower triangle)
+  // its single-precision Cholesky factor, computed in place in factor_storage_
+  common::ScratchMatrix<float> factor_storage_;
+  std::optional<Eigen::LLT<Eigen::Ref<Eigen::MatrixXf>>> factor_;
+  common::ScratchMatrix<double, Eigen::Dynamic, 1> alpha_;  // (K_MM + s_n^2 I)^-1 (z - m)
+  common::ScratchMatrix<double, Eigen::Dynamic, 1> centred_, residual_;
+  common::ScratchMatrix<float, Eigen::Dynamic, 1> correction_;
+  mutable common::ScratchMatrix<float> cross_kernel_;  // K_M* of the last variance query
 };
 
 }  // namespace trav::mapping

@@ -3,16 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <vector>
 
 namespace trav::mapping {
 
-Eigen::Matrix3Xf CropWindow(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
-                            double window_m, double max_height_above_m, MapUpdateResult* result,
-                            double max_height_above_ground_m, Eigen::Matrix3Xf* below_robot) {
+void WindowCrop::Crop(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
+                      double window_m, double max_height_above_m, double max_height_above_ground_m,
+                      MapUpdateResult* result) {
   const double half = 0.5 * window_m;
-  Eigen::Matrix3Xf window(3, points_W.size());
   Eigen::Index kept = 0;
+  auto below_robot = below_robot_.Resize(3, points_W.size());
   for (Eigen::Index i = 0; i < points_W.size(); ++i) {
     const Eigen::Vector3f p = points_W.points.col(i);
     if (!p.allFinite()) {
@@ -21,17 +20,19 @@ Eigen::Matrix3Xf CropWindow(const common::PointCloud& points_W, const Eigen::Vec
     }
     if (std::abs(p.x() - p_WB.x()) <= half && std::abs(p.y() - p_WB.y()) <= half &&
         p.z() <= p_WB.z() + max_height_above_m) {
-      window.col(kept++) = p;
+      below_robot.col(kept++) = p;
     }
   }
-  window.conservativeResize(3, kept);
-  if (below_robot != nullptr) *below_robot = window;
-  if (std::isfinite(max_height_above_ground_m) && kept > 0) {
+  below_robot_.Resize(3, kept);
+  auto window = window_.Resize(3, kept);
+  if (!std::isfinite(max_height_above_ground_m) || kept == 0) {
+    window = below_robot_.view();
+  } else {
     // the lowest point of each 1 m column stands for the ground there
     constexpr double kColumn_m = 1.0;
     const int columns = static_cast<int>(std::ceil(window_m / kColumn_m)) + 1;
-    std::vector<float> ground(static_cast<std::size_t>(columns * columns),
-                              std::numeric_limits<float>::infinity());
+    column_ground_.assign(static_cast<std::size_t>(columns * columns),
+                          std::numeric_limits<float>::infinity());
     auto column_of = [&](const Eigen::Vector3f& p) {
       const int cx =
           std::clamp(static_cast<int>((p.x() - p_WB.x() + half) / kColumn_m), 0, columns - 1);
@@ -39,29 +40,30 @@ Eigen::Matrix3Xf CropWindow(const common::PointCloud& points_W, const Eigen::Vec
           std::clamp(static_cast<int>((p.y() - p_WB.y() + half) / kColumn_m), 0, columns - 1);
       return static_cast<std::size_t>(cy * columns + cx);
     };
+    const auto all = below_robot_.view();
     for (Eigen::Index i = 0; i < kept; ++i) {
-      float& lowest = ground[column_of(window.col(i))];
-      lowest = std::min(lowest, window(2, i));
+      float& lowest = column_ground_[column_of(all.col(i))];
+      lowest = std::min(lowest, all(2, i));
     }
     Eigen::Index low = 0;
     for (Eigen::Index i = 0; i < kept; ++i) {
-      if (window(2, i) <= ground[column_of(window.col(i))] + max_height_above_ground_m)
-        window.col(low++) = window.col(i);
+      if (all(2, i) <= column_ground_[column_of(all.col(i))] + max_height_above_ground_m)
+        window.col(low++) = all.col(i);
     }
-    kept = low;
-    window.conservativeResize(3, kept);
+    window_.Resize(3, low);
   }
   result->input_points = static_cast<int>(points_W.size());
-  result->window_points = static_cast<int>(kept);
-  return window;
+  result->window_points = static_cast<int>(window_.cols());
 }
 
-Eigen::MatrixXf ObstacleCells(const Eigen::Matrix3Xf& points_W, const common::GridGeometry& g,
-                              const Eigen::Vector2i& low, const Eigen::Vector2i& high,
-                              double min_span_m) {
+common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
+    const Eigen::Ref<const Eigen::Matrix3Xf>& points_W, const common::GridGeometry& g,
+    const Eigen::Vector2i& low, const Eigen::Vector2i& high, double min_span_m) {
   const Eigen::Vector2i size = high - low + Eigen::Vector2i::Ones();
-  Eigen::MatrixXf lowest = Eigen::MatrixXf::Constant(size.x(), size.y(), INFINITY);
-  Eigen::MatrixXf highest = Eigen::MatrixXf::Constant(size.x(), size.y(), -INFINITY);
+  auto lowest = lowest_.Resize(size.x(), size.y());
+  auto highest = highest_.Resize(size.x(), size.y());
+  lowest.setConstant(std::numeric_limits<float>::infinity());
+  highest.setConstant(-std::numeric_limits<float>::infinity());
   for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
     const std::optional<Eigen::Vector2i> cell =
         g.CellIndex(points_W.col(i).head<2>().cast<double>());
@@ -73,7 +75,8 @@ Eigen::MatrixXf ObstacleCells(const Eigen::Matrix3Xf& points_W, const common::Gr
   }
   // each cell's highest point against the lowest of its 3 x 3 neighbourhood (the ground beside a
   // face: sparse points high on a wall still read as a wall)
-  Eigen::MatrixXf obstacle = Eigen::MatrixXf::Constant(size.x(), size.y(), NAN);
+  auto cells = cells_.Resize(size.x(), size.y());
+  cells.setConstant(std::numeric_limits<float>::quiet_NaN());
   for (int ix = 0; ix < size.x(); ++ix) {
     for (int iy = 0; iy < size.y(); ++iy) {
       if (std::isinf(lowest(ix, iy))) continue;
@@ -83,10 +86,10 @@ Eigen::MatrixXf ObstacleCells(const Eigen::Matrix3Xf& points_W, const common::Gr
           ground = std::min(ground, lowest(jx, jy));
         }
       }
-      obstacle(ix, iy) = highest(ix, iy) - ground > min_span_m ? 1.0f : 0.0f;
+      cells(ix, iy) = highest(ix, iy) - ground > min_span_m ? 1.0f : 0.0f;
     }
   }
-  return obstacle;
+  return cells_.const_view();
 }
 
 std::pair<Eigen::Vector2i, Eigen::Vector2i> WindowCells(const common::GridGeometry& g,
@@ -97,14 +100,10 @@ std::pair<Eigen::Vector2i, Eigen::Vector2i> WindowCells(const common::GridGeomet
           *g.CellIndex((g.origin_W + g.Extent()).cwiseMin(p_WB.head<2>() + corner))};
 }
 
-namespace {
-
-// Morphological closing (dilation, then erosion) of a mask by the 3 x 3 cell square.
-Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> ClosedMask(
-    const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic>& mask) {
-  const Eigen::Index nx = mask.rows(), ny = mask.cols();
-  auto neighbourhood = [&](const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic>& in, bool all) {
-    Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> result(nx, ny);
+void ObstacleMarker::CloseMask() {
+  const Eigen::Index nx = mask_.rows(), ny = mask_.cols();
+  // each cell the "or" (dilation) or the "and" (erosion) of its 3 x 3 neighbourhood in `in`
+  auto neighbourhood = [&](const auto& in, bool all, auto out) {
     for (Eigen::Index ix = 0; ix < nx; ++ix) {
       for (Eigen::Index iy = 0; iy < ny; ++iy) {
         bool value = all;
@@ -112,25 +111,23 @@ Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> ClosedMask(
              ++jx) {
           for (Eigen::Index jy = std::max<Eigen::Index>(0, iy - 1); jy <= std::min(ny - 1, iy + 1);
                ++jy) {
-            value = all ? (value && in(jx, jy)) : (value || in(jx, jy));
+            value = all ? (value && in(jx, jy) != 0) : (value || in(jx, jy) != 0);
           }
         }
-        result(ix, iy) = value;
+        out(ix, iy) = value ? 1 : 0;
       }
     }
-    return result;
   };
-  return neighbourhood(neighbourhood(mask, false), true);
+  neighbourhood(mask_.view(), false, dilated_.Resize(nx, ny));
+  neighbourhood(dilated_.view(), true, closed_.Resize(nx, ny));
 }
 
-}  // namespace
-
-void MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eigen::Vector2i& low,
-                   const Eigen::Vector2i& high, double min_span_m, int margin_cells,
-                   common::GridLayers* map) {
+void ObstacleMarker::Mark(const Eigen::Ref<const Eigen::Matrix3Xf>& below_robot,
+                          const Eigen::Vector2i& low, const Eigen::Vector2i& high,
+                          double min_span_m, int margin_cells, common::GridLayers* map) {
   // the faces the height regression cannot see (their points were cropped as not terrain): the
   // latest observation of each cell decides, so a cell seen free again clears
-  const Eigen::MatrixXf seen = ObstacleCells(below_robot, map->geometry(), low, high, min_span_m);
+  const auto seen = Cells(below_robot, map->geometry(), low, high, min_span_m);
   Eigen::MatrixXf& obstacle = map->Layer(layers::kObstacle);
   Eigen::MatrixXf& out = map->Layer(layers::kTraversability);
   for (int ix = low.x(); ix <= high.x(); ++ix) {
@@ -156,11 +153,14 @@ void MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eigen::Vector2i& l
   const Eigen::Vector2i mask_high =
       (out_high.array() + 2).min(Eigen::Array2i(g.num_x - 1, g.num_y - 1));
   const Eigen::Vector2i size = mask_high - mask_low + Eigen::Vector2i::Ones();
-  const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> lethal =
-      ClosedMask(obstacle.block(mask_low.x(), mask_low.y(), size.x(), size.y()).array() == 1.0f);
+  mask_.Resize(size.x(), size.y()) =
+      (obstacle.block(mask_low.x(), mask_low.y(), size.x(), size.y()).array() == 1.0f)
+          .cast<std::uint8_t>();
+  CloseMask();
+  const auto lethal = closed_.view();
   for (int ix = out_low.x(); ix <= out_high.x(); ++ix) {
     for (int iy = out_low.y(); iy <= out_high.y(); ++iy) {
-      if (lethal(ix - mask_low.x(), iy - mask_low.y())) out(ix, iy) = 1.0f;
+      if (lethal(ix - mask_low.x(), iy - mask_low.y()) != 0) out(ix, iy) = 1.0f;
     }
   }
 }

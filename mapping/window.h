@@ -1,46 +1,74 @@
 #pragma once
 
+#include <cstdint>
 #include <limits>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Geometry>
 
 #include "common/grid.h"
 #include "common/point_cloud.h"
+#include "common/scratch.h"
 #include "mapping/traversability_mapper.h"
 
 namespace trav::mapping {
 
-/// The valid points of `points_W` in the square window of side `window_m` around the robot, no
-/// higher than `max_height_above_m` above its base and, if finite, no higher than
-/// `max_height_above_ground_m` above the lowest point of their 1 m column (the local ground: walls
-/// and trunks keep only their foot). Counts the input, the NaN or infinite points dropped and the
-/// points kept in `result`. `below_robot`, unless null, receives the window before the ground crop
-/// (every point no higher than `max_height_above_m` above the base).
-Eigen::Matrix3Xf CropWindow(
-    const common::PointCloud& points_W, const Eigen::Vector3d& p_WB, double window_m,
-    double max_height_above_m, MapUpdateResult* result,
-    double max_height_above_ground_m = std::numeric_limits<double>::infinity(),
-    Eigen::Matrix3Xf* below_robot = nullptr);
+/// Crops LiDAR frames to the window around the robot, reusing its storage between frames (no
+/// allocation once a frame of the size has been seen).
+class WindowCrop {
+ public:
+  /// The valid points of `points_W` in the square window of side `window_m` around the robot, no
+  /// higher than `max_height_above_m` above its base and, if finite, no higher than
+  /// `max_height_above_ground_m` above the lowest point of their 1 m column (the local ground:
+  /// walls and trunks keep only their foot). Counts the input, the NaN or infinite points dropped
+  /// and the points kept in `result`.
+  void Crop(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB, double window_m,
+            double max_height_above_m, double max_height_above_ground_m, MapUpdateResult* result);
 
-/// Per cell of `g` between `low` and `high` (inclusive): 1 where the highest point of the cell lies
-/// more than `min_span_m` above the lowest point of its 3 x 3 cell neighbourhood (a vertical face:
-/// wall, trunk, box side, even where the face's points are sparse), 0 where it does not, NaN where
-/// the cell has no point. Ground of slope a rises at most 2 sqrt(2) resolution tan(a) across the
-/// neighbourhood: 0.3 m at 0.2 m cells means slopes steeper than about 28 deg read as faces.
-Eigen::MatrixXf ObstacleCells(const Eigen::Matrix3Xf& points_W, const common::GridGeometry& g,
-                              const Eigen::Vector2i& low, const Eigen::Vector2i& high,
-                              double min_span_m);
+  /// The last crop's points, one per column [m].
+  common::ScratchMatrix<float, 3>::ConstView window() const { return window_.view(); }
+  /// The last crop's window before the ground crop (every point no higher than
+  /// `max_height_above_m` above the base).
+  common::ScratchMatrix<float, 3>::ConstView below_robot() const { return below_robot_.view(); }
 
-/// Marks the faces the ground crop removed (ObstacleCells of `below_robot`, the window before the
-/// crop, with `min_span_m` the crop height) in layer `obstacle` of `map` between `low` and `high`
-/// (the latest observation of a cell decides, so a cell seen free again clears), then sets layer
-/// `traversability` to 1 on the obstacle mask closed by one cell, within `margin_cells` of the
-/// window (at least the cells whose cost the mapper rewrote). The obstacle layer FSGP-BGK and the
-/// baselines share.
-void MarkObstacles(const Eigen::Matrix3Xf& below_robot, const Eigen::Vector2i& low,
-                   const Eigen::Vector2i& high, double min_span_m, int margin_cells,
-                   common::GridLayers* map);
+ private:
+  common::ScratchMatrix<float, 3> window_, below_robot_;
+  std::vector<float> column_ground_;  // the lowest point of each 1 m column
+};
+
+/// Marks the faces that a ground crop removed in a map's obstacle layer, reusing its storage
+/// between frames.
+class ObstacleMarker {
+ public:
+  /// Per cell of `g` between `low` and `high` (inclusive), indexed from `low`: 1 where the highest
+  /// point of the cell lies more than `min_span_m` above the lowest point of its 3 x 3 cell
+  /// neighbourhood (a vertical face: wall, trunk, box side, even where the face's points are
+  /// sparse), 0 where it does not, NaN where the cell has no point. Ground of slope a rises at most
+  /// 2 sqrt(2) resolution tan(a) across the neighbourhood: 0.3 m at 0.2 m cells means slopes
+  /// steeper than about 28 deg read as faces. Valid until the next call.
+  common::ScratchMatrix<float>::ConstView Cells(const Eigen::Ref<const Eigen::Matrix3Xf>& points_W,
+                                                const common::GridGeometry& g,
+                                                const Eigen::Vector2i& low,
+                                                const Eigen::Vector2i& high, double min_span_m);
+
+  /// Marks the faces the ground crop removed (Cells of `below_robot`, the window before the crop,
+  /// with `min_span_m` the crop height) in layer `obstacle` of `map` between `low` and `high` (the
+  /// latest observation of a cell decides, so a cell seen free again clears), then sets layer
+  /// `traversability` to 1 on the obstacle mask closed by one cell, within `margin_cells` of the
+  /// window (at least the cells whose cost the mapper rewrote). The obstacle layer FSGP-BGK and
+  /// the baselines share.
+  void Mark(const Eigen::Ref<const Eigen::Matrix3Xf>& below_robot, const Eigen::Vector2i& low,
+            const Eigen::Vector2i& high, double min_span_m, int margin_cells,
+            common::GridLayers* map);
+
+ private:
+  // The closing (dilation, then erosion) of mask_ by the 3 x 3 cell square, into closed_.
+  void CloseMask();
+
+  common::ScratchMatrix<float> lowest_, highest_, cells_;
+  common::ScratchMatrix<std::uint8_t> mask_, dilated_, closed_;
+};
 
 /// The first and last cell (ix, iy) of the window around the robot on the grid `g`.
 std::pair<Eigen::Vector2i, Eigen::Vector2i> WindowCells(const common::GridGeometry& g,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -10,7 +11,6 @@
 
 #include "common/statistics.h"
 #include "mapping/traversability_mapper.h"
-#include "mapping/window.h"
 
 namespace trav::scenarios {
 namespace {
@@ -74,8 +74,9 @@ ObservedCells::ObservedCells(const common::GridGeometry& geometry, const mapping
 
 int ObservedCells::Add(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB) {
   mapping::MapUpdateResult counts;
-  const Eigen::Matrix3Xf window =
-      mapping::CropWindow(points_W, p_WB, area_.window_m, area_.max_height_above_robot_m, &counts);
+  crop_.Crop(points_W, p_WB, area_.window_m, area_.max_height_above_robot_m,
+             std::numeric_limits<double>::infinity(), &counts);
+  const auto window = crop_.window();
   int added = 0;
   for (Eigen::Index i = 0; i < window.cols(); ++i) {
     const std::optional<Eigen::Vector2i> cell =

@@ -12,6 +12,7 @@
 #include "common/grid.h"
 #include "common/point_cloud.h"
 #include "mapping/fsgp_config.h"
+#include "mapping/window.h"
 
 namespace trav::scenarios {
 
@@ -51,6 +52,7 @@ class ObservedCells {
   mapping::MapArea area_;
   std::vector<bool> observed_;  // per cell, ix + iy * num_x
   std::vector<Eigen::Vector2i> cells_;
+  mapping::WindowCrop crop_;
 };
 
 /// `map`'s `layer` against the ground truth `truth_W` (on `observed`'s grid) over the observed

@@ -90,7 +90,7 @@ void RunMapper(benchmark::State& state, MakeMapper make) {
     k = (k + 1) % frames.clouds_W.size();
   }
   Report(state, results);
-  state.SetLabel(trav::sim::TerrainTypeName(type));
+  state.SetLabel(trav::common::NameOf(type));
 }
 
 void BM_FsgpBgk(benchmark::State& state) {
@@ -136,7 +136,7 @@ void BM_Ratios(benchmark::State& state) {
     state.counters["sgp_over_fsgp_bgk"] = time_mapper(&sgp) / fsgp_ms;
     state.counters["em_over_fsgp_bgk"] = time_mapper(&em) / fsgp_ms;
   }
-  state.SetLabel(trav::sim::TerrainTypeName(type));
+  state.SetLabel(trav::common::NameOf(type));
 }
 BENCHMARK(BM_Ratios)->Arg(kHilly)->Arg(kForest)->Unit(benchmark::kMillisecond)->Iterations(1);
 

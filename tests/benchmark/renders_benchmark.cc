@@ -41,7 +41,7 @@ void BM_RenderFrame(benchmark::State& state) {
     benchmark::DoNotOptimize(image.rgb.data());
   }
   renderer.reset();
-  state.SetLabel(trav::renders::GlBackendName(g_backend));
+  state.SetLabel(trav::common::NameOf(g_backend));
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_RenderFrame)

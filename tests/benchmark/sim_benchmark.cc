@@ -42,7 +42,7 @@ void BM_GenerateTerrain(benchmark::State& state) {
   for (auto _ : state) {
     benchmark::DoNotOptimize(trav::sim::GenerateTerrain(terrain).height_m.data());
   }
-  state.SetLabel(trav::sim::TerrainTypeName(terrain.type));
+  state.SetLabel(trav::common::NameOf(terrain.type));
 }
 BENCHMARK(BM_GenerateTerrain)
     ->DenseRange(static_cast<int>(trav::sim::TerrainType::kHilly),

@@ -1,9 +1,13 @@
 #include "mapping/bucket_grid.h"
 
 #include <algorithm>
+#include <limits>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "common/random.h"
 
 namespace trav::mapping {
 namespace {
@@ -46,6 +50,50 @@ TEST(BucketGridTest, AnEmptySetHasNoBuckets) {
   int visited = 0;
   dut.ForPointsIn(Eigen::Vector2i(0, 0), [&](int) { ++visited; });
   EXPECT_EQ(visited, 0);
+}
+
+TEST(BucketGridTest, ThinlySpreadPointsGetLargerBucketsNotMoreOfThem) {
+  // two points 1 km apart in 1 m buckets would need a million buckets: at most 4 per point (+16)
+  Eigen::Matrix2Xd points(2, 2);
+  points << 0.0, 1000.0,  //
+      0.0, 1000.0;
+  const BucketGrid dut(points, 1.0);
+  EXPECT_LE(dut.count().prod(), 4 * 2 + 16);
+  EXPECT_GT(dut.bucket_size(), 1.0);
+  EXPECT_EQ(dut.BucketOf(points.col(0)), Eigen::Vector2i(0, 0));
+  EXPECT_EQ(dut.BucketOf(points.col(1)), (dut.count().array() - 1).matrix());
+}
+
+// The k nearest under a 3-D distance, from buckets over (x, y), against sorting every point; and
+// a support radius that stops the search early.
+TEST(BucketGridTest, KNearestInThreeDimensionsMatchesABruteForceSearch) {
+  common::Random random(3);
+  Eigen::Matrix3Xd points(3, 400);
+  for (int j = 0; j < 400; ++j) {
+    // a floor and a wall: many points share a bucket in (x, y) at different heights
+    const bool wall = j % 4 == 0;
+    points.col(j) << (wall ? 1.0 : random.Uniform(-2, 2)), random.Uniform(-2, 2),
+        (wall ? random.Uniform(0, 1.5) : 0.0);
+  }
+  BucketGrid dut;
+  dut.Rebuild(points.topRows<2>(), BucketGrid::SideFor(points.topRows<2>(), 5.0));
+  std::vector<BucketGrid::Neighbour> found;
+  for (int q = 0; q < 400; q += 7) {
+    const Eigen::Vector3d p = points.col(q);
+    dut.KNearest(
+        p.head<2>(), 20, std::numeric_limits<double>::infinity(),
+        [&](int j) { return (points.col(j) - p).norm(); }, &found);
+    std::vector<BucketGrid::Neighbour> all;
+    for (int j = 0; j < 400; ++j) all.emplace_back((points.col(j) - p).norm(), j);
+    std::sort(all.begin(), all.end());
+    all.resize(20);
+    EXPECT_EQ(found, all) << "query " << q;
+  }
+  // nothing within 0.1 m of a query 5 m away: the search stops, its nearest lies beyond
+  dut.KNearest(
+      Eigen::Vector2d(7.0, 0.0), 20, 0.1,
+      [&](int j) { return (points.col(j).head<2>() - Eigen::Vector2d(7.0, 0.0)).norm(); }, &found);
+  EXPECT_TRUE(found.empty() || found.front().first > 0.1);
 }
 
 }  // namespace

@@ -25,15 +25,16 @@ constexpr double kDegToRad = M_PI / 180.0;
 TEST(FeaturesTest, FlatGroundHasNoCurvatureOrGradientAndAStepEdgeHasBoth) {
   FsgpConfig config;
   common::Random random(1);
+  TrainingSetExtractor extractor;
   const common::PointCloud flat = Surface([](double, double) { return 0.0; }, {0, 0}, 3.0, 0.0);
-  const TrainingSet plane = ExtractTrainingSet(flat.points, config, &random);
+  const TrainingSet plane = extractor.Extract(flat.points, config, &random);
   EXPECT_LT(plane.curvature.maxCoeff(), 1e-6);
   EXPECT_LT(plane.gradient.maxCoeff(), 1e-6);
   EXPECT_EQ(plane.feature_points, 0);
 
   const common::PointCloud step =
       Surface([](double x, double) { return x > 0.05 ? 0.2 : 0.0; }, {0, 0}, 3.0, 0.0);
-  const TrainingSet edge = ExtractTrainingSet(step.points, config, &random);
+  const TrainingSet edge = extractor.Extract(step.points, config, &random);
   EXPECT_GT(edge.feature_points, 0);
   for (Eigen::Index i = 0; i < edge.points_W.cols(); ++i) {
     const double distance_to_edge = std::abs(edge.points_W(0, i) - 0.05);
@@ -54,17 +55,16 @@ TEST(FeaturesTest, InverseDistanceWeightsMatchABruteForceSearch) {
     training.col(j) << random.Uniform(-5, 5), random.Uniform(-3, 3), 0.0;
   Eigen::Matrix2Xd queries(2, 200);
   for (int q = 0; q < 200; ++q) queries.col(q) << random.Uniform(-7, 7), random.Uniform(-5, 5);
-  Eigen::MatrixXi indices;
-  Eigen::MatrixXd weights;
-  Eigen::VectorXd nearest;
-  InverseDistanceWeights(training, queries, 5, std::numeric_limits<double>::infinity(), &indices,
-                         &weights, &nearest);
-  Eigen::MatrixXi supported_indices;
-  Eigen::MatrixXd supported_weights;
-  Eigen::VectorXd supported_nearest;
+  InverseDistanceWeighting unlimited, limited;
+  unlimited.Compute(training, queries, 5, std::numeric_limits<double>::infinity());
   const double support_radius_m = 0.8;
-  InverseDistanceWeights(training, queries, 5, support_radius_m, &supported_indices,
-                         &supported_weights, &supported_nearest);
+  limited.Compute(training, queries, 5, support_radius_m);
+  const auto indices = unlimited.indices();
+  const auto weights = unlimited.weights();
+  const auto nearest = unlimited.nearest_m();
+  const auto supported_indices = limited.indices();
+  const auto supported_weights = limited.weights();
+  const auto supported_nearest = limited.nearest_m();
   int unsupported = 0;
   for (int q = 0; q < 200; ++q) {
     std::vector<std::pair<double, int>> all;
@@ -99,8 +99,9 @@ TEST(CropWindowTest, KeepsTheWindowAndOnlyTheFootOfTallStructures) {
     points.emplace_back(2.1f, 0.0f, 0.1f * static_cast<float>(k) + 0.05f);  // a wall
   points.emplace_back(std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f);
   MapUpdateResult result;
-  const Eigen::Matrix3Xf kept = CropWindow(common::MakePointCloud(points),
-                                           Eigen::Vector3d(0, 0, 0.1), 10.0, 1.0, &result, 0.3);
+  WindowCrop dut;
+  dut.Crop(common::MakePointCloud(points), Eigen::Vector3d(0, 0, 0.1), 10.0, 1.0, 0.3, &result);
+  const auto kept = dut.window();
   EXPECT_EQ(result.dropped_invalid, 1);
   for (Eigen::Index i = 0; i < kept.cols(); ++i) {
     EXPECT_LE(std::abs(kept(0, i)), 5.0f);
@@ -130,7 +131,8 @@ TEST(ObstacleCellsTest, AFaceAboveItsNeighbourhoodIsAnObstacleAndASlopeIsNot) {
   points.emplace_back(0.42f, 0.39f, base + 1.0f);
   const Eigen::Matrix3Xf cloud = common::MakePointCloud(points).points;
   const Eigen::Vector2i low(0, 0), high(g.num_x - 1, g.num_y - 1);
-  const Eigen::MatrixXf dut = ObstacleCells(cloud, g, low, high, 0.3);
+  ObstacleMarker marker;
+  const Eigen::MatrixXf dut = marker.Cells(cloud, g, low, high, 0.3);
   const Eigen::Vector2i wall = *g.CellIndex({0.4, 0.4});
   for (int ix = 0; ix < g.num_x; ++ix) {
     for (int iy = 0; iy < g.num_y; ++iy) {
@@ -138,7 +140,7 @@ TEST(ObstacleCellsTest, AFaceAboveItsNeighbourhoodIsAnObstacleAndASlopeIsNot) {
     }
   }
   // no points: unknown
-  EXPECT_TRUE(std::isnan(ObstacleCells(Eigen::Matrix3Xf(3, 0), g, low, high, 0.3)(3, 3)));
+  EXPECT_TRUE(std::isnan(marker.Cells(Eigen::Matrix3Xf(3, 0), g, low, high, 0.3)(3, 3)));
 }
 
 TEST(FsgpBgkMapperTest, AWallIsUntraversableAndItsCellsClearWhenSeenFree) {

@@ -72,19 +72,19 @@ TEST(SparseGpTest, MeanGradientMatchesFiniteDifferences) {
     ASSERT_TRUE(dut.Fit(inputs, heights, Hyper(kernel)));
     Eigen::MatrixXd test(3, 4);
     test << 0.1, -0.2, 0.3, 0.0, -0.5, 0.4, -0.1, 0.2, 0.7, 0.7, 0.5, -0.5;
-    Eigen::VectorXd mean, variance;
-    Eigen::MatrixXd gradient;
-    dut.Predict(test, &mean, &gradient);
-    dut.PredictVariance(test, &variance);
+    Eigen::VectorXd mean(test.rows()), variance(test.rows());
+    Eigen::MatrixXd gradient(test.rows(), test.cols());
+    dut.Predict(test, mean, gradient);
+    dut.PredictVariance(test, variance);
     const double h = 1e-6;
     for (int d = 0; d < 4; ++d) {
       Eigen::MatrixXd up = test, down = test;
       up.col(d).array() += h;
       down.col(d).array() -= h;
-      Eigen::VectorXd mean_up, mean_down;
-      Eigen::MatrixXd unused_gradient;
-      dut.Predict(up, &mean_up, &unused_gradient);
-      dut.Predict(down, &mean_down, &unused_gradient);
+      Eigen::VectorXd mean_up(3), mean_down(3);
+      Eigen::MatrixXd unused_gradient(3, 4);
+      dut.Predict(up, mean_up, unused_gradient);
+      dut.Predict(down, mean_down, unused_gradient);
       for (int t = 0; t < 3; ++t)
         EXPECT_NEAR(gradient(t, d), (mean_up[t] - mean_down[t]) / (2 * h), 1e-6);
     }
@@ -107,10 +107,10 @@ TEST(SparseGpTest, MatchesTheDenseDoublePrecisionEquations) {
     hyper.noise_std_m = 0.03;
     SparseGp dut;
     ASSERT_TRUE(dut.Fit(inputs, heights, hyper));
-    Eigen::VectorXd mean, variance;
-    Eigen::MatrixXd gradient;
-    dut.Predict(test, &mean, &gradient);
-    dut.PredictVariance(test, &variance);
+    Eigen::VectorXd mean(test.rows()), variance(test.rows());
+    Eigen::MatrixXd gradient(test.rows(), test.cols());
+    dut.Predict(test, mean, gradient);
+    dut.PredictVariance(test, variance);
 
     const double s2 = dut.prior_variance();
     auto k = [&](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
@@ -153,9 +153,9 @@ TEST(SparseGpTest, InterpolatesASmoothSurfaceWithinABound) {
   for (int i = 0; i < 11; ++i) {
     for (int j = 0; j < 11; ++j) test.row(11 * i + j) << -2.5 + 0.5 * i, -2.5 + 0.5 * j;
   }
-  Eigen::VectorXd mean;
-  Eigen::MatrixXd gradient;
-  dut.Predict(test, &mean, &gradient);
+  Eigen::VectorXd mean(test.rows());
+  Eigen::MatrixXd gradient(test.rows(), test.cols());
+  dut.Predict(test, mean, gradient);
   double worst = 0.0;
   for (int t = 0; t < 121; ++t)
     worst = std::max(worst, std::abs(mean[t] - surface(test(t, 0), test(t, 1))));

@@ -26,8 +26,10 @@ TEST(StressTest, LowDensityTrafficOnOpenGround) {
   const nlohmann::json results = nlohmann::json::parse(ReadFile(out / "results.json"));
   ASSERT_EQ(results.size(), 4u);
   // the outcome of each fixed seed, exactly: a change in navigation or traffic shows here first
+  // (seed 1 of two movers was hit by a mover until the mapper's own voxel grid and neighbour
+  // search replaced PCL's, which moved the trajectory: the robot now passes)
   const std::map<std::string, std::string> expected = {
-      {"stress_open_mover_count-2_traffic.seed-1", "collision"},
+      {"stress_open_mover_count-2_traffic.seed-1", "success"},
       {"stress_open_mover_count-2_traffic.seed-2", "success"},
       {"stress_open_mover_count-4_traffic.seed-1", "success"},
       {"stress_open_mover_count-4_traffic.seed-2", "success"}};
