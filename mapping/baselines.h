@@ -11,7 +11,8 @@ namespace trav::mapping {
 /// Settings of the SGP baseline (Leininger et al., ICRA 2024; abeleinin/gp-navigation).
 struct SgpConfig {
   MapArea area{};
-  int inducing_points{500};    ///< every floor(N / M)-th point after sorting by x
+  int inducing_points{500};    ///< M: every floor(N / M)-th point after sorting by x (scenario:
+                               ///< mapping.max_training_points)
   double length_scale_m{0.7};  ///< SE kernel over (x, y) in metres
   double noise_std_m{0.03};
   double support_radius_m{0.8};

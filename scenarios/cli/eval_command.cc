@@ -65,7 +65,8 @@ void AddEvalOptions(CLI::App* eval, EvalFlags* flags) {
       ->delimiter(',')
       ->capture_default_str();
   eval->add_option("--inducing", options.inducing_points,
-                   "FSGP-BGK inducing-point counts of the ablation, comma-separated")
+                   "Inducing-point counts of the ablation of SGP, FSGP and FSGP-BGK (those among "
+                   "--methods), comma-separated")
       ->delimiter(',')
       ->capture_default_str();
   eval->add_flag("--no-ablation", flags->no_ablation, "Skip the inducing-point ablation");

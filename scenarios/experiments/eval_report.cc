@@ -97,19 +97,27 @@ std::string ErrorOverTimeCsv(const std::vector<EvalSceneRecord>& scenes, const s
   return csv;
 }
 
-// The ablation's methods by inducing-point count: FSGP-BGK itself at its own count.
-std::vector<std::pair<int, std::string>> AblationMethods(const EvalOptions& options,
-                                                         int base_inducing_points) {
-  std::vector<std::pair<int, std::string>> methods;
+// One row of the inducing-point ablation: a GP mapper at a count, and the method that ran it (the
+// mapper itself at the scenes' own count).
+struct AblationRow {
+  std::string base;
+  int inducing_points;
+  std::string method;
+};
+
+// The ablation's rows: each ablated GP mapper at every count, in ascending order.
+std::vector<AblationRow> AblationRows(const EvalOptions& options, int base_inducing_points) {
   std::vector<int> counts = options.inducing_points;
   std::sort(counts.begin(), counts.end());
   counts.erase(std::unique(counts.begin(), counts.end()), counts.end());
-  for (const int count : counts) {
-    methods.emplace_back(count, count == base_inducing_points
-                                    ? std::string("fsgp-bgk")
-                                    : "fsgp-bgk-m" + std::to_string(count));
+  std::vector<AblationRow> rows;
+  for (const std::string& base : AblatedMethods(options)) {
+    for (const int count : counts) {
+      rows.push_back(
+          {base, count, count == base_inducing_points ? base : AblationMethod{base, count}.Name()});
+    }
   }
-  return methods;
+  return rows;
 }
 
 const EvalAggregate* Find(const std::vector<EvalAggregate>& rows, const std::string& terrain,
@@ -443,54 +451,90 @@ void WriteErrorOverTime(const fs::path& folder, const EvalOptions& options,
   }
 }
 
-// The inducing-point ablation: ablation.csv, its plots, and its table for results.md (empty when
-// there is no ablation).
-std::string WriteAblation(const fs::path& folder, const EvalOptions& options,
+// FSGP-BGK's rows of the ablation: ablation.csv and its plots (error and update time against M).
+void WriteFsgpBgkAblation(const fs::path& folder, const EvalOptions& options,
                           const std::vector<EvalAggregate>& rows,
-                          const std::vector<std::pair<int, std::string>>& ablation,
+                          const std::vector<AblationRow>& ablation,
                           std::vector<std::string>* notes) {
-  std::ostringstream ablation_md;
-  if (!ablation.empty()) {
-    std::string ablation_csv = "inducing_points";
-    std::vector<PlotSeries> error_series, runtime_series;
+  std::string ablation_csv = "inducing_points";
+  std::vector<PlotSeries> error_series, runtime_series;
+  for (const std::string& terrain : options.terrains) {
+    ablation_csv += "," + terrain + "_error," + terrain + "_runtime_ms";
+    error_series.push_back({terrain + "_error", terrain});
+    runtime_series.push_back({terrain + "_runtime_ms", terrain});
+  }
+  ablation_csv += "\n";
+  for (const AblationRow& ablated : ablation) {
+    if (ablated.base != "fsgp-bgk") continue;
+    ablation_csv += std::to_string(ablated.inducing_points);
     for (const std::string& terrain : options.terrains) {
-      ablation_csv += "," + terrain + "_error," + terrain + "_runtime_ms";
-      error_series.push_back({terrain + "_error", terrain});
-      runtime_series.push_back({terrain + "_runtime_ms", terrain});
+      const EvalAggregate* row = Find(rows, terrain, ablated.method);
+      ablation_csv += row ? "," + common::FormatNumber("%.6g", row->mean_error) + "," +
+                                common::FormatNumber("%.6g", row->runtime_ms_median)
+                          : std::string(",,");
     }
     ablation_csv += "\n";
-    ablation_md << "## Inducing-point ablation (FSGP-BGK)\n\nMean error / median update [ms].\n\n"
-                << "| inducing points |";
-    for (const std::string& terrain : options.terrains) ablation_md << " " << terrain << " |";
-    ablation_md << "\n|---|";
-    for (std::size_t i = 0; i < options.terrains.size(); ++i) ablation_md << "---|";
-    ablation_md << "\n";
-    for (const auto& [count, method] : ablation) {
-      ablation_csv += std::to_string(count);
-      ablation_md << "| " << count << " |";
-      for (const std::string& terrain : options.terrains) {
-        const EvalAggregate* row = Find(rows, terrain, method);
-        ablation_csv += row ? "," + common::FormatNumber("%.6g", row->mean_error) + "," +
-                                  common::FormatNumber("%.6g", row->runtime_ms_median)
-                            : std::string(",,");
-        ablation_md << " "
-                    << (row ? common::FormatNumber("%.4f", row->mean_error) + " / " +
-                                  common::FormatNumber("%.2f", row->runtime_ms_median)
-                            : std::string("-"))
-                    << " |";
-      }
-      ablation_csv += "\n";
-      ablation_md << "\n";
-    }
-    const std::vector<LinePlot> plots = {
-        {"ablation_error.png", "FSGP-BGK: mean error against inducing points", "inducing_points",
-         "inducing points M", "mean |traversability - ground truth|", error_series, true, true},
-        {"ablation_runtime.png", "FSGP-BGK: median update against inducing points",
-         "inducing_points", "inducing points M", "median update [ms]", runtime_series, true, true}};
-    WriteCsvAndPlots(folder, "ablation.csv", ablation_csv, plots, notes);
   }
+  const std::vector<LinePlot> plots = {
+      {"ablation_error.png", "FSGP-BGK: mean error against inducing points", "inducing_points",
+       "inducing points M", "mean |traversability - ground truth|", error_series, true, true},
+      {"ablation_runtime.png", "FSGP-BGK: median update against inducing points", "inducing_points",
+       "inducing points M", "median update [ms]", runtime_series, true, true}};
+  WriteCsvAndPlots(folder, "ablation.csv", ablation_csv, plots, notes);
+}
 
-  return ablation_md.str();
+// The inducing-point ablation of every ablated GP mapper (the paper's: SGP, FSGP and FSGP-BGK at
+// each M): ablation_methods.csv, FSGP-BGK's ablation.csv and plots, and the table for results.md
+// (empty when there is no ablation).
+std::string WriteAblation(const fs::path& folder, const EvalOptions& options,
+                          const std::vector<EvalAggregate>& rows,
+                          const std::vector<AblationRow>& ablation,
+                          std::vector<std::string>* notes) {
+  if (ablation.empty()) return "";
+  auto optional_number = [](const char* format, const std::optional<double>& value) {
+    return value ? common::FormatNumber(format, *value) : std::string();
+  };
+  std::string csv = "method,inducing_points";
+  std::ostringstream md;
+  md << "## Inducing-point ablation (the paper's: each GP mapper at each M)\n\n"
+     << "Mean error / AUROC / median update [ms] (CPU).\n\n| method | inducing points |";
+  for (const std::string& terrain : options.terrains) {
+    csv += "," + terrain + "_error," + terrain + "_auroc," + terrain + "_average_precision," +
+           terrain + "_runtime_ms";
+    md << " " << terrain << " |";
+  }
+  csv += "\n";
+  md << "\n|---|---|";
+  for (std::size_t i = 0; i < options.terrains.size(); ++i) md << "---|";
+  md << "\n";
+  for (const AblationRow& ablated : ablation) {
+    csv += ablated.base + "," + std::to_string(ablated.inducing_points);
+    md << "| " << ablated.base << " | " << ablated.inducing_points << " |";
+    for (const std::string& terrain : options.terrains) {
+      const EvalAggregate* row = Find(rows, terrain, ablated.method);
+      if (row == nullptr) {
+        csv += ",,,,";
+        md << " - |";
+        continue;
+      }
+      csv += "," + common::FormatNumber("%.6g", row->mean_error) + "," +
+             optional_number("%.6g", row->auroc) + "," +
+             optional_number("%.6g", row->average_precision) + "," +
+             common::FormatNumber("%.6g", row->runtime_ms_median);
+      md << " " << common::FormatNumber("%.4f", row->mean_error) << " / "
+         << (row->auroc ? common::FormatNumber("%.3f", *row->auroc) : std::string("-")) << " / "
+         << common::FormatNumber("%.2f", row->runtime_ms_median) << " |";
+    }
+    csv += "\n";
+    md << "\n";
+  }
+  WriteTextFileAtomically((folder / "ablation_methods.csv").string(), csv);
+  if (std::any_of(ablation.begin(), ablation.end(),
+                  [](const AblationRow& row) { return row.base == "fsgp-bgk"; })) {
+    WriteFsgpBgkAblation(folder, options, rows, ablation, notes);
+    md << "\n![ablation](ablation_error.png)\n![ablation](ablation_runtime.png)\n";
+  }
+  return md.str();
 }
 
 }  // namespace
@@ -509,8 +553,7 @@ void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
   WriteErrorOverTime(folder, options, scenes, &notes);
 
   // the inducing-point ablation
-  const std::vector<std::pair<int, std::string>> ablation =
-      AblationMethods(options, base_inducing_points);
+  const std::vector<AblationRow> ablation = AblationRows(options, base_inducing_points);
   const std::string ablation_md = WriteAblation(folder, options, rows, ablation, &notes);
 
   // results.md
@@ -550,8 +593,6 @@ void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
   for (const std::string& terrain : options.terrains) {
     md << "![" << terrain << "](error_over_time_" << terrain << ".png)\n";
   }
-  if (!ablation.empty())
-    md << "![ablation](ablation_error.png)\n![ablation](ablation_runtime.png)\n";
   for (const std::string& note : notes) md << "\n" << note << "\n";
   WriteTextFileAtomically((folder / "results.md").string(), md.str());
 }

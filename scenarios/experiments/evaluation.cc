@@ -48,7 +48,8 @@ constexpr double kIgnoredLengthScale = 1e4;
 constexpr const char* kFloorMethod = "constant=0.5";
 // The drive outcome of a scene whose route draws all failed (no methods run).
 constexpr const char* kNoRoute = "no_route";
-constexpr const char* kAblationPrefix = "fsgp-bgk-m";
+// The GP mappers of the paper's inducing-point ablation.
+constexpr const char* kGpMethods[] = {"sgp", "fsgp", "fsgp-bgk"};
 constexpr int kRouteDraws = 16;
 // The route's length as a fraction of --route-length, tried in turn when no heading has a path.
 constexpr double kRouteLengths[] = {1.0, 0.75, 0.5};
@@ -159,10 +160,9 @@ std::unique_ptr<mapping::TraversabilityMapper> MakeEvalMapper(const std::string&
     } else {
       configured.mapping.fixed_gain = fixed_gain;
     }
-  } else if (StartsWith(method, kAblationPrefix)) {
-    configured.mapper = MapperMethod::kFsgpBgk;
-    configured.mapping.max_training_points =
-        std::stoi(method.substr(std::string(kAblationPrefix).size()));
+  } else if (const std::optional<AblationMethod> ablation = ParseAblationMethod(method)) {
+    configured.mapper = *StandardMethod(ablation->base);
+    configured.mapping.max_training_points = ablation->inducing_points;
   } else {
     configured.mapper = *StandardMethod(method);
   }
@@ -450,10 +450,39 @@ std::vector<std::string> EvalMethods(const EvalOptions& options) {
     methods.push_back("ground-truth");
   }
   const int base = BaseInducingPoints(options);
-  for (const int count : options.inducing_points) {
-    if (count != base) methods.push_back(kAblationPrefix + std::to_string(count));
+  for (const std::string& gp_method : AblatedMethods(options)) {
+    for (const int count : options.inducing_points) {
+      if (count != base) methods.push_back(AblationMethod{gp_method, count}.Name());
+    }
   }
   return methods;
+}
+
+std::optional<AblationMethod> ParseAblationMethod(const std::string& method) {
+  const std::size_t at = method.rfind("-m");
+  if (at == std::string::npos || at + 2 >= method.size()) return std::nullopt;
+  const std::string count = method.substr(at + 2);
+  if (count.size() > 6 ||
+      !std::all_of(count.begin(), count.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    return std::nullopt;
+  }
+  const std::string base = method.substr(0, at);
+  if (std::find(std::begin(kGpMethods), std::end(kGpMethods), base) == std::end(kGpMethods)) {
+    return std::nullopt;
+  }
+  return AblationMethod{base, std::stoi(count)};
+}
+
+std::vector<std::string> AblatedMethods(const EvalOptions& options) {
+  std::vector<std::string> ablated;
+  if (options.inducing_points.empty()) return ablated;
+  for (const std::string& method : options.methods) {
+    if (std::find(std::begin(kGpMethods), std::end(kGpMethods), method) != std::end(kGpMethods) &&
+        std::find(ablated.begin(), ablated.end(), method) == ablated.end()) {
+      ablated.push_back(method);
+    }
+  }
+  return ablated;
 }
 
 void to_json(nlohmann::json& json, const EvalFrames& f) {

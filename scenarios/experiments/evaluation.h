@@ -31,8 +31,9 @@ struct EvalOptions {
   /// itself, ground-truth (the oracle: the truth at every observed cell) and constant=C (C at every
   /// observed cell, C in [0, 1]).
   std::vector<std::string> methods{"sgp", "fsgp", "fsgp-bgk", "fsgp-accumulation", "em"};
-  /// FSGP-BGK inducing-point ablation: each count other than FSGP-BGK's own (mapping key
-  /// max_training_points, 500) adds a method fsgp-bgk-m<count>; empty: no ablation.
+  /// The paper's inducing-point ablation of the GP mappers among `methods` (sgp, fsgp, fsgp-bgk):
+  /// each count other than the scenes' own M (mapping key max_training_points, 500) adds a method
+  /// <method>-m<count> (fsgp-bgk-m50); empty: no ablation.
   std::vector<int> inducing_points{50, 125, 500};
   double route_length_m{24.0};  ///< straight-line distance from start to goal [m], > 0
   int max_frames{0};            ///< LiDAR frames per scene, 0: until the drive ends; >= 0
@@ -66,11 +67,27 @@ std::vector<EvalScene> EvalScenes(const EvalOptions& options);
 
 /// The methods every scene runs: `options.methods`, the floor and the ceiling of every table
 /// (constant=0.5 unless a constant is listed, and the ground-truth oracle), then the ablation's
-/// fsgp-bgk-m<count>.
+/// <method>-m<count>.
 std::vector<std::string> EvalMethods(const EvalOptions& options);
 
-/// The inducing-point count of FSGP-BGK in the scenes (the mapping default unless overridden).
+/// The inducing-point count M of the GP mappers in the scenes (the mapping default unless
+/// overridden).
 int BaseInducingPoints(const EvalOptions& options);
+
+/// A method of the inducing-point ablation: a GP mapper at another inducing-point count.
+struct AblationMethod {
+  std::string base;  ///< sgp, fsgp or fsgp-bgk
+  int inducing_points{0};
+  /// The method's name: <base>-m<inducing_points>.
+  std::string Name() const { return base + "-m" + std::to_string(inducing_points); }
+};
+
+/// The ablation method named `method` (sgp-m50, fsgp-m50, fsgp-bgk-m50), if it is one.
+std::optional<AblationMethod> ParseAblationMethod(const std::string& method);
+
+/// The GP mappers the ablation covers: those of sgp, fsgp and fsgp-bgk among `options.methods`,
+/// in their order there (none without inducing-point counts).
+std::vector<std::string> AblatedMethods(const EvalOptions& options);
 
 /// One method's frames in a scene, frame by frame (every vector has one value per frame).
 struct EvalFrames {

@@ -20,6 +20,8 @@ std::unique_ptr<mapping::TraversabilityMapper> MakeMapper(const Scenario& scenar
     case MapperMethod::kSgp: {
       mapping::SgpConfig sgp;
       sgp.area = fsgp.area;
+      // M: the inducing points of every GP mapper
+      sgp.inducing_points = fsgp.max_training_points;
       return std::make_unique<mapping::SgpMapper>(sgp);
     }
     case MapperMethod::kElevationMap: {

@@ -181,6 +181,31 @@ TEST(EvalOptionsTest, AblationAddsTheOtherInducingPointCounts) {
   options.methods = {"constant=0.2", "ground-truth"};
   options.inducing_points = {};
   EXPECT_EQ(EvalMethods(options), (std::vector<std::string>{"constant=0.2", "ground-truth"}));
+  // the paper's ablation: every GP mapper among the methods, in their order
+  options.methods = {"em", "fsgp-bgk", "sgp", "fsgp-accumulation"};
+  options.inducing_points = {50, 500};
+  options.sets.clear();
+  EXPECT_EQ(AblatedMethods(options), (std::vector<std::string>{"fsgp-bgk", "sgp"}));
+  EXPECT_EQ(EvalMethods(options),
+            (std::vector<std::string>{"em", "fsgp-bgk", "sgp", "fsgp-accumulation", "constant=0.5",
+                                      "ground-truth", "fsgp-bgk-m50", "sgp-m50"}));
+}
+
+TEST(EvalOptionsTest, AblationMethodNamesParseBackToTheirMapperAndCount) {
+  const std::optional<AblationMethod> fsgp_bgk = ParseAblationMethod("fsgp-bgk-m50");
+  ASSERT_TRUE(fsgp_bgk.has_value());
+  EXPECT_EQ(fsgp_bgk->base, "fsgp-bgk");
+  EXPECT_EQ(fsgp_bgk->inducing_points, 50);
+  EXPECT_EQ(fsgp_bgk->Name(), "fsgp-bgk-m50");
+  const std::optional<AblationMethod> fsgp = ParseAblationMethod("fsgp-m125");
+  ASSERT_TRUE(fsgp.has_value());
+  EXPECT_EQ(fsgp->base, "fsgp");
+  EXPECT_EQ(fsgp->inducing_points, 125);
+  EXPECT_EQ(ParseAblationMethod("sgp-m500")->base, "sgp");
+  for (const char* other : {"fsgp-bgk", "em-m50", "fsgp-accumulation-m50", "fsgp-bgk-no-features",
+                            "sgp-m", "sgp-m5x", "constant=0.5"}) {
+    EXPECT_FALSE(ParseAblationMethod(other).has_value()) << other;
+  }
 }
 
 TEST(EvalOptionsTest, ScenesAreSeededPerTerrainType) {

@@ -54,11 +54,11 @@ class EvaluationTest : public ::testing::Test {
   void TearDown() override { fs::remove_all(root_); }
 
   // Two short scenes on flat ground (ground truth 0 everywhere), with the oracle, a constant, and
-  // FSGP-BGK with a two-point ablation.
+  // SGP and FSGP-BGK with a two-point ablation.
   std::string TinyEval() const {
     return "eval --out " + (root_ / "eval").string() +
            " --terrains flat --scenes 2 --seed 5 --frames 6 --jobs 2"
-           " --methods ground-truth,constant=0.25,fsgp-bgk --inducing 50,500";
+           " --methods ground-truth,constant=0.25,sgp,fsgp-bgk --inducing 50,500";
   }
 
   // Flat ground with one crate between start and goal (the only hazards of the truth), 6 m
@@ -81,7 +81,7 @@ TEST_F(EvaluationTest, WritesEveryTableAndPlotAndScoresTheOracleAndAConstantExac
   const fs::path out = root_ / "eval";
   for (const char* file :
        {"options.json", "results.json", "results.csv", "results.md", "error_over_time_flat.csv",
-        "ablation.csv", "scenes/flat-5.json", "scenes/flat-6.json"}) {
+        "ablation.csv", "ablation_methods.csv", "scenes/flat-5.json", "scenes/flat-6.json"}) {
     EXPECT_TRUE(fs::is_regular_file(out / file)) << file;
   }
   if (access("/usr/bin/gnuplot", X_OK) == 0) {
@@ -93,7 +93,8 @@ TEST_F(EvaluationTest, WritesEveryTableAndPlotAndScoresTheOracleAndAConstantExac
 
   // one record per terrain type and method, with the interface's fields
   const nlohmann::json results = ReadJson(out / "results.json");
-  ASSERT_EQ(results.size(), 4u);  // ground-truth, constant, fsgp-bgk, fsgp-bgk-m50
+  // ground-truth, constant, sgp, fsgp-bgk, and the ablation's sgp-m50 and fsgp-bgk-m50
+  ASSERT_EQ(results.size(), 6u);
   for (const nlohmann::json& record : results) {
     for (const char* field : {"terrain", "method", "mean_error", "error_variance",
                               "runtime_ms_median", "peak_memory_mb"}) {
@@ -119,6 +120,13 @@ TEST_F(EvaluationTest, WritesEveryTableAndPlotAndScoresTheOracleAndAConstantExac
   EXPECT_GT(fsgp_bgk.peak_memory_mb, 0.0);
 #endif
   EXPECT_EQ(Record(results, "fsgp-bgk-m50").scenes, 2);
+  EXPECT_EQ(Record(results, "sgp-m50").scenes, 2);
+  // the paper's ablation: each GP mapper at each M, the scenes' own M (500) being the method itself
+  const std::string ablation = ReadFile(out / "ablation_methods.csv");
+  EXPECT_THAT(ablation, testing::StartsWith("method,inducing_points,flat_error,flat_auroc,"));
+  for (const char* row : {"\nsgp,50,", "\nsgp,500,", "\nfsgp-bgk,50,", "\nfsgp-bgk,500,"}) {
+    EXPECT_THAT(ablation, HasSubstr(row));
+  }
 
   // each scene keeps its per-frame numbers
   const nlohmann::json scene = ReadJson(out / "scenes/flat-5.json");

@@ -1,6 +1,8 @@
 #include "scenarios/run/scenario.h"
 
+#include <cmath>
 #include <map>
+#include <memory>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -11,7 +13,9 @@
 #include <gtest/gtest.h>
 
 #include "common/input_error.h"
+#include "common/point_cloud.h"
 #include "common/yaml_reader.h"
+#include "scenarios/run/mappers.h"
 #include "tests/cli_test_util.h"
 
 namespace trav::scenarios {
@@ -148,6 +152,33 @@ ground_truth: {clearance: 0.1}
   EXPECT_THAT(
       [] { Load("mapping: {gp: {kernel: matern}}"); },
       ThrowsMessage<common::InputError>(HasSubstr("mapping.gp.kernel: unknown value 'matern'")));
+}
+
+// M, the inducing points, is one key for every GP mapper: SGP takes it as well as FSGP-BGK.
+TEST(ScenarioTest, EveryGpMapperTakesItsInducingPointsFromMaxTrainingPoints) {
+  // a dense 10 x 10 m surface with a bump: more points than any M below
+  std::vector<Eigen::Vector3f> points;
+  for (int i = 0; i <= 100; ++i) {
+    for (int j = 0; j <= 100; ++j) {
+      const float x = -5.0f + 0.1f * static_cast<float>(i),
+                  y = -5.0f + 0.1f * static_cast<float>(j);
+      points.emplace_back(x, y, 0.2f * std::exp(-(x * x + y * y)));
+    }
+  }
+  const common::PointCloud cloud = common::MakePointCloud(points);
+  for (const char* method : {"sgp", "fsgp-bgk"}) {
+    for (const int m : {50, 200}) {
+      const Scenario scenario = Load(std::string("mapping: {method: ") + method +
+                                     ", max_training_points: " + std::to_string(m) + "}");
+      const std::unique_ptr<mapping::TraversabilityMapper> mapper = MakeMapper(scenario);
+      const mapping::MapUpdateResult result =
+          mapper->Update(cloud, Eigen::Isometry3d(Eigen::Translation3d(0, 0, 0.3)), 0.0);
+      ASSERT_EQ(result.status, mapping::MapUpdateStatus::kUpdated) << method;
+      // SGP: every floor(N / M)-th point, so M to 2 M of them; FSGP-BGK: at most M
+      EXPECT_LE(result.training_points, std::string(method) == "sgp" ? 2 * m - 1 : m) << method;
+      EXPECT_GE(result.training_points, std::string(method) == "sgp" ? m : m / 2) << method;
+    }
+  }
 }
 
 TEST(ScenarioTest, DriveCommandFollowsTheScriptAndStopsAfterIt) {
