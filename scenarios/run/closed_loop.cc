@@ -198,8 +198,12 @@ void ClosedLoop::PlaceMovers() {
                               sim::MoverPose(movers_[walker.index], planar, world_), walker.v_W);
     }
   }
-  for (int i = 0; i < simulation.num_movers(); ++i) {
-    if (ray_scene_) ray_scene_->SetMovingPose(i, simulation.MoverPose(i));
+  if (ray_scene_ && simulation.num_movers() > 0) {
+    mover_poses_W_.resize(static_cast<std::size_t>(simulation.num_movers()));
+    for (int i = 0; i < simulation.num_movers(); ++i) {
+      mover_poses_W_[static_cast<std::size_t>(i)] = simulation.MoverPose(i);
+    }
+    ray_scene_->SetMovingPoses(mover_poses_W_);
   }
 }
 

@@ -202,6 +202,7 @@ class ClosedLoop {
   planner::NavigatorTick navigator_tick_;
   std::vector<planner::MovingObstacle> true_movers_;
   std::vector<planner::MovingObstacle> predicted_movers_;
+  std::vector<Eigen::Isometry3d> mover_poses_W_;  // this step's, for the ray scene
   const common::GridLayers* navigation_map_{nullptr};
   bool map_changed_{false};
   std::deque<PendingFrame> pending_frames_;

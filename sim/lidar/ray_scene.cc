@@ -38,9 +38,10 @@ struct RayScene::Embree {
   RTCScene top_scene{nullptr};     // instances only: cheap to recommit when a pose changes
   std::vector<RTCScene> moving_scenes;
   std::vector<RTCGeometry> moving_instances;
-  std::vector<unsigned> moving_instance_ids;   // moving object index -> top-scene instance id
-  std::vector<int> static_object_of_geometry;  // static geometry id -> object id
-  std::vector<int> object_of_instance;         // top-scene instance id -> object id (-1: static)
+  std::vector<Eigen::Isometry3d> moving_poses;  // each moving instance's pose, as last set
+  std::vector<unsigned> moving_instance_ids;    // moving object index -> top-scene instance id
+  std::vector<int> static_object_of_geometry;   // static geometry id -> object id
+  std::vector<int> object_of_instance;          // top-scene instance id -> object id (-1: static)
   std::vector<Eigen::Matrix3f> rotation_of_instance;  // to turn instance-space normals into W
   ErrorRecord error;
 
@@ -141,6 +142,7 @@ RayScene::RayScene(const RaySceneDescription& description) : embree_(std::make_u
     e.moving_scenes.push_back(child);
     e.moving_instances.push_back(
         e.AttachInstance(child, description.X_WI[k], object++, &instance_id));
+    e.moving_poses.push_back(description.X_WI[k]);
     e.moving_instance_ids.push_back(instance_id);
   }
   rtcCommitScene(e.top_scene);
@@ -154,17 +156,41 @@ RayScene::~RayScene() {
   }
 }
 
-void RayScene::SetMovingPose(int index, const Eigen::Isometry3d& X_WI) {
+bool RayScene::PlaceMoving(int index, const Eigen::Isometry3d& X_WI) {
   Embree& e = *embree_;
   if (index < 0 || index >= static_cast<int>(e.moving_instances.size())) {
     throw std::out_of_range("RayScene: no moving object " + std::to_string(index));
   }
   const auto k = static_cast<std::size_t>(index);
+  if (e.moving_poses[k].matrix() == X_WI.matrix()) return false;  // exactly where it is
+  e.moving_poses[k] = X_WI;
   Embree::SetTransform(e.moving_instances[k], X_WI);
   e.rotation_of_instance[e.moving_instance_ids[k]] = X_WI.linear().cast<float>();
-  rtcCommitScene(e.top_scene);
-  e.CheckDevice("moving an object");
+  return true;
 }
+
+void RayScene::SetMovingPose(int index, const Eigen::Isometry3d& X_WI) {
+  if (!PlaceMoving(index, X_WI)) return;
+  rtcCommitScene(embree_->top_scene);
+  embree_->CheckDevice("moving an object");
+}
+
+void RayScene::SetMovingPoses(const std::vector<Eigen::Isometry3d>& X_WI) {
+  if (static_cast<int>(X_WI.size()) != num_moving()) {
+    throw std::out_of_range("RayScene: " + std::to_string(X_WI.size()) + " poses for " +
+                            std::to_string(num_moving()) + " moving objects");
+  }
+  bool moved = false;
+  for (std::size_t k = 0; k < X_WI.size(); ++k) {
+    moved = PlaceMoving(static_cast<int>(k), X_WI[k]) || moved;
+  }
+  if (!moved) return;
+  // one commit of the top scene for every pose (a commit starts a BVH build on Embree's threads)
+  rtcCommitScene(embree_->top_scene);
+  embree_->CheckDevice("moving objects");
+}
+
+int RayScene::num_moving() const { return static_cast<int>(embree_->moving_instances.size()); }
 
 void RayScene::Cast(const Eigen::Vector3f& origin_W,
                     const Eigen::Ref<const Eigen::Matrix3Xf>& directions_W, float range_max_m,

@@ -51,9 +51,17 @@ class RayScene {
   /// Number of objects (meshes, primitives and moving meshes).
   int num_objects() const { return num_objects_; }
 
-  /// Moves the moving object `index` (0-based among the moving meshes) to X_WI.
-  /// @throws std::out_of_range for a bad index.
+  /// Number of moving objects (meshes posed by SetMovingPose).
+  int num_moving() const;
+
+  /// Moves the moving object `index` (0-based among the moving meshes) to X_WI (nothing to do when
+  /// it is there already). @throws std::out_of_range for a bad index.
   void SetMovingPose(int index, const Eigen::Isometry3d& X_WI);
+
+  /// Moves every moving object at once, `X_WI[k]` the pose of object k, with one rebuild of the
+  /// scene's top level for all of them (none when none moved): per physics step, rather than one
+  /// rebuild per object. @throws std::out_of_range unless there is one pose per moving object.
+  void SetMovingPoses(const std::vector<Eigen::Isometry3d>& X_WI);
 
   /// Casts rays from one origin along unit `directions_W`, reporting the first hit in
   /// [0, range_max_m]: ray k's result is entry k of `hits`, which grows when it has fewer entries
@@ -64,6 +72,8 @@ class RayScene {
 
  private:
   struct Embree;
+  // Sets the transform of moving object `index` without committing; false when unchanged.
+  bool PlaceMoving(int index, const Eigen::Isometry3d& X_WI);
   void CastRange(const Eigen::Vector3f& origin_W,
                  const Eigen::Ref<const Eigen::Matrix3Xf>& directions_W, float range_max_m,
                  Eigen::Index begin, Eigen::Index end, RayHits* hits) const;

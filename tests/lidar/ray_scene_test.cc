@@ -89,6 +89,36 @@ TEST(RaySceneTest, MovingObjectIsHitAtItsNewPose) {
   EXPECT_THROW(dut.SetMovingPose(1, At({0, 0, 0})), std::out_of_range);
 }
 
+// Every moving object placed at once (one rebuild of the top level): each is hit at its new pose,
+// the same as placing them one by one; placing them where they are changes nothing.
+TEST(RaySceneTest, MovingObjectsPlacedTogetherAreHitAtTheirNewPoses) {
+  RaySceneDescription description;
+  description.meshes_W.push_back(Plane(50.0, -1.0));
+  for (int k = 0; k < 2; ++k) {
+    description.moving_meshes_I.push_back(
+        common::PrimitiveMesh(MakePrimitive(ShapeType::kBox, {0.5, 0.5, 0.5}, {0, 0, 0})));
+  }
+  description.X_WI = {At({3, 0, 0}), At({0, 3, 0})};
+  RayScene together(description), one_by_one(description);
+  EXPECT_EQ(together.num_moving(), 2);
+  Eigen::Matrix3Xf directions(3, 2);
+  directions << 1, 0, 0, 1, 0, 0;
+  const std::vector<Eigen::Isometry3d> poses = {At({7, 0, 0}), At({0, 5, 0})};
+  together.SetMovingPoses(poses);
+  together.SetMovingPoses(poses);
+  one_by_one.SetMovingPose(0, poses[0]);
+  one_by_one.SetMovingPose(1, poses[1]);
+  RayHits hits, reference;
+  together.Cast(Eigen::Vector3f::Zero(), directions, 40.0f, &hits);
+  one_by_one.Cast(Eigen::Vector3f::Zero(), directions, 40.0f, &reference);
+  EXPECT_FLOAT_EQ(hits.range_m[0], 6.5f);
+  EXPECT_EQ(hits.object_id[0], 1);
+  EXPECT_FLOAT_EQ(hits.range_m[1], 4.5f);
+  EXPECT_EQ(hits.object_id[1], 2);
+  EXPECT_EQ(hits.range_m.head(2), reference.range_m.head(2));
+  EXPECT_THROW(together.SetMovingPoses({At({0, 0, 0})}), std::out_of_range);
+}
+
 TEST(RaySceneTest, RangeLimitTurnsFarHitsIntoMisses) {
   RaySceneDescription description;
   description.primitives_W.push_back(MakePrimitive(ShapeType::kBox, {1, 1, 1}, {30, 0, 0}));
