@@ -324,6 +324,27 @@ std::optional<EvalSceneRecord> FinishedScene(const fs::path& path) {
   }
 }
 
+// True if a scene record exists at `path` but cannot be read as one (cut short, edited, or written
+// by another version of trav).
+bool UnreadableScene(const fs::path& path) {
+  std::error_code error;
+  return fs::exists(path, error) && !FinishedScene(path);
+}
+
+// Moves an unreadable scene record aside (to <record>.unreadable, or .unreadable-2, ... when that
+// exists: never over a file), so that running the scene again replaces nothing of the user's.
+void SetAsideUnreadable(const fs::path& record) {
+  fs::path aside = record.string() + ".unreadable";
+  std::error_code error;
+  for (int k = 2; fs::exists(aside, error); ++k) {
+    aside = record.string() + ".unreadable-" + std::to_string(k);
+  }
+  fs::rename(record, aside);
+  common::LogStream(common::LogLevel::kWarning)
+      << record.string() << " is not a scene record this trav can read: kept as " << aside.string()
+      << ", and the scene runs again";
+}
+
 // An array of numbers or nulls, and back.
 nlohmann::json NumbersOrNulls(const std::vector<std::optional<double>>& values) {
   nlohmann::json array = nlohmann::json::array();
@@ -662,6 +683,7 @@ EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_d
       ++result.resumed;
       continue;
     }
+    if (UnreadableScene(record)) SetAsideUnreadable(record);
     jobs.push_back(FolderJob(absolute.string(), scene.Id(),
                              {trav_executable, "eval-scene", absolute.string(), scene.terrain,
                               std::to_string(scene.seed)},
@@ -692,9 +714,15 @@ void WriteEvalReportFromFolder(const std::string& out_dir, const EvalOptions& op
   std::vector<EvalSceneRecord> records;
   std::vector<nlohmann::json> failures;
   for (const EvalScene& scene : scenes) {
-    if (std::optional<EvalSceneRecord> record =
-            FinishedScene(folder / "scenes" / (scene.Id() + ".json"))) {
+    const fs::path path = folder / "scenes" / (scene.Id() + ".json");
+    if (std::optional<EvalSceneRecord> record = FinishedScene(path)) {
       records.push_back(std::move(*record));
+    } else if (UnreadableScene(path)) {
+      // reported, not silently left out (trav eval on the folder runs it again, keeping the file)
+      common::LogStream(common::LogLevel::kWarning)
+          << path.string() << " is not a scene record this trav can read: left out of the report";
+      failures.push_back(
+          {{"id", scene.Id()}, {"end", "unreadable record"}, {"log", path.string()}});
     } else if (fs::exists(folder / "failed" / (scene.Id() + ".json"), error)) {
       failures.push_back(ReadJsonFile((folder / "failed" / (scene.Id() + ".json")).string()));
     }

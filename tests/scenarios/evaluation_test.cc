@@ -260,12 +260,33 @@ TEST_F(EvaluationTest, ResumesWithoutRedoingFinishedScenes) {
   EXPECT_EQ(text.str(), finished_text);
   EXPECT_TRUE(fs::is_regular_file(out / "scenes/flat-6.json"));
   EXPECT_FALSE(fs::exists(out / "scenes/flat-6.json.partial-99999"));
-  EXPECT_EQ(ReadJson(out / "results.json").size(), 4u);
+  EXPECT_EQ(ReadJson(out / "results.json").size(), 6u);
 
   // the same folder with other options is refused
   const CommandResult other = RunTrav(TinyEval() + " --route-length 10");
   EXPECT_EQ(other.exit_code, 2);
   EXPECT_THAT(other.output, HasSubstr("options.json"));
+}
+
+// A scene record that cannot be read (cut short, edited, or written by another version) is never
+// silently dropped or overwritten: collect reports it, and a resumed run keeps it aside.
+TEST_F(EvaluationTest, AnUnreadableSceneRecordIsReportedAndKept) {
+  ASSERT_EQ(RunTrav(TinyEval()).exit_code, 0);
+  const fs::path out = root_ / "eval";
+  const std::string broken = "{\"terrain\": \"flat\", \"methods\": 3}\n";
+  std::ofstream(out / "scenes/flat-6.json") << broken;
+
+  const CommandResult collected = RunTrav("eval --collect " + out.string());
+  EXPECT_THAT(collected.output, HasSubstr("flat-6.json is not a scene record this trav can read"));
+  EXPECT_THAT(ReadFile(out / "results.md"), HasSubstr("| flat-6 | unreadable record |"));
+  EXPECT_EQ(ReadFile(out / "scenes/flat-6.json"), broken);
+
+  const CommandResult resumed = RunTrav(TinyEval());
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_THAT(resumed.output, HasSubstr("scene flat-6 finished"));
+  EXPECT_EQ(ReadFile(out / "scenes/flat-6.json.unreadable"), broken);
+  EXPECT_EQ(ReadJson(out / "scenes/flat-6.json").at("terrain"), "flat");
+  EXPECT_THAT(ReadFile(out / "results.md"), ::testing::Not(HasSubstr("unreadable record")));
 }
 
 TEST_F(EvaluationTest, RecordsAFailedSceneAndReportsTheOthers) {
