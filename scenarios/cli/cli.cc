@@ -31,7 +31,14 @@ ProgressCallback TerminalProgress() {
 
 std::string ModelsDirectory() {
   const char* from_environment = std::getenv("TRAV_MODELS_DIR");
-  return from_environment != nullptr ? from_environment : TRAV_MODELS_DIR;
+  if (from_environment != nullptr) return from_environment;
+  // the build's source tree; else, installed (cmake --install), <prefix>/share/trav/models beside
+  // <prefix>/bin/trav
+  std::error_code error;
+  if (std::filesystem::is_directory(TRAV_MODELS_DIR, error)) return TRAV_MODELS_DIR;
+  const std::filesystem::path installed =
+      std::filesystem::path(SelfExecutable()).parent_path().parent_path() / "share/trav/models";
+  return std::filesystem::is_directory(installed, error) ? installed.string() : TRAV_MODELS_DIR;
 }
 
 std::string SelfExecutable() { return std::filesystem::read_symlink("/proc/self/exe").string(); }

@@ -1,0 +1,36 @@
+# ctest install_consumer: `cmake --install` into a scratch prefix, then the out-of-tree project
+# examples/mapping_consumer configured with find_package(trav) against it, built and run; and the
+# installed trav executable with its models and scenarios. Run with -DBUILD_DIR, -DSOURCE_DIR,
+# -DWORK (scratch folder, replaced) and -DGENERATOR.
+function(run what)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT code EQUAL 0)
+    message(FATAL_ERROR "${what} failed (${code}):\n${out}\n${err}")
+  endif()
+  set(output "${out}" PARENT_SCOPE)
+endfunction()
+
+file(REMOVE_RECURSE ${WORK})
+set(prefix ${WORK}/prefix)
+run("cmake --install" ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+foreach(installed lib/cmake/trav/travConfig.cmake lib/cmake/trav/travTargets.cmake
+                  include/trav/mapping/fsgp_bgk_mapper.h include/trav/planner/navigation/navigator.h
+                  bin/trav share/trav/models/scout_mini.xml share/trav/scenarios/suite/forest.yaml)
+  if(NOT EXISTS ${prefix}/${installed})
+    message(FATAL_ERROR "cmake --install did not install ${installed}")
+  endif()
+endforeach()
+
+run("configuring the consumer" ${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/mapping_consumer
+    -B ${WORK}/consumer -G ${GENERATOR} -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${prefix})
+run("building the consumer" ${CMAKE_COMMAND} --build ${WORK}/consumer)
+run("running the consumer" ${WORK}/consumer/mapping_consumer)
+foreach(expected "frame 2: [0-9]+ training points" "wall cost 1.00" "path found")
+  if(NOT output MATCHES "${expected}")
+    message(FATAL_ERROR "the consumer's output lacks '${expected}':\n${output}")
+  endif()
+endforeach()
+message(STATUS "consumer: ${output}")
+
+# the installed executable finds its models beside it, with the source tree out of reach
+run("the installed trav" ${CMAKE_COMMAND} -E env TRAV_MODELS_DIR= ${prefix}/bin/trav --version)
