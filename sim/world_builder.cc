@@ -1,8 +1,12 @@
 #include "sim/world_builder.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <sstream>
+#include <stdexcept>
 
 namespace trav::sim {
 namespace {
@@ -120,6 +124,21 @@ std::string XmlAttribute(const std::string& text) {
   return escaped;
 }
 
+// An hfield asset: its samples filled from memory later (nrow x ncol), or read from `file`.
+std::string HeightFieldAsset(const std::string& name, int nrow, int ncol,
+                             const Eigen::Vector2d& half, const HeightFieldLayout& layout,
+                             const std::string& file) {
+  std::ostringstream xml;
+  xml << std::setprecision(9) << "    <hfield name=\"" << name << "\" ";
+  if (file.empty()) {
+    xml << "nrow=\"" << nrow << "\" ncol=\"" << ncol << "\"";
+  } else {
+    xml << "file=\"" << XmlAttribute(file) << "\"";
+  }
+  xml << " size=\"" << half.x() << " " << half.y() << " " << layout.z_top_m << " 1\"/>\n";
+  return xml.str();
+}
+
 }  // namespace
 
 std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options,
@@ -154,12 +173,10 @@ std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options
       << "    <material name=\"ground\" texture=\"ground_checker\" texrepeat=\""
       << world.geometry.Extent().x() / 2.0 << " " << world.geometry.Extent().y() / 2.0
       << "\" texuniform=\"false\" specular=\"0.05\"/>\n"
-      << "    <hfield name=\"terrain\" nrow=\"" << world.geometry.num_y << "\" ncol=\""
-      << world.geometry.num_x << "\" size=\"" << half.x() << " " << half.y() << " "
-      << layout.z_top_m << " 1\"/>\n"
-      << "    <hfield name=\"terrain_visual\" nrow=\"" << visual_num_y << "\" ncol=\""
-      << visual_num_x << "\" size=\"" << half.x() << " " << half.y() << " " << layout.z_top_m
-      << " 1\"/>\n"
+      << HeightFieldAsset("terrain", world.geometry.num_y, world.geometry.num_x, half, layout,
+                          options.height_field_file)
+      << HeightFieldAsset("terrain_visual", visual_num_y, visual_num_x, half, layout,
+                          options.height_field_file)
       << "  </asset>\n"
       << "  <worldbody>\n"
       << "    <light name=\"sun\" directional=\"true\" pos=\"0 0 50\" dir=\"-0.5 0.35 -0.6\""
@@ -200,6 +217,48 @@ std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options
   }
   xml << "  </worldbody>\n</mujoco>\n";
   return xml.str();
+}
+
+void WriteHeightFieldFile(const TerrainWorld& world, const std::string& path) {
+  const Eigen::MatrixXf& height_m = world.height_m;
+  std::vector<float> samples(static_cast<std::size_t>(height_m.size()));
+  FillHeightField(height_m, ComputeHeightFieldLayout(world), samples.data());
+  const std::int32_t size[2] = {static_cast<std::int32_t>(height_m.cols()),   // nrow: along y
+                                static_cast<std::int32_t>(height_m.rows())};  // ncol: along x
+  std::ofstream file(path, std::ios::binary);
+  file.write(reinterpret_cast<const char*>(size), sizeof(size));
+  file.write(reinterpret_cast<const char*>(samples.data()),
+             static_cast<std::streamsize>(samples.size() * sizeof(float)));
+  file.close();
+  if (!file) throw std::runtime_error("cannot write the height field " + path);
+}
+
+void ExportWorld(const TerrainWorld& world, const WorldOptions& options,
+                 const std::vector<MovingObstacle>& movers, const std::string& folder) {
+  WorldOptions exported = options;
+  exported.height_field_file = "terrain.bin";
+  // MuJoCo reads an include relative to the including file: a robot file that names no other file
+  // is copied beside world.xml (the folder then opens wherever it is moved); one with meshes or
+  // textures is included where it is, by its path relative to the folder
+  std::ifstream robot(options.robot_model_path);
+  std::stringstream robot_xml;
+  robot_xml << robot.rdbuf();
+  if (robot_xml.str().find("file=") == std::string::npos &&
+      robot_xml.str().find("dir=") == std::string::npos) {
+    std::ofstream copy(folder + "/robot.xml");
+    copy << robot_xml.str();
+    copy.close();
+    if (!copy) throw std::runtime_error("cannot write " + folder + "/robot.xml");
+    exported.robot_model_path = "robot.xml";
+  } else {
+    exported.robot_model_path =
+        std::filesystem::relative(options.robot_model_path, folder).string();
+  }
+  WriteHeightFieldFile(world, folder + "/terrain.bin");
+  std::ofstream file(folder + "/world.xml");
+  file << BuildWorldXml(world, exported, movers);
+  file.close();
+  if (!file) throw std::runtime_error("cannot write " + folder + "/world.xml");
 }
 
 }  // namespace trav::sim

@@ -17,6 +17,10 @@ struct WorldOptions {
   /// field but is drawn from a bilinear resampling of it: llvmpipe's frame time grows with the
   /// triangle count, and 501 x 501 samples cost about 4x a 126 x 126 copy (README, performance).
   int visual_max_samples{126};
+  /// Empty: both height fields get their samples from memory after loading (FillHeightField).
+  /// Else the name of a MuJoCo binary height-field file (WriteHeightFieldFile) that both read: a
+  /// world.xml that MuJoCo's `simulate` opens on its own (ExportWorld).
+  std::string height_field_file;
 };
 
 /// Collision classes (MuJoCo contype bits). Two geoms collide when the contype of either shares a
@@ -55,5 +59,17 @@ Eigen::MatrixXf ResampleGround(const TerrainWorld& world, int max_samples);
 /// Writes the normalised samples of `height_m` (num_x, num_y) into `data` (row-major, rows along y,
 /// num_x * num_y), MuJoCo's hfield_data layout.
 void FillHeightField(const Eigen::MatrixXf& height_m, const HeightFieldLayout& layout, float* data);
+
+/// Writes the world's ground as MuJoCo's custom binary height field (int32 nrow, int32 ncol, then
+/// nrow * ncol float32 samples, rows along y), normalised as ComputeHeightFieldLayout says.
+/// @throws std::runtime_error naming the file if it cannot be written.
+void WriteHeightFieldFile(const TerrainWorld& world, const std::string& path);
+
+/// Writes `folder`/world.xml and its height field `folder`/terrain.bin: the world a run simulated
+/// (terrain, obstacles, movers at t = 0 and the robot: a copy `folder`/robot.xml of a robot file
+/// that names no other file, else its path relative to `folder`), which MuJoCo's
+/// `simulate world.xml` opens. @throws std::runtime_error naming a file that cannot be written.
+void ExportWorld(const TerrainWorld& world, const WorldOptions& options,
+                 const std::vector<MovingObstacle>& movers, const std::string& folder);
 
 }  // namespace trav::sim

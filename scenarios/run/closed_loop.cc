@@ -131,8 +131,9 @@ ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& option
       tracker_(MakeTracker(scenario)),
       movers_(scenario.traffic.count > 0 ? ScenarioMovers(scenario, world_, obstacle_heights())
                                          : scenario.movers),
+      world_options_(WorldOptionsOf(scenario, options)),
       simulation_(std::make_unique<sim::Simulation>(world_, StartPose(scenario, tracker()),
-                                                    WorldOptionsOf(scenario, options), movers_)),
+                                                    world_options_, movers_)),
       crowd_(movers_),
       max_lidar_frames_(options.max_lidar_frames),
       last_mapping_error_(std::nan("")) {

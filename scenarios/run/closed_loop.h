@@ -121,6 +121,8 @@ class ClosedLoop {
   /// For the renderer, which binds to the MuJoCo model (it does not change the run).
   sim::Simulation* mutable_simulation() { return simulation_.get(); }
   const std::vector<sim::MovingObstacle>& movers() const { return movers_; }
+  /// The MuJoCo world's options (robot file, timestep, friction), for sim::ExportWorld.
+  const sim::WorldOptions& world_options() const { return world_options_; }
   /// The world's obstacle heights (sim::ObstacleHeightGrid), computed once when first needed.
   const Eigen::MatrixXf& obstacle_heights() const;
 
@@ -180,6 +182,7 @@ class ClosedLoop {
   mutable std::optional<Eigen::MatrixXf> obstacle_heights_;
   std::optional<controller::MpcTracker> tracker_;
   std::vector<sim::MovingObstacle> movers_;
+  const sim::WorldOptions world_options_;
   std::unique_ptr<sim::Simulation> simulation_;
   sim::SocialForceCrowd crowd_;
   std::unique_ptr<lidar::RayScene> ray_scene_;

@@ -23,6 +23,7 @@
 #include "scenarios/run/video_recorder.h"
 #include "sim/simulation.h"
 #include "sim/terrain_geometry.h"
+#include "sim/world_builder.h"
 
 namespace trav::scenarios {
 namespace {
@@ -252,6 +253,8 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
                        const std::string& output_dir, const RunOptions& options,
                        const ProgressCallback& progress) {
   ClosedLoop loop(scenario, {robot_model_path, options.max_lidar_frames});
+  // the simulated world as a file MuJoCo's viewer opens (simulate world.xml)
+  sim::ExportWorld(loop.world(), loop.world_options(), loop.movers(), output_dir);
   const bool navigate = loop.navigator() != nullptr;
   // the files of a run, each written by its observer; the driven path goes first, as the video
   // and the map of paths draw it

@@ -1,6 +1,10 @@
 #include "sim/simulation.h"
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <set>
 #include <string>
 #include <vector>
@@ -159,6 +163,45 @@ TEST(SimulationTest, HeightFieldRowsRunAlongY) {
   StepFor(&dut, 1.0);
   const double ground = 4.0 * std::tan(20.0 * M_PI / 180.0);
   EXPECT_NEAR(dut.State().X_WB.translation().z(), ground + 0.0875, 0.05);
+}
+
+// The world a run leaves beside its outputs: world.xml and terrain.bin load in MuJoCo on their own
+// (as `simulate world.xml` does) into the model the simulation built in memory: the same height
+// field samples, sizes and geoms.
+TEST(WorldExportTest, TheExportedWorldLoadsAsTheSimulatedOne) {
+  TerrainConfig config;
+  config.type = TerrainType::kRuin;
+  config.size_m = {14, 10};
+  const TerrainWorld world = GenerateTerrain(config);
+  const Simulation simulated(world, common::Pose2{}, Options());
+  const std::filesystem::path folder =
+      std::filesystem::temp_directory_path() / ("trav_world_export_" + std::to_string(getpid()));
+  std::filesystem::create_directories(folder);
+  ExportWorld(world, Options(), {}, folder.string());
+  char error[1000] = "";
+  mjModel* loaded = mj_loadXML((folder / "world.xml").c_str(), nullptr, error, sizeof(error));
+  ASSERT_NE(loaded, nullptr) << error;
+  const mjModel& memory = *simulated.model();
+  const int hfield = mj_name2id(loaded, mjOBJ_HFIELD, "terrain");
+  ASSERT_EQ(hfield, mj_name2id(&memory, mjOBJ_HFIELD, "terrain"));
+  EXPECT_EQ(loaded->hfield_nrow[hfield], world.geometry.num_y);
+  EXPECT_EQ(loaded->hfield_ncol[hfield], world.geometry.num_x);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_DOUBLE_EQ(loaded->hfield_size[4 * hfield + k], memory.hfield_size[4 * hfield + k]);
+  }
+  const int samples = loaded->hfield_nrow[hfield] * loaded->hfield_ncol[hfield];
+  double worst = 0.0;
+  for (int i = 0; i < samples; ++i) {
+    worst = std::max(
+        worst, std::abs(static_cast<double>(loaded->hfield_data[loaded->hfield_adr[hfield] + i] -
+                                            memory.hfield_data[memory.hfield_adr[hfield] + i])));
+  }
+  // MuJoCo renormalises a file's samples to [0, 1]: at most a float's rounding apart
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_EQ(loaded->ngeom, memory.ngeom);
+  EXPECT_EQ(loaded->nbody, memory.nbody);
+  mj_deleteModel(loaded);
+  std::filesystem::remove_all(folder);
 }
 
 TEST(SimulationTest, SeededRunsAreBitIdentical) {
