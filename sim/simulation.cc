@@ -137,9 +137,8 @@ void ValidateRobotModel(const std::string& robot_model_path) {
   if (!missing.empty()) {
     std::string list;
     for (const std::string& name : missing) list += (list.empty() ? "" : ", ") + name;
-    throw common::InputError(
-        robot_model_path, "",
-        "lacks what trav drives and senses: " + list + " (docs/robots.md)");
+    throw common::InputError(robot_model_path, "",
+                             "lacks what trav drives and senses: " + list + " (docs/robots.md)");
   }
   for (int w = 0; w < 4; ++w) {
     if (mj_name2id(model.get(), mjOBJ_ACTUATOR, kWheelActuators[w]) != w) {
