@@ -120,6 +120,19 @@ std::string DataBlock(const Table& table, const LinePlot& spec) {
   return block;
 }
 
+// Every finite value of the plot's series.
+std::vector<double> SeriesValues(const Table& table, const LinePlot& spec) {
+  std::vector<double> values;
+  for (const PlotSeries& series : spec.series) {
+    const std::optional<std::size_t> column = table.Column(series.column);
+    if (!column) continue;
+    for (const std::vector<double>& row : table.rows) {
+      if (std::isfinite(row[*column])) values.push_back(row[*column]);
+    }
+  }
+  return values;
+}
+
 // The y label of the compute plot, with the mean interval between rows (each row holds the
 // wall time spent since the previous one).
 std::string ComputeLabel(const Table& table) {
@@ -157,8 +170,10 @@ std::vector<LinePlot> RunPlotSpecs(const Table& table, std::vector<std::string>*
        {{"mapping_error", "mapping error"}},
        true},
   };
-  LinePlot compute{"compute.png", "Compute per module", "t", kTimeLabel, ComputeLabel(table), {},
-                   true};
+  // the first rows carry the set-up (the first plan, the first map): clipped, not flattening
+  LinePlot compute{
+      "compute.png", "Compute per module", "t", kTimeLabel, ComputeLabel(table), {}, true, false,
+      true};
   for (const auto& [column, title] : kComputeColumns) {
     if (table.Column(column)) compute.series.push_back({column, title});
   }
@@ -276,10 +291,17 @@ PlotResult PlotTable(const Table& table, const std::vector<LinePlot>& specs,
         temporary.Add((folder / ("." + spec.file + ".partial-" + tag)).string()));
     script += data + " << EOD\n" + block + "EOD\n";
     script += "set output " + Quote(partial_paths.back()) + "\n";
-    script += "set title " + Quote(spec.title) + "\n";
+    const std::vector<double> values =
+        spec.clip_spikes ? SeriesValues(table, spec) : std::vector<double>{};
+    const std::optional<double> top = RobustUpperLimit(values);
+    const std::string clipped = top ? fmt::format(" (clipped at {:.3g}; largest {:.3g})", *top,
+                                                  *std::max_element(values.begin(), values.end()))
+                                    : "";
+    script += "set title " + Quote(spec.title + clipped) + "\n";
     script += "set xlabel " + Quote(spec.x_label) + "\n";
     script += "set ylabel " + Quote(spec.y_label) + "\n";
-    script += spec.y_from_zero ? "set yrange [0:*]\n" : "set yrange [*:*]\n";
+    const std::string top_text = top ? fmt::format("{:.6g}", *top) : "*";
+    script += (spec.y_from_zero ? "set yrange [0:" : "set yrange [*:") + top_text + "]\n";
     script += "plot ";
     for (std::size_t s = 0; s < spec.series.size(); ++s) {
       script += (s == 0 ? "" : ", ") + data + " using 1:" + std::to_string(s + 2) +
@@ -318,6 +340,20 @@ PlotResult PlotTable(const Table& table, const std::vector<LinePlot>& specs,
 }
 
 }  // namespace
+
+std::optional<double> RobustUpperLimit(std::vector<double> values) {
+  values.erase(
+      std::remove_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); }),
+      values.end());
+  constexpr std::size_t kMinimumValues = 20;
+  if (values.size() < kMinimumValues) return std::nullopt;
+  const auto at = values.begin() + static_cast<std::ptrdiff_t>(0.99 * (values.size() - 1));
+  std::nth_element(values.begin(), at, values.end());
+  const double percentile = *at;
+  const double largest = *std::max_element(at, values.end());
+  if (!(percentile > 0.0) || largest <= 2.0 * percentile) return std::nullopt;
+  return 1.2 * percentile;
+}
 
 bool ProgramAvailable(const std::string& program) {
   if (program.empty()) return false;

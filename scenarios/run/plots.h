@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,7 +53,15 @@ struct LinePlot {
   std::vector<PlotSeries> series;
   bool y_from_zero{false};  ///< values are never negative
   bool markers{false};      ///< a marker at every row (few rows), else plain lines
+  /// A few values far above the rest (a first frame's setup) do not set the scale: the y range
+  /// ends at RobustUpperLimit, and the title says so and gives the largest value.
+  bool clip_spikes{false};
 };
+
+/// The top of a y range for `values` (non-finite ones ignored) that a few spikes do not flatten:
+/// 1.2 times the 99th percentile when the largest value exceeds twice it; nothing when there is no
+/// such spike or fewer than 20 finite values.
+std::optional<double> RobustUpperLimit(std::vector<double> values);
 
 /// Writes `plots` of the CSV file `csv_path` (a header line, then numbers; fields that are not
 /// numbers read as missing) with gnuplot into `output_dir`, as WriteRunPlots does: a plot whose

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -131,6 +132,20 @@ TEST_F(PlotsTest, WritesEveryPlotAsPngOfTheAskedSize) {
                                    "speed.png", "timeseries.csv"));
   EXPECT_EQ(PlotsJson(result),
             nlohmann::json({"speed.png", "roll_pitch.png", "mapping_error.png", "compute.png"}));
+}
+
+// A first frame's set-up (one row 100 times the others) does not flatten a plot: its range ends
+// just above the 99th percentile; without such a spike, or with too few rows, nothing is clipped.
+TEST(RobustUpperLimitTest, ClipsASpikeAndNothingElse) {
+  std::vector<double> values(200, 1.0);
+  for (int i = 0; i < 200; i += 10) values[static_cast<std::size_t>(i)] = 2.0;
+  EXPECT_FALSE(RobustUpperLimit(values).has_value());  // 2 is the 99th percentile: no spike
+  values[0] = 100.0;
+  values.push_back(std::numeric_limits<double>::quiet_NaN());
+  const std::optional<double> top = RobustUpperLimit(values);
+  ASSERT_TRUE(top.has_value());
+  EXPECT_DOUBLE_EQ(*top, 2.4);  // 1.2 x the 99th percentile (2)
+  EXPECT_FALSE(RobustUpperLimit({100.0, 1.0, 1.0}).has_value());
 }
 
 TEST_F(PlotsTest, WithoutComputeColumnsWritesNoComputePlot) {
