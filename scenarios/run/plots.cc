@@ -133,6 +133,21 @@ std::vector<double> SeriesValues(const Table& table, const LinePlot& spec) {
   return values;
 }
 
+// The gnuplot lines of a plot's title, axis labels and y range (clipped as RobustUpperLimit says
+// when the plot asks for it, and the title then says so).
+std::string Labels(const Table& table, const LinePlot& spec) {
+  const std::vector<double> values =
+      spec.clip_spikes ? SeriesValues(table, spec) : std::vector<double>{};
+  const std::optional<double> top = RobustUpperLimit(values);
+  const std::string clipped = top ? fmt::format(" (clipped at {:.3g}; largest {:.3g})", *top,
+                                                *std::max_element(values.begin(), values.end()))
+                                  : "";
+  const std::string top_text = top ? fmt::format("{:.6g}", *top) : "*";
+  return "set title " + Quote(spec.title + clipped) + "\nset xlabel " + Quote(spec.x_label) +
+         "\nset ylabel " + Quote(spec.y_label) + "\n" +
+         (spec.y_from_zero ? "set yrange [0:" : "set yrange [*:") + top_text + "]\n";
+}
+
 // The y label of the compute plot, with the mean interval between rows (each row holds the
 // wall time spent since the previous one).
 std::string ComputeLabel(const Table& table) {
@@ -291,17 +306,7 @@ PlotResult PlotTable(const Table& table, const std::vector<LinePlot>& specs,
         temporary.Add((folder / ("." + spec.file + ".partial-" + tag)).string()));
     script += data + " << EOD\n" + block + "EOD\n";
     script += "set output " + Quote(partial_paths.back()) + "\n";
-    const std::vector<double> values =
-        spec.clip_spikes ? SeriesValues(table, spec) : std::vector<double>{};
-    const std::optional<double> top = RobustUpperLimit(values);
-    const std::string clipped = top ? fmt::format(" (clipped at {:.3g}; largest {:.3g})", *top,
-                                                  *std::max_element(values.begin(), values.end()))
-                                    : "";
-    script += "set title " + Quote(spec.title + clipped) + "\n";
-    script += "set xlabel " + Quote(spec.x_label) + "\n";
-    script += "set ylabel " + Quote(spec.y_label) + "\n";
-    const std::string top_text = top ? fmt::format("{:.6g}", *top) : "*";
-    script += (spec.y_from_zero ? "set yrange [0:" : "set yrange [*:") + top_text + "]\n";
+    script += Labels(table, spec);
     script += "plot ";
     for (std::size_t s = 0; s < spec.series.size(); ++s) {
       script += (s == 0 ? "" : ", ") + data + " using 1:" + std::to_string(s + 2) +
