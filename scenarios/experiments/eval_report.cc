@@ -522,7 +522,7 @@ std::string WriteAblation(const fs::path& folder, const EvalOptions& options,
              optional_number("%.6g", row->average_precision) + "," +
              common::FormatNumber("%.6g", row->runtime_ms_median);
       md << " " << common::FormatNumber("%.4f", row->mean_error) << " / "
-         << (row->auroc ? common::FormatNumber("%.3f", *row->auroc) : std::string("-")) << " / "
+         << Cell(row->auroc, "%.3f") << " / "
          << common::FormatNumber("%.2f", row->runtime_ms_median) << " |";
     }
     csv += "\n";

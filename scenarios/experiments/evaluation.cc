@@ -324,13 +324,6 @@ std::optional<EvalSceneRecord> FinishedScene(const fs::path& path) {
   }
 }
 
-// True if a scene record exists at `path` but cannot be read as one (cut short, edited, or written
-// by another version of trav).
-bool UnreadableScene(const fs::path& path) {
-  std::error_code error;
-  return fs::exists(path, error) && !FinishedScene(path);
-}
-
 // Moves an unreadable scene record aside (to <record>.unreadable, or .unreadable-2, ... when that
 // exists: never over a file), so that running the scene again replaces nothing of the user's.
 void SetAsideUnreadable(const fs::path& record) {
@@ -683,7 +676,9 @@ EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_d
       ++result.resumed;
       continue;
     }
-    if (UnreadableScene(record)) SetAsideUnreadable(record);
+    // a record there that FinishedScene could not read (cut short, edited, another version)
+    std::error_code error;
+    if (fs::exists(record, error)) SetAsideUnreadable(record);
     jobs.push_back(FolderJob(absolute.string(), scene.Id(),
                              {trav_executable, "eval-scene", absolute.string(), scene.terrain,
                               std::to_string(scene.seed)},
@@ -706,8 +701,8 @@ EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_d
   return result;
 }
 
-void WriteEvalReportFromFolder(const std::string& out_dir, const EvalOptions& options,
-                               const std::string& command_line) {
+int WriteEvalReportFromFolder(const std::string& out_dir, const EvalOptions& options,
+                              const std::string& command_line) {
   const fs::path folder(out_dir);
   const std::vector<EvalScene> scenes = EvalScenes(options);
   std::error_code error;
@@ -717,7 +712,7 @@ void WriteEvalReportFromFolder(const std::string& out_dir, const EvalOptions& op
     const fs::path path = folder / "scenes" / (scene.Id() + ".json");
     if (std::optional<EvalSceneRecord> record = FinishedScene(path)) {
       records.push_back(std::move(*record));
-    } else if (UnreadableScene(path)) {
+    } else if (fs::exists(path, error)) {  // there, but FinishedScene could not read it
       // reported, not silently left out (trav eval on the folder runs it again, keeping the file)
       common::LogStream(common::LogLevel::kWarning)
           << path.string() << " is not a scene record this trav can read: left out of the report";
@@ -730,6 +725,7 @@ void WriteEvalReportFromFolder(const std::string& out_dir, const EvalOptions& op
   const nlohmann::json stored = ReadJsonFile((folder / "options.json").string());
   WriteEvalReport(out_dir, options, BaseInducingPoints(options), records, failures,
                   stored.value("command", command_line));
+  return static_cast<int>(records.size());
 }
 
 int CollectEvaluation(const std::string& out_dir) {
@@ -738,12 +734,7 @@ int CollectEvaluation(const std::string& out_dir) {
   const fs::path options_path = fs::path(out_dir) / "options.json";
   const EvalOptions options =
       EvalOptionsFromJson(ReadJsonFile(options_path.string()), options_path.string());
-  WriteEvalReportFromFolder(out_dir, options, "");
-  int finished = 0;
-  for (const EvalScene& scene : EvalScenes(options)) {
-    finished += FinishedScene(fs::path(out_dir) / "scenes" / (scene.Id() + ".json")) ? 1 : 0;
-  }
-  return finished;
+  return WriteEvalReportFromFolder(out_dir, options, "");
 }
 
 }  // namespace trav::scenarios

@@ -208,9 +208,9 @@ EvalRunResult RunEvaluation(const EvalOptions& options, const std::string& out_d
                             bool progress_bar, const std::optional<SlurmOptions>& slurm);
 
 /// Writes the report (WriteEvalReport) of the evaluation in `out_dir` from the scenes finished
-/// so far and the failure records.
-void WriteEvalReportFromFolder(const std::string& out_dir, const EvalOptions& options,
-                               const std::string& command_line);
+/// so far and the failure records. @returns the number of finished scenes it read.
+int WriteEvalReportFromFolder(const std::string& out_dir, const EvalOptions& options,
+                              const std::string& command_line);
 
 /// Writes the report of the evaluation in `out_dir` from what has finished (after a Slurm job
 /// submitted without waiting); returns the number of finished scenes.
