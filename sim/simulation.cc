@@ -105,7 +105,7 @@ int RequireId(const mjModel* model, mjtObj type, const char* name) {
 
 }  // namespace
 
-void ValidateRobotModel(const std::string& robot_model_path) {
+void ValidateRobotModel(const std::string& robot_model_path, bool with_imu) {
   InstallMujocoHandlers();
   common::RequireRegularFile(robot_model_path, "robot model");
   char error[1024] = "";
@@ -133,6 +133,10 @@ void ValidateRobotModel(const std::string& robot_model_path) {
   for (int w = 0; w < 4; ++w) {
     require(mjOBJ_JOINT, kWheelJoints[w]);
     require(mjOBJ_ACTUATOR, kWheelActuators[w]);
+  }
+  if (with_imu) {
+    require(mjOBJ_SENSOR, "imu_accel");
+    require(mjOBJ_SENSOR, "imu_gyro");
   }
   if (!missing.empty()) {
     std::string list;
@@ -197,6 +201,14 @@ Simulation::Simulation(const TerrainWorld& terrain, const common::Pose2& start_W
 
   base_body_id_ = RequireId(model_.get(), mjOBJ_BODY, "base");
   lidar_site_id_ = RequireId(model_.get(), mjOBJ_SITE, "lidar");
+  const int accelerometer = mj_name2id(model_.get(), mjOBJ_SENSOR, "imu_accel");
+  const int gyro = mj_name2id(model_.get(), mjOBJ_SENSOR, "imu_gyro");
+  if (accelerometer >= 0 && gyro >= 0 &&
+      model_->sensor_type[accelerometer] == mjSENS_ACCELEROMETER &&
+      model_->sensor_type[gyro] == mjSENS_GYRO) {
+    imu_accel_address_ = model_->sensor_adr[accelerometer];
+    imu_gyro_address_ = model_->sensor_adr[gyro];
+  }
   const int root = RequireId(model_.get(), mjOBJ_JOINT, "root");
   root_qpos_address_ = model_->jnt_qposadr[root];
   root_qvel_address_ = model_->jnt_dofadr[root];
@@ -453,6 +465,16 @@ Eigen::Isometry3d Simulation::LidarPose() const {
   X_WL.linear() = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
       data_->site_xmat + 9 * lidar_site_id_);
   return X_WL;
+}
+
+std::optional<ImuMeasurement> Simulation::ImuTruth() const {
+  if (imu_accel_address_ < 0) return std::nullopt;
+  const mjtNum* accel = data_->sensordata + imu_accel_address_;
+  const mjtNum* gyro = data_->sensordata + imu_gyro_address_;
+  ImuMeasurement truth;
+  truth.accel_I = Eigen::Vector3d(accel[0], accel[1], accel[2]);
+  truth.gyro_I = Eigen::Vector3d(gyro[0], gyro[1], gyro[2]);
+  return truth;
 }
 
 double Simulation::time() const { return data_->time; }

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,6 +21,13 @@ typedef struct mjModel_ mjModel;
 typedef struct mjData_ mjData;
 
 namespace trav::sim {
+
+/// What an IMU measures in its own frame I: the specific force (acceleration minus gravity, so
+/// +9.81 m/s^2 up at rest) [m/s^2] and the angular velocity [rad/s].
+struct ImuMeasurement {
+  Eigen::Vector3d accel_I{Eigen::Vector3d::Zero()};
+  Eigen::Vector3d gyro_I{Eigen::Vector3d::Zero()};
+};
 
 /// Outcome of one physics step.
 enum class StepStatus {
@@ -142,6 +150,11 @@ class Simulation {
   /// Pose of the LiDAR site L in W.
   Eigen::Isometry3d LidarPose() const;
 
+  /// The true readings of the robot's IMU (the model's accelerometer `imu_accel` and gyro
+  /// `imu_gyro` at its `imu` site), as MuJoCo computed them in the last Step for the state at the
+  /// step's start; nothing when the model has no such sensors.
+  std::optional<ImuMeasurement> ImuTruth() const;
+
   /// Simulation time [s].
   double time() const;
 
@@ -181,6 +194,8 @@ class Simulation {
   std::unique_ptr<mjData, DataDeleter> data_;
   int base_body_id_{-1};
   int lidar_site_id_{-1};
+  int imu_accel_address_{-1};  // in sensordata; -1: no accelerometer imu_accel
+  int imu_gyro_address_{-1};
   int root_qpos_address_{0};
   int root_qvel_address_{0};
   std::array<int, 4> wheel_qvel_address_{};
@@ -205,7 +220,8 @@ void InstallMujocoHandlers();
 /// front_left_wheel, rear_left_wheel, front_right_wheel, rear_right_wheel and their velocity
 /// actuators front_left_motor, rear_left_motor, front_right_motor, rear_right_motor, in this order.
 /// @throws common::InputError naming the file and what is wrong.
-void ValidateRobotModel(const std::string& robot_model_path);
+/// With `with_imu`, the accelerometer `imu_accel` and gyro `imu_gyro` of the IMU are required too.
+void ValidateRobotModel(const std::string& robot_model_path, bool with_imu = false);
 
 /// The version of the MuJoCo library trav runs with ("2.2.2").
 std::string MujocoVersion();

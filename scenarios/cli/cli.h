@@ -32,6 +32,7 @@ struct Command {
 Command AddRunCommand(CLI::App* app);
 Command AddScanCommand(CLI::App* app);
 Command AddTerrainCommand(CLI::App* app);
+Command AddPatternCommand(CLI::App* app);
 Command AddCalibrateCommand(CLI::App* app);
 /// `command_line`: the command as typed, for the evaluation's report.
 Command AddEvalCommand(CLI::App* app, const std::string& command_line);

@@ -160,6 +160,7 @@ ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& option
       mover_tracker_.emplace(tracker_config);
     }
   }
+  if (scenario.imu.enabled && simulation_->ImuTruth()) imu_.emplace(scenario.imu);
   total_steps_ = static_cast<int>(std::ceil(scenario.duration_s / simulation_->timestep() - 1e-9));
   state_ = simulation_->State();
 }
@@ -319,8 +320,11 @@ Outcome ClosedLoop::Run(const std::function<void(double fraction)>& progress) {
     for (LoopObserver* observer : observers_) observer->BeforePhysics(*this);
 
     const common::Stopwatch physics_start;
+    const double step_start_s = simulation.time();
     const sim::StepStatus status = simulation.Step();
     times_.Add("physics", physics_start.ElapsedMilliseconds());
+    // MuJoCo's sensors of this step read the state at its start
+    if (imu_) imu_->AddReading(step_start_s, *simulation.ImuTruth());
     ++physics_steps_;
     if (status == sim::StepStatus::kDiverged) {
       outcome = Outcome::kDiverged;

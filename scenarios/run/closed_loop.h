@@ -19,6 +19,7 @@
 #include "planner/navigation/navigator.h"
 #include "scenarios/run/run_metrics.h"
 #include "scenarios/run/scenario.h"
+#include "sim/actors/imu.h"
 #include "sim/actors/pose_noise.h"
 #include "sim/actors/social_force.h"
 #include "sim/lidar/lidar_emulator.h"
@@ -157,6 +158,9 @@ class ClosedLoop {
   double lidar_cast_s() const { return lidar_cast_s_; }
   /// Every map update: its result and wall time [ms].
   const std::vector<mapping::MapUpdateResult>& map_updates() const { return map_updates_; }
+  /// The IMU (its samples of the last physics step), or nullptr when `imu.enabled` is false or
+  /// the robot model has no IMU.
+  const sim::Imu* imu() const { return imu_ ? &*imu_ : nullptr; }
   const std::vector<double>& mapping_ms() const { return mapping_ms_; }
   /// Mean error of the latest map against the truth (NaN before the first; mode navigate).
   double last_mapping_error() const { return last_mapping_error_; }
@@ -193,6 +197,7 @@ class ClosedLoop {
   std::optional<common::GridLayers> truth_W_;
   std::optional<planner::Navigator> navigator_;
   std::optional<sim::PoseNoise> pose_noise_;
+  std::optional<sim::Imu> imu_;
   std::optional<mapping::MoverTracker> mover_tracker_;
 
   std::vector<LoopObserver*> observers_;

@@ -143,9 +143,12 @@ std::string Labels(const Table& table, const LinePlot& spec) {
                                                 *std::max_element(values.begin(), values.end()))
                                   : "";
   const std::string top_text = top ? fmt::format("{:.6g}", *top) : "*";
+  const std::string y_range =
+      spec.y_range
+          ? fmt::format("set yrange [{:.6g}:{:.6g}]\n", spec.y_range->first, spec.y_range->second)
+          : (spec.y_from_zero ? "set yrange [0:" : "set yrange [*:") + top_text + "]\n";
   return "set title " + Quote(spec.title + clipped) + "\nset xlabel " + Quote(spec.x_label) +
-         "\nset ylabel " + Quote(spec.y_label) + "\n" +
-         (spec.y_from_zero ? "set yrange [0:" : "set yrange [*:") + top_text + "]\n";
+         "\nset ylabel " + Quote(spec.y_label) + "\n" + y_range;
 }
 
 // The y label of the compute plot, with the mean interval between rows (each row holds the
@@ -310,8 +313,8 @@ PlotResult PlotTable(const Table& table, const std::vector<LinePlot>& specs,
     script += "plot ";
     for (std::size_t s = 0; s < spec.series.size(); ++s) {
       script += (s == 0 ? "" : ", ") + data + " using 1:" + std::to_string(s + 2) +
-                (spec.markers ? " with linespoints lw 1.5 pt 7 ps 0.6" : " with lines lw 1.5") +
-                " title " + Quote(spec.series[s].title);
+                (spec.dots ? " with points pt 7 ps 0.15" : " with lines lw 1.5") + " title " +
+                Quote(spec.series[s].title);
     }
     script += "\nunset output\n";
   }

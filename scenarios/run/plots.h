@@ -2,6 +2,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -52,10 +53,12 @@ struct LinePlot {
   std::string y_label;
   std::vector<PlotSeries> series;
   bool y_from_zero{false};  ///< values are never negative
-  bool markers{false};      ///< a marker at every row (few rows), else plain lines
+  bool dots{false};         ///< a dot at every row and no lines (a scatter plot)
   /// A few values far above the rest (a first frame's setup) do not set the scale: the y range
   /// ends at RobustUpperLimit, and the title says so and gives the largest value.
   bool clip_spikes{false};
+  /// A fixed y range [min, max] (plots to be compared side by side); else from the data.
+  std::optional<std::pair<double, double>> y_range{};
 };
 
 /// The top of a y range for `values` (non-finite ones ignored) that a few spikes do not flatten:

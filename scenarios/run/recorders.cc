@@ -56,6 +56,32 @@ void TrajectoryRecorder::OnEnd(const ClosedLoop& /*loop*/, Outcome /*outcome*/) 
   CheckWritten(path_, !file_.fail());
 }
 
+ImuRecorder::ImuRecorder(const std::string& output_dir)
+    : path_(output_dir + "/imu.csv"), file_(path_) {
+  file_ << "t,accel_x,accel_y,accel_z,gyro_x,gyro_y,gyro_z,true_accel_x,true_accel_y,"
+           "true_accel_z,true_gyro_x,true_gyro_y,true_gyro_z\n";
+}
+
+void ImuRecorder::OnPhysicsStep(const ClosedLoop& loop, const LoopStep& /*step*/) {
+  if (loop.imu() == nullptr) return;
+  fmt::memory_buffer line;
+  for (const sim::ImuSample& sample : loop.imu()->samples()) {
+    fmt::format_to(std::back_inserter(line), "{:.3f}", sample.t_s);
+    for (const sim::ImuMeasurement* m : {&sample.measured, &sample.truth}) {
+      fmt::format_to(std::back_inserter(line), ",{:.5f},{:.5f},{:.5f},{:.6f},{:.6f},{:.6f}",
+                     m->accel_I.x(), m->accel_I.y(), m->accel_I.z(), m->gyro_I.x(), m->gyro_I.y(),
+                     m->gyro_I.z());
+    }
+    line.push_back('\n');
+  }
+  file_.write(line.data(), static_cast<std::streamsize>(line.size()));
+}
+
+void ImuRecorder::OnEnd(const ClosedLoop& /*loop*/, Outcome /*outcome*/) {
+  file_.close();
+  CheckWritten(path_, !file_.fail());
+}
+
 TimeSeriesRecorder::TimeSeriesRecorder(const std::string& output_dir)
     : path_(output_dir + "/timeseries.csv"), file_(path_) {
   file_ << "t,x,y,yaw,v_forward,yaw_rate,roll_deg,pitch_deg,vertical_acceleration,cmd_v,"

@@ -58,6 +58,21 @@ class TimeSeriesRecorder : public LoopObserver {
   std::map<std::string, double> module_totals_ms_;
 };
 
+/// Writes imu.csv: every IMU sample (scenario section `imu`), measured and true, in the IMU frame.
+class ImuRecorder : public LoopObserver {
+ public:
+  /// Opens `<output_dir>/imu.csv`.
+  explicit ImuRecorder(const std::string& output_dir);
+
+  void OnPhysicsStep(const ClosedLoop& loop, const LoopStep& step) override;
+  /// Closes the file. @throws common::InputError if it could not be written whole.
+  void OnEnd(const ClosedLoop& loop, Outcome outcome) override;
+
+ private:
+  std::string path_;
+  std::ofstream file_;
+};
+
 /// Writes every LiDAR frame as clouds/frame_NNNNNN.pcd.
 class CloudRecorder : public LoopObserver {
  public:

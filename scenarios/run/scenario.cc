@@ -311,6 +311,7 @@ void VisitScenario(Archive* a, Scenario* s) {
     s->lidar.Serialize(&l);
     l.Field("mount", &s->lidar_mount_B, {-10, 10});
   });
+  a->Map("imu", &s->imu);
   a->Map("mapping", [s](Archive& m) {
     m.Field("enabled", &s->mapping_enabled);
     m.Enum("method", &s->mapper);
@@ -340,6 +341,7 @@ void ValidateSections(const Scenario& s) {
   ValidateAt("terrain", [&] { sim::ValidateTerrainConfig(s.terrain); });
   ValidateAt("video", [&] { renders::ValidateRenderConfig(s.video.render); });
   ValidateAt("lidar", [&] { lidar::ValidateLidarConfig(s.lidar); });
+  ValidateAt("imu", [&] { sim::ValidateImuConfig(s.imu); });
   ValidateAt("controller.mpc", [&] { controller::ValidateMpcConfig(s.mpc); });
   ValidateAt("mapping", [&] { mapping::ValidateFsgpConfig(s.mapping); });
   ValidateAt("planner", [&] { planner::ValidateNavigationPlannerConfig(s.planner); });

@@ -20,6 +20,7 @@
 #include "renders/camera.h"
 #include "renders/renderer.h"
 #include "scenarios/run/track_reference.h"
+#include "sim/actors/imu.h"
 #include "sim/actors/pose_noise.h"
 #include "sim/actors/traffic.h"
 #include "sim/lidar/lidar_config.h"
@@ -146,6 +147,7 @@ struct Scenario {
   /// lidar.mount: pose of the sensor L in the base frame B as [x, y, z, roll, pitch, yaw]
   /// [m, rad]; absent: the robot model's "lidar" site.
   std::optional<Eigen::Matrix<double, 6, 1>> lidar_mount_B;
+  sim::ImuConfig imu{};                         ///< imu: the IMU written to imu.csv
   bool mapping_enabled{true};                   ///< mapping.enabled: map every LiDAR frame
   MapperMethod mapper{MapperMethod::kFsgpBgk};  ///< mapping.method
   mapping::FsgpConfig mapping{};                ///< the other keys of `mapping`

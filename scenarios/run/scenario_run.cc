@@ -182,7 +182,7 @@ std::string RobotModelPath(const Scenario& scenario, const std::string& models_d
 
 std::string CheckedRobotModelPath(const Scenario& scenario, const std::string& models_dir) {
   const std::string model = RobotModelPath(scenario, models_dir);
-  common::ValidateAt("robot.model", [&] { sim::ValidateRobotModel(model); });
+  common::ValidateAt("robot.model", [&] { sim::ValidateRobotModel(model, scenario.imu.enabled); });
   return model;
 }
 
@@ -263,6 +263,8 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   if (navigate) observers.push_back(&driven);
   TrajectoryRecorder trajectory(output_dir, loop.timestep_s());
   observers.push_back(&trajectory);
+  std::optional<ImuRecorder> imu;
+  if (loop.imu() != nullptr) observers.push_back(&imu.emplace(output_dir));
   std::optional<TimeSeriesRecorder> timeseries;
   if (navigate) observers.push_back(&timeseries.emplace(output_dir));
   std::optional<CloudRecorder> clouds;

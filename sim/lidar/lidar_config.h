@@ -1,16 +1,32 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 
 #include "common/archive.h"
+#include "common/enum_names.h"
 
 namespace trav::lidar {
+
+/// Which scan pattern the emulated MID-360 fires (scan_pattern.h).
+enum class PatternKind {
+  kMid360,      ///< Livox's MID-360 scan table shipped in the tree (TablePattern::Mid360)
+  kProcedural,  ///< the procedural model of it (ProceduralMid360Pattern)
+};
+
+/// The names of PatternKind's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<PatternKind>, 2> kPatternKindNames{
+    {{PatternKind::kMid360, "mid360"}, {PatternKind::kProcedural, "procedural"}}};
+constexpr const auto& EnumNames(PatternKind) { return kPatternKindNames; }
 
 /// Settings of the emulated LiDAR (defaults: the Livox MID-360 datasheet).
 struct LidarConfig {
   bool enabled{true};
-  /// Scan table in Livox's CSV format; empty: the procedural MID-360 model.
+  /// The pattern when no table is named: Livox's MID-360 table (default) or the procedural model.
+  PatternKind pattern{PatternKind::kMid360};
+  /// A scan table in Livox's CSV format (such as Livox's full MID-360 table); when set it is the
+  /// pattern, whatever `pattern` says.
   std::string pattern_table;
   double points_per_second{200000.0};  ///< > 0
   double frame_period_s{0.1};          ///< one frame every 100 ms, > 0
@@ -31,6 +47,7 @@ struct LidarConfig {
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Field("enabled", &enabled);
+    a->Enum("pattern", &pattern);
     a->Field("table", &pattern_table);
     a->Field("rate", &points_per_second, {1, 1000000.0});
     a->Field("frame_period", &frame_period_s, {0.005, 1});

@@ -42,10 +42,12 @@ Eigen::Matrix3Xf PointsInWorld(const LidarFrame& frame) {
 
 LidarEmulator::LidarEmulator(const LidarConfig& config) : config_(config), random_(config.seed) {
   ValidateLidarConfig(config_);
-  if (config_.pattern_table.empty()) {
-    pattern_ = std::make_unique<Mid360Pattern>();
-  } else {
+  if (!config_.pattern_table.empty()) {
     pattern_ = TablePattern::Load(config_.pattern_table);
+  } else if (config_.pattern == PatternKind::kProcedural) {
+    pattern_ = std::make_shared<ProceduralMid360Pattern>();
+  } else {
+    pattern_ = TablePattern::Mid360();
   }
   rays_per_frame_ =
       static_cast<int>(std::lround(config_.points_per_second * config_.frame_period_s));

@@ -76,7 +76,7 @@ class LidarEmulator {
   bool Occluded(float azimuth_rad) const;
 
   LidarConfig config_;
-  std::unique_ptr<ScanPattern> pattern_;
+  std::shared_ptr<const ScanPattern> pattern_;  // the shipped table is shared by all emulators
   common::Random random_;
   int rays_per_frame_{0};
   std::int64_t next_ray_{0};  // global index of the next ray to fire

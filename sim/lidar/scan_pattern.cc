@@ -4,8 +4,12 @@
 #include <fstream>
 #include <sstream>
 
+#include <Eigen/Geometry>
+
+#include "common/check.h"
 #include "common/input_error.h"
 #include "common/input_file.h"
+#include "sim/lidar/mid360_table.h"
 
 namespace trav::lidar {
 namespace {
@@ -73,15 +77,15 @@ struct Mid360Group {
 
 }  // namespace
 
-PatternRay Mid360Pattern::Ray(std::int64_t index) const {
+PatternRay ProceduralMid360Pattern::Ray(std::int64_t index) const {
   PatternRay ray;
   ray.line = static_cast<int>(index % kLines);
   ray.direction_L = Mid360Group(index / kLines).Beam(ray.line);
   return ray;
 }
 
-void Mid360Pattern::Rays(std::int64_t first, Eigen::Index count, Eigen::Matrix3Xf* directions_L,
-                         Eigen::VectorXi* lines) const {
+void ProceduralMid360Pattern::Rays(std::int64_t first, Eigen::Index count,
+                                   Eigen::Matrix3Xf* directions_L, Eigen::VectorXi* lines) const {
   Eigen::Index k = 0;
   while (k < count) {
     const std::int64_t index = first + k;
@@ -94,7 +98,11 @@ void Mid360Pattern::Rays(std::int64_t first, Eigen::Index count, Eigen::Matrix3X
 }
 
 std::unique_ptr<TablePattern> TablePattern::Load(const std::string& path) {
-  std::istringstream file(common::ReadInputFile(path, "scan table"));
+  return Parse(common::ReadInputFile(path, "scan table"), path);
+}
+
+std::unique_ptr<TablePattern> TablePattern::Parse(std::string_view text, const std::string& name) {
+  std::istringstream file{std::string(text)};
   auto table = std::make_unique<TablePattern>();
   std::string line;
   int line_number = 0;
@@ -105,7 +113,7 @@ std::unique_ptr<TablePattern> TablePattern::Load(const std::string& path) {
     if (line_number == 1) {
       if (line.rfind("Time/s,Azimuth/deg,Zenith/deg", 0) != 0) {
         throw common::InputError(
-            path, "line 1",
+            name, "line 1",
             "expected the header 'Time/s,Azimuth/deg,Zenith/deg' (is this a scan table?)");
       }
       continue;
@@ -120,7 +128,7 @@ std::unique_ptr<TablePattern> TablePattern::Load(const std::string& path) {
     if (!ok || (row >> rest) || !std::isfinite(values[1]) || !std::isfinite(values[2]) ||
         values[2] < 0.0 || values[2] > 180.0) {
       throw common::InputError(
-          path, "line " + std::to_string(line_number),
+          name, "line " + std::to_string(line_number),
           "expected 'index,azimuth_deg,zenith_deg' with zenith in [0, 180], got " +
               common::QuotedExcerpt(line));
     }
@@ -132,15 +140,53 @@ std::unique_ptr<TablePattern> TablePattern::Load(const std::string& path) {
                                        .cast<float>());
   }
   if (table->directions_L_.empty())
-    throw common::InputError(path, "", "the scan table has no rows");
+    throw common::InputError(name, "", "the scan table has no rows");
+  table->period_ = table->size();
   return table;
+}
+
+std::shared_ptr<const TablePattern> TablePattern::Mid360() {
+  static const std::shared_ptr<const TablePattern> shipped = [] {
+    std::shared_ptr<TablePattern> table =
+        Parse(Mid360TableText(), "sim/lidar/data/livox_mid360/mid360_scan_head.csv");
+    constexpr std::int64_t kPassRows = 40000;  // two frames: one elevation sweep each
+    TRAV_DEMAND(table->size() > kPassRows);
+    table->period_ = kPassRows;
+    table->turn_per_pass_rad_ =
+        std::remainder(static_cast<double>(Azimuth(table->directions_L_[kPassRows])) -
+                           static_cast<double>(Azimuth(table->directions_L_[0])),
+                       2.0 * M_PI);
+    return table;
+  }();
+  return shipped;
+}
+
+Eigen::Matrix2f TablePattern::PassTurn(std::int64_t pass) const {
+  const double angle = std::remainder(turn_per_pass_rad_ * static_cast<double>(pass), 2.0 * M_PI);
+  return Eigen::Rotation2Df(static_cast<float>(angle)).toRotationMatrix();
 }
 
 PatternRay TablePattern::Ray(std::int64_t index) const {
   PatternRay ray;
-  ray.direction_L = directions_L_[static_cast<std::size_t>(index % size())];
-  ray.line = static_cast<int>(index % kLines);
+  const std::int64_t row = index % period_;
+  ray.direction_L = directions_L_[static_cast<std::size_t>(row)];
+  ray.direction_L.head<2>() = PassTurn(index / period_) * ray.direction_L.head<2>();
+  ray.line = static_cast<int>(row % kLines);
   return ray;
+}
+
+void TablePattern::Rays(std::int64_t first, Eigen::Index count, Eigen::Matrix3Xf* directions_L,
+                        Eigen::VectorXi* lines) const {
+  Eigen::Index k = 0;
+  while (k < count) {
+    const std::int64_t index = first + k;
+    const Eigen::Matrix2f turn = PassTurn(index / period_);
+    for (std::int64_t row = index % period_; row < period_ && k < count; ++row, ++k) {
+      const Eigen::Vector3f& direction = directions_L_[static_cast<std::size_t>(row)];
+      directions_L->col(k) << turn * direction.head<2>(), direction.z();
+      (*lines)[k] = static_cast<int>(row % kLines);
+    }
+  }
 }
 
 }  // namespace trav::lidar

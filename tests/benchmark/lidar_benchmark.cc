@@ -38,11 +38,11 @@ const RayScene& Scene() {
   return scene;
 }
 
-// One frame of MID-360 directions, in W for a level sensor.
+// One frame of MID-360 directions (the default pattern, Livox's table), in W for a level sensor.
 Eigen::Matrix3Xf FrameDirections() {
-  const trav::lidar::Mid360Pattern pattern;
+  const auto pattern = trav::lidar::TablePattern::Mid360();
   Eigen::Matrix3Xf directions(3, 20000);
-  for (int i = 0; i < 20000; ++i) directions.col(i) = pattern.Ray(i).direction_L;
+  for (int i = 0; i < 20000; ++i) directions.col(i) = pattern->Ray(i).direction_L;
   return directions;
 }
 
@@ -86,15 +86,30 @@ void BM_EmulatorFrame(benchmark::State& state) {
 }
 BENCHMARK(BM_EmulatorFrame)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-void BM_PatternFrame(benchmark::State& state) {
-  const trav::lidar::Mid360Pattern pattern;
+// The directions of one frame, as the emulator asks for them (Rays, 400 at a time): the procedural
+// model (BM_PatternFrame) and Livox's table (BM_TablePatternFrame).
+void PatternFrames(const trav::lidar::ScanPattern& pattern, benchmark::State& state) {
+  Eigen::Matrix3Xf directions(3, 400);
+  Eigen::VectorXi lines(400);
   std::int64_t index = 0;
   for (auto _ : state) {
-    for (int i = 0; i < 20000; ++i) benchmark::DoNotOptimize(pattern.Ray(index++));
+    for (int batch = 0; batch < 50; ++batch, index += 400) {
+      pattern.Rays(index, 400, &directions, &lines);
+      benchmark::DoNotOptimize(directions.data());
+    }
   }
   state.SetItemsProcessed(state.iterations() * 20000);
 }
+
+void BM_PatternFrame(benchmark::State& state) {
+  PatternFrames(trav::lidar::ProceduralMid360Pattern(), state);
+}
 BENCHMARK(BM_PatternFrame)->Unit(benchmark::kMillisecond);
+
+void BM_TablePatternFrame(benchmark::State& state) {
+  PatternFrames(*trav::lidar::TablePattern::Mid360(), state);
+}
+BENCHMARK(BM_TablePatternFrame)->Unit(benchmark::kMillisecond);
 
 void BM_MujocoRay(benchmark::State& state) {
   const RayScene& scene = Scene();  // built before any timing

@@ -22,7 +22,7 @@ TEST(RaySceneTest, DownwardRaysOverAPlaneHitAtOneOverSinOfTheDepression) {
   description.meshes_W.push_back(Plane(200.0, 0.0));
   const RayScene dut(description);
   // one MID-360 frame from 1 m above the plane
-  const Mid360Pattern pattern;
+  const ProceduralMid360Pattern pattern;
   Eigen::Matrix3Xf directions(3, 20000);
   for (int i = 0; i < 20000; ++i) directions.col(i) = pattern.Ray(i).direction_L;
   RayHits hits;
@@ -134,7 +134,7 @@ TEST(RaySceneTest, ThreadsDoNotChangeTheResults) {
   description.meshes_W.push_back(Plane(30.0, 0.0));
   description.primitives_W.push_back(MakePrimitive(ShapeType::kCylinder, {0.3, 2, 0}, {2, 1, 0}));
   const RayScene dut(description);
-  const Mid360Pattern pattern;
+  const ProceduralMid360Pattern pattern;
   Eigen::Matrix3Xf directions(3, 10000);
   for (int i = 0; i < 10000; ++i) directions.col(i) = pattern.Ray(i).direction_L;
   RayHits one, two;

@@ -4,12 +4,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <set>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "common/input_error.h"
+#include "sim/lidar/scan_pattern_statistics.h"
 
 namespace trav::lidar {
 namespace {
@@ -20,22 +20,14 @@ using ::testing::ThrowsMessage;
 constexpr int kFrame = 20000;
 constexpr double kRadToDeg = 180.0 / M_PI;
 
-// 1 x 1 deg cells over azimuth [0, 360) x elevation [-7, 52) hit by frames [0, frames).
-std::set<int> CoveredCells(const ScanPattern& pattern, int frames) {
-  std::set<int> cells;
-  for (std::int64_t i = 0; i < static_cast<std::int64_t>(frames) * kFrame; ++i) {
-    const Eigen::Vector3f d = pattern.Ray(i).direction_L;
-    double azimuth = Azimuth(d) * kRadToDeg;
-    if (azimuth < 0) azimuth += 360.0;
-    const int row = static_cast<int>(std::floor(Elevation(d) * kRadToDeg + 7.0));
-    if (row < 0 || row >= 59) continue;
-    cells.insert(row * 360 + static_cast<int>(azimuth) % 360);
-  }
-  return cells;
+// 1 x 1 deg cells of the field hit by frames [0, frames).
+int CoveredCells(const ScanPattern& pattern, int frames) {
+  return ComputePatternStatistics(pattern, 0, static_cast<std::int64_t>(frames) * kFrame)
+      .covered_cells;
 }
 
-TEST(Mid360PatternTest, ElevationsStayWithinTheFieldOfView) {
-  const Mid360Pattern dut;
+TEST(ProceduralMid360PatternTest, ElevationsStayWithinTheFieldOfView) {
+  const ProceduralMid360Pattern dut;
   float lowest = 90.0f, highest = -90.0f;
   for (std::int64_t i = 0; i < 3 * kFrame; ++i) {
     const float elevation = Elevation(dut.Ray(i).direction_L) * static_cast<float>(kRadToDeg);
@@ -50,8 +42,8 @@ TEST(Mid360PatternTest, ElevationsStayWithinTheFieldOfView) {
   EXPECT_GT(highest, 49.0f);
 }
 
-TEST(Mid360PatternTest, AzimuthIsEvenOverAFrame) {
-  const Mid360Pattern dut;
+TEST(ProceduralMid360PatternTest, AzimuthIsEvenOverAFrame) {
+  const ProceduralMid360Pattern dut;
   int counts[12] = {};
   for (std::int64_t i = 0; i < kFrame; ++i) {
     double azimuth = Azimuth(dut.Ray(i).direction_L) * kRadToDeg;
@@ -65,8 +57,8 @@ TEST(Mid360PatternTest, AzimuthIsEvenOverAFrame) {
   EXPECT_LT(chi_square, 31.26);
 }
 
-TEST(Mid360PatternTest, LinesComeInGroupsOfFour) {
-  const Mid360Pattern dut;
+TEST(ProceduralMid360PatternTest, LinesComeInGroupsOfFour) {
+  const ProceduralMid360Pattern dut;
   for (int i = 0; i < 16; ++i) EXPECT_EQ(dut.Ray(i).line, i % 4);
   // the four beams of a group lie within 4 deg of each other
   for (std::int64_t group = 0; group < 5000; group += 97) {
@@ -77,27 +69,91 @@ TEST(Mid360PatternTest, LinesComeInGroupsOfFour) {
   }
 }
 
-TEST(Mid360PatternTest, SuccessiveFramesFillEachOthersGaps) {
-  const Mid360Pattern dut;
-  std::size_t previous = 0;
+TEST(ProceduralMid360PatternTest, SuccessiveFramesFillEachOthersGaps) {
+  const ProceduralMid360Pattern dut;
+  int previous = 0;
   for (int frames : {1, 2, 5, 10}) {
-    const std::size_t covered = CoveredCells(dut, frames).size();
+    const int covered = CoveredCells(dut, frames);
     EXPECT_GT(covered, previous) << frames << " frames";
     previous = covered;
   }
   // one frame covers part of the 21,240 cells; ten frames nearly all of them
-  EXPECT_LT(CoveredCells(dut, 1).size(), 0.8 * 21240);
+  EXPECT_LT(CoveredCells(dut, 1), 0.8 * 21240);
   EXPECT_GT(previous, 0.9 * 21240);
 }
 
-TEST(Mid360PatternTest, BatchRaysEqualSingleRays) {
-  const Mid360Pattern dut;
+TEST(ProceduralMid360PatternTest, BatchRaysEqualSingleRays) {
+  const ProceduralMid360Pattern dut;
   Eigen::Matrix3Xf directions(3, 37);
   Eigen::VectorXi lines(37);
   dut.Rays(1001, 37, &directions, &lines);
   for (int k = 0; k < 37; ++k) {
     EXPECT_EQ(directions.col(k), dut.Ray(1001 + k).direction_L);
     EXPECT_EQ(lines[k], dut.Ray(1001 + k).line);
+  }
+}
+
+// The shipped table read from its file, independent of the copy compiled into the library.
+std::unique_ptr<TablePattern> ShippedTableFile() { return TablePattern::Load(TRAV_MID360_TABLE); }
+
+TEST(ShippedMid360TableTest, FirstPassIsTheFileRowForRow) {
+  const auto file = ShippedTableFile();
+  const auto dut = TablePattern::Mid360();
+  ASSERT_EQ(dut->size(), 50157);
+  ASSERT_EQ(dut->period(), 2 * kFrame);
+  for (std::int64_t i = 0; i < dut->period(); ++i) {
+    ASSERT_EQ(dut->Ray(i).direction_L, file->Ray(i).direction_L) << "row " << i;
+    ASSERT_EQ(dut->Ray(i).line, i % 4);
+  }
+  // the second pass goes on where the table goes on: it begins at row 40,000's azimuth
+  EXPECT_NEAR(dut->azimuth_turn_per_pass_rad() * kRadToDeg, 95.306 - 268.99, 1e-3);
+  EXPECT_NEAR(Azimuth(dut->Ray(dut->period()).direction_L),
+              Azimuth(file->Ray(dut->period()).direction_L), 1e-5);
+  EXPECT_EQ(dut->Ray(dut->period()).direction_L.z(), file->Ray(0).direction_L.z());
+}
+
+TEST(ShippedMid360TableTest, LaterFramesHaveTheStatisticsOfTheTablesFrames) {
+  const auto file = ShippedTableFile();
+  const auto dut = TablePattern::Mid360();
+  // frames 2, 3 (the second pass) and 5, 6 (across the boundary of the third and fourth passes)
+  // against the table's frames: one frame against the same rows, two frames against both
+  for (const std::int64_t first_frame : {2, 5}) {
+    SCOPED_TRACE(first_frame);
+    for (const int frames : {1, 2}) {
+      const std::int64_t table_first = frames == 1 ? (first_frame % 2) * kFrame : 0;
+      const PatternStatistics table = ComputePatternStatistics(*file, table_first, frames * kFrame);
+      const PatternStatistics later =
+          ComputePatternStatistics(*dut, first_frame * kFrame, frames * kFrame);
+      // a pass turns about z only: the elevation histogram is the table's, exactly
+      EXPECT_EQ(later.elevation_share, table.elevation_share);
+      // azimuth shares per 30 deg band within 0.01; coverage of the field within 4 % (two frames
+      // of different passes are turned against each other by other angles than the table's two)
+      for (int k = 0; k < PatternStatistics::kAzimuthBands; ++k)
+        EXPECT_NEAR(later.azimuth_share[k], table.azimuth_share[k], 0.01) << "band " << k;
+      EXPECT_NEAR(later.coverage, table.coverage, 0.04 * table.coverage);
+    }
+  }
+}
+
+TEST(ShippedMid360TableTest, CoverageKeepsGrowingBeyondTheTable) {
+  const auto dut = TablePattern::Mid360();
+  int previous = 0;
+  for (const int frames : {1, 2, 4, 8}) {
+    const int covered = CoveredCells(*dut, frames);
+    EXPECT_GT(covered, previous) << frames << " frames";
+    previous = covered;
+  }
+  EXPECT_GT(previous, 0.95 * 21240);
+}
+
+TEST(ShippedMid360TableTest, BatchRaysEqualSingleRaysAcrossAPassBoundary) {
+  const auto dut = TablePattern::Mid360();
+  Eigen::Matrix3Xf directions(3, 37);
+  Eigen::VectorXi lines(37);
+  dut->Rays(3 * dut->period() - 17, 37, &directions, &lines);
+  for (int k = 0; k < 37; ++k) {
+    EXPECT_EQ(directions.col(k), dut->Ray(3 * dut->period() - 17 + k).direction_L);
+    EXPECT_EQ(lines[k], dut->Ray(3 * dut->period() - 17 + k).line);
   }
 }
 
@@ -125,9 +181,13 @@ TEST_F(TablePatternTest, ReadsASmallTableExactlyAndWraps) {
       Eigen::Vector3f(-std::sqrt(0.5f), 0, std::sqrt(0.5f)), 1e-6f));
   EXPECT_TRUE(dut->Ray(3).direction_L.isApprox(Eigen::Vector3f(0, 0, 1), 1e-6f));
   EXPECT_NEAR(dut->Ray(4).direction_L.z(), -1.0f, 1e-6f);
-  // row 5 is row 0 again; lines count rays in groups of four
+  // a loaded table wraps unturned: ray 5 is row 0 again, with row 0's line (lines count rows in
+  // groups of four)
+  EXPECT_EQ(dut->period(), 5);
+  EXPECT_EQ(dut->azimuth_turn_per_pass_rad(), 0.0);
   EXPECT_EQ(dut->Ray(5).direction_L, dut->Ray(0).direction_L);
-  EXPECT_EQ(dut->Ray(5).line, 1);
+  EXPECT_EQ(dut->Ray(5).line, 0);
+  EXPECT_EQ(dut->Ray(8).line, 3);
 }
 
 TEST_F(TablePatternTest, MalformedTablesAreInputErrorsNamingFileAndLine) {

@@ -210,6 +210,48 @@ TEST_F(TravCliTest, CalibrateWritesItsTableWithOut) {
                                     summary.at("effective_track_factor").get<double>())));
 }
 
+TEST_F(TravCliTest, PatternComparesTheShippedTableWithTheProceduralModelAndAUsersTable) {
+  // a user's table: the shipped table's first 8 rows, so its frame repeats them
+  const fs::path table = root_ / "eight_rows.csv";
+  std::ofstream(table) << "Time/s,Azimuth/deg,Zenith/deg\n1,268.99,37.838\n2,269.0,40.825\n"
+                          "3,269.0,43.581\n4,269.0,46.152\n5,267.82,37.84\n6,267.77,40.825\n"
+                          "7,267.72,43.58\n8,267.67,46.15\n";
+  const CommandResult result = RunTrav("pattern --frames 3 --table " + table.string() + " --out " +
+                                       (root_ / "pattern").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const nlohmann::json report =
+      nlohmann::json::parse(ReadFile(root_ / "pattern" / "pattern_statistics.json"));
+  EXPECT_EQ(report.at("rays_per_frame"), 20000);
+  const nlohmann::json& mid360 = report.at("patterns").at("mid360");
+  EXPECT_EQ(mid360.at("elevation_total_variation_vs_mid360"), 0.0);
+  // the table's two frames and the turned third keep filling the field
+  const auto coverage = mid360.at("coverage_by_frames").get<std::vector<double>>();
+  ASSERT_EQ(coverage.size(), 3u);
+  EXPECT_LT(coverage[0], coverage[1]);
+  EXPECT_LT(coverage[1], coverage[2]);
+  EXPECT_GT(coverage[0], 0.6);
+  // the procedural model differs from the table by a few per cent of its rays in elevation
+  EXPECT_GT(report["patterns"]["procedural"]["elevation_total_variation_vs_mid360"], 0.02);
+  // eight rows cover eight cells at most, in three elevation bands
+  const nlohmann::json& user = report.at("patterns").at("table");
+  EXPECT_LE(user.at("one_frame").at("covered_cells").get<int>(), 8);
+  EXPECT_EQ(user.at("coverage_by_frames")[0], user.at("coverage_by_frames")[2]);
+  const std::string rays = ReadFile(root_ / "pattern" / "pattern_rays.csv");
+  EXPECT_EQ(rays.substr(0, rays.find('\n')),
+            "azimuth_mid360,elevation_mid360,azimuth_procedural,elevation_procedural,"
+            "azimuth_table,elevation_table");
+  EXPECT_EQ(std::count(rays.begin(), rays.end(), '\n'), 20001);
+  // bad input: exit 2 naming the file and line, or the flag, and nothing written
+  std::ofstream(root_ / "bad.csv") << "Time/s,Azimuth/deg,Zenith/deg\n1,0,190\n";
+  const CommandResult bad = RunTrav("pattern --table " + (root_ / "bad.csv").string() + " --out " +
+                                    (root_ / "bad").string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_THAT(bad.output, HasSubstr("bad.csv: line 2"));
+  EXPECT_FALSE(fs::exists(root_ / "bad"));
+  EXPECT_EQ(RunTrav("pattern --frames 0 --out " + (root_ / "bad").string()).exit_code, 2);
+  EXPECT_FALSE(fs::exists(root_ / "bad"));
+}
+
 TEST_F(TravCliTest, RunReportsLidarFramesAndRecordsClouds) {
   const std::string scenario = WriteScenario("short.yaml", kShortRun);
   const CommandResult result =

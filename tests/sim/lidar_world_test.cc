@@ -55,16 +55,18 @@ TEST(LidarWorldTest, NoPointFallsOnTheRobotsOwnBody) {
   }
 }
 
-// Number of points of `points_W` inside the mover's box at X_WO, grown by 1 cm.
+// Number of points of `points_W` inside the mover's box at X_WO, grown by 1 cm, but for its
+// lowest 5 cm (the ground under an empty footprint returns points there).
 int PointsOnBox(const Eigen::Matrix3Xf& points_W, const MovingObstacle& box,
                 const Eigen::Isometry3d& X_WO) {
   const Eigen::Vector3d half(box.box_half_extents_m.x() + 0.01, box.box_half_extents_m.y() + 0.01,
                              box.half_height_m + 0.01);
+  const double bottom_O = 0.05 - box.half_height_m;
   const Eigen::Isometry3d X_OW = X_WO.inverse();
   int count = 0;
   for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
     const Eigen::Vector3d p_O = X_OW * points_W.col(i).cast<double>();
-    if ((p_O.cwiseAbs().array() <= half.array()).all()) ++count;
+    if ((p_O.cwiseAbs().array() <= half.array()).all() && p_O.z() > bottom_O) ++count;
   }
   return count;
 }

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
 #include <vector>
@@ -407,6 +409,45 @@ TEST(SimulationMoverTest, InvalidMoversAreInputErrors) {
   } catch (const common::InputError& error) {
     EXPECT_STREQ(error.what(), "[0].half_height: value -1.000000 must be > 0 and finite");
   }
+}
+
+}  // namespace
+}  // namespace trav::sim
+
+namespace trav::sim {
+namespace {
+
+// A robot file without the IMU's sensors drives (no IMU readings) but is bad input when the IMU
+// is asked for, naming both sensors.
+TEST(RobotModelTest, TheImuSensorsAreRequiredOnlyWithTheImu) {
+  std::ifstream scout(std::string(TRAV_MODELS_DIR) + "/scout_mini.xml");
+  std::string xml((std::istreambuf_iterator<char>(scout)), std::istreambuf_iterator<char>());
+  const std::size_t begin = xml.find("<sensor>");
+  const std::size_t end = xml.find("</sensor>");
+  ASSERT_NE(begin, std::string::npos);
+  xml.erase(begin, end + std::string("</sensor>").size() - begin);
+  // the Scout Mini's file names no other file, so it may live anywhere
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("trav_no_imu_" + std::to_string(getpid()) + ".xml"))
+                               .string();
+  std::ofstream(path) << xml;
+  EXPECT_NO_THROW(ValidateRobotModel(path, false));
+  try {
+    ValidateRobotModel(path, true);
+    ADD_FAILURE() << "no error without the IMU's sensors";
+  } catch (const common::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("sensor 'imu_accel', sensor 'imu_gyro'"),
+              std::string::npos)
+        << e.what();
+  }
+  TerrainConfig config;
+  config.type = TerrainType::kFlat;
+  config.size_m = {8, 8};
+  WorldOptions options;
+  options.robot_model_path = path;
+  const Simulation simulation(GenerateTerrain(config), common::Pose2{}, options);
+  EXPECT_FALSE(simulation.ImuTruth().has_value());
+  std::filesystem::remove(path);
 }
 
 }  // namespace
