@@ -190,9 +190,9 @@ class FrameRecorder : public LoopObserver {
  public:
   explicit FrameRecorder(std::vector<RecordedFrame>* frames) : frames_(frames) {}
   bool WantsPoints() const override { return true; }
-  void OnMapInput(const ClosedLoop& /*loop*/, const common::PointCloud& cloud_W,
-                  const Eigen::Isometry3d& X_WB, double t_s) override {
-    frames_->push_back({cloud_W, X_WB, t_s});
+  void OnMapInput(const ClosedLoop& /*loop*/, const common::PointCloud& cloud_O,
+                  const Eigen::Isometry3d& X_OB, double t_s) override {
+    frames_->push_back({cloud_O, X_OB, t_s});
   }
 
  private:

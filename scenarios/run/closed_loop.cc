@@ -41,18 +41,18 @@ std::vector<planner::MovingObstacle> PerceivedMovers(const mapping::MoverTracker
   return movers;
 }
 
-// A disc in W: where a mover stands.
+// A disc in the odometry frame O: where a mover stands.
 struct Disc {
-  Eigen::Vector2d centre_W;
+  Eigen::Vector2d centre_O;
   double radius_m;
 };
 
-// The movers' footprints from their true poses.
+// The movers' footprints from their true poses, placed in O by X_OW.
 std::vector<Disc> TrueMoverDiscs(const std::vector<sim::MovingObstacle>& movers,
-                                 const sim::Simulation& simulation) {
+                                 const sim::Simulation& simulation, const Eigen::Isometry3d& X_OW) {
   std::vector<Disc> discs;
   for (int k = 0; k < simulation.num_movers(); ++k) {
-    discs.push_back({simulation.MoverPose(k).translation().head<2>(),
+    discs.push_back({(X_OW * simulation.MoverPose(k).translation()).head<2>(),
                      sim::MoverFootprintRadius(movers[static_cast<std::size_t>(k)])});
   }
   return discs;
@@ -70,21 +70,21 @@ std::vector<Disc> PerceivedMoverDiscs(const mapping::MoverTracker& tracker, doub
 // Drops the points within a margin of the discs before mapping: a mover mapped as terrain leaves
 // a trail of ghost obstacles (what the mapper misses is cleared when the cells are seen free
 // again).
-void RemovePointsInDiscs(const std::vector<Disc>& discs, common::PointCloud* cloud_W) {
+void RemovePointsInDiscs(const std::vector<Disc>& discs, common::PointCloud* cloud_O) {
   constexpr double kMargin_m = 0.3;
   if (discs.empty()) return;
   Eigen::Index kept = 0;
-  for (Eigen::Index i = 0; i < cloud_W->size(); ++i) {
-    const Eigen::Vector2d p = cloud_W->points.col(i).head<2>().cast<double>();
+  for (Eigen::Index i = 0; i < cloud_O->size(); ++i) {
+    const Eigen::Vector2d p = cloud_O->points.col(i).head<2>().cast<double>();
     const bool on_mover = std::any_of(discs.begin(), discs.end(), [&](const Disc& disc) {
       const double reach = disc.radius_m + kMargin_m;
-      return (p - disc.centre_W).squaredNorm() < reach * reach;
+      return (p - disc.centre_O).squaredNorm() < reach * reach;
     });
-    if (!on_mover) cloud_W->points.col(kept++) = cloud_W->points.col(i);
+    if (!on_mover) cloud_O->points.col(kept++) = cloud_O->points.col(i);
   }
-  cloud_W->points.conservativeResize(3, kept);
-  cloud_W->time_offsets.resize(0);
-  cloud_W->line_ids.resize(0);
+  cloud_O->points.conservativeResize(3, kept);
+  cloud_O->time_offsets.resize(0);
+  cloud_O->line_ids.resize(0);
 }
 
 // The robot's start: the scenario's, or the first point of the reference it tracks.
@@ -119,8 +119,8 @@ sim::WorldOptions WorldOptionsOf(const Scenario& scenario, const ClosedLoopOptio
 // A LiDAR frame on its way to the mapper (mapping latency).
 struct ClosedLoop::PendingFrame {
   double ready_s;  // simulation time at which the mapper gets it
-  common::PointCloud cloud_W;
-  Eigen::Isometry3d X_WB;
+  common::PointCloud cloud_O;
+  Eigen::Isometry3d X_OB;
   double scan_time_s;
 };
 
@@ -152,7 +152,6 @@ ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& option
     truth_W_ = WorldGroundTruth(scenario, world_, obstacle_heights());
     navigator_.emplace(scenario.navigation, scenario.planner, scenario.mpc, scenario.goal_W);
     if (oracle) navigation_map_ = &*truth_W_;
-    pose_noise_.emplace(scenario.pose_noise);
     // movers perceived from the scans, when the scenario does not give the planner their state
     if (lidar_ && !scenario.navigation.movers_from_ground_truth) {
       mapping::MoverTrackerConfig tracker_config;
@@ -161,6 +160,7 @@ ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& option
     }
   }
   if (scenario.imu.enabled && simulation_->ImuTruth()) imu_.emplace(scenario.imu);
+  pose_noise_.emplace(scenario.pose_noise);
   total_steps_ = static_cast<int>(std::ceil(scenario.duration_s / simulation_->timestep() - 1e-9));
   state_ = simulation_->State();
 }
@@ -211,6 +211,8 @@ void ClosedLoop::PlaceMovers() {
 
 void ClosedLoop::DecideCommand() {
   const double now_s = simulation_->time();
+  // the one pose estimate of this step, for the navigator, the mapper and the mover tracker
+  estimate_ = pose_noise_->Estimate(state_);
   if (!navigator_) {
     command_ = tracker_ ? tracker_->Command(state_) : DriveCommandAt(scenario_.drive, now_s);
     return;
@@ -222,8 +224,7 @@ void ClosedLoop::DecideCommand() {
   // the navigator's wall time goes to planning when it planned, else to control when the MPC
   // solved (the other ticks hold the command)
   const common::Stopwatch navigation_start;
-  navigator_tick_ = navigator_->Update(pose_noise_->Estimate(state_), navigation_map_, map_changed_,
-                                       predicted_movers_);
+  navigator_tick_ = navigator_->Update(estimate_, navigation_map_, map_changed_, predicted_movers_);
   const double navigation_ms = navigation_start.ElapsedMilliseconds();
   if (navigator_tick_.replan != planner::ReplanReason::kNone) {
     times_.Add("planning", navigation_ms);
@@ -257,25 +258,37 @@ bool ClosedLoop::Scan() {
   for (LoopObserver* observer : observers_) {
     observer->OnLidarFrame(*this, lidar_frame_, cloud_W.points);
   }
+  // the stack sees the frame in the odometry frame O of its pose estimate (W with true poses)
+  common::PointCloud cloud_O = std::move(cloud_W);
+  const Eigen::Isometry3d X_OW = OdometryFromWorld();
+  if (scenario_.pose_noise.active()) {
+    const Eigen::Isometry3f X_OW_f = X_OW.cast<float>();
+    cloud_O.points = (X_OW_f.linear() * cloud_O.points).colwise() + X_OW_f.translation();
+  }
   if (mover_tracker_) {
-    mover_tracker_->Update(cloud_W, state_.X_WB.translation(), simulation.time());
+    mover_tracker_->Update(cloud_O, estimate_.X_WB.translation(), simulation.time());
   }
   // movers are removed at scan time: where the tracker perceives them, or with their true poses
   // when the planner gets those
   if (mapper_ || observers_want_points_) {
     RemovePointsInDiscs(mover_tracker_ ? PerceivedMoverDiscs(*mover_tracker_, simulation.time())
-                                       : TrueMoverDiscs(movers_, simulation),
-                        &cloud_W);
+                                       : TrueMoverDiscs(movers_, simulation, X_OW),
+                        &cloud_O);
     for (LoopObserver* observer : observers_) {
-      observer->OnMapInput(*this, cloud_W, state_.X_WB, simulation.time());
+      observer->OnMapInput(*this, cloud_O, estimate_.X_WB, simulation.time());
     }
   }
   if (mapper_) {
     // the frame reaches the mapper after the modelled latency
     pending_frames_.push_back({simulation.time() + scenario_.navigation.mapping_latency_s,
-                               std::move(cloud_W), state_.X_WB, simulation.time()});
+                               std::move(cloud_O), estimate_.X_WB, simulation.time()});
   }
   return max_lidar_frames_ <= 0 || lidar_frames_ < max_lidar_frames_;
+}
+
+Eigen::Isometry3d ClosedLoop::OdometryFromWorld() const {
+  return scenario_.pose_noise.active() ? estimate_.X_WB * state_.X_WB.inverse()
+                                       : Eigen::Isometry3d::Identity();
 }
 
 void ClosedLoop::MapPendingFrames() {
@@ -283,7 +296,7 @@ void ClosedLoop::MapPendingFrames() {
          pending_frames_.front().ready_s <= simulation_->time() + 1e-9) {
     const PendingFrame& pending = pending_frames_.front();
     const common::Stopwatch map_start;
-    map_updates_.push_back(mapper_->Update(pending.cloud_W, pending.X_WB, pending.scan_time_s));
+    map_updates_.push_back(mapper_->Update(pending.cloud_O, pending.X_OB, pending.scan_time_s));
     mapping_ms_.push_back(map_start.ElapsedMilliseconds());
     times_.Add("mapping", mapping_ms_.back());
     pending_frames_.pop_front();

@@ -55,9 +55,10 @@ class LoopObserver {
   /// (movers included; empty unless some observer or module wants points).
   virtual void OnLidarFrame(const ClosedLoop& /*loop*/, const lidar::LidarFrame& /*frame*/,
                             const Eigen::Matrix3Xf& /*points_W*/) {}
-  /// What the mapper gets of a frame: points in W with movers removed, the base pose, the time.
-  virtual void OnMapInput(const ClosedLoop& /*loop*/, const common::PointCloud& /*cloud_W*/,
-                          const Eigen::Isometry3d& /*X_WB*/, double /*t_s*/) {}
+  /// What the mapper gets of a frame: points with movers removed and the base pose, both in the
+  /// odometry frame O of the pose estimate (W itself when the pose is true), and the time.
+  virtual void OnMapInput(const ClosedLoop& /*loop*/, const common::PointCloud& /*cloud_O*/,
+                          const Eigen::Isometry3d& /*X_OB*/, double /*t_s*/) {}
   /// The mapper has produced a new map.
   virtual void OnMapUpdate(const ClosedLoop& /*loop*/) {}
   /// Before the physics step (the world as the step starts: video frames).
@@ -129,6 +130,8 @@ class ClosedLoop {
 
   /// The robot's true state at the start of the coming step, or after the last one.
   const common::RobotState& state() const { return state_; }
+  /// The pose estimate the stack uses this step (its X_WB is the base in the odometry frame O).
+  const common::RobotState& estimate() const { return estimate_; }
   const common::Twist2& command() const { return command_; }
   double timestep_s() const { return simulation_->timestep(); }
   int total_steps() const { return total_steps_; }
@@ -178,6 +181,8 @@ class ClosedLoop {
   // false when the frame limit is reached
   bool Scan();
   void MapPendingFrames();
+  // X_OW: the odometry frame O of this step's pose estimate from W (identity for true poses).
+  Eigen::Isometry3d OdometryFromWorld() const;
   std::optional<Outcome> CheckEnd(EndCondition::Stage stage, const LoopStep& step);
 
   const common::Stopwatch wall_clock_;
@@ -206,6 +211,7 @@ class ClosedLoop {
   int max_lidar_frames_{0};
 
   common::RobotState state_;
+  common::RobotState estimate_;  // the stack's belief of state_: X_WB is X_OB
   common::Twist2 command_;
   planner::NavigatorTick navigator_tick_;
   std::vector<planner::MovingObstacle> true_movers_;

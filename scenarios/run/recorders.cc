@@ -82,6 +82,27 @@ void ImuRecorder::OnEnd(const ClosedLoop& /*loop*/, Outcome /*outcome*/) {
   CheckWritten(path_, !file_.fail());
 }
 
+void LocalizationError::OnCommand(const ClosedLoop& loop) {
+  const Eigen::Vector3d error =
+      loop.estimate().X_WB.translation() - loop.state().X_WB.translation();
+  max_position_error_m_ = std::max(max_position_error_m_, error.head<2>().norm());
+}
+
+LocalizationMetrics LocalizationError::Metrics(const common::RobotState& estimate,
+                                               const common::RobotState& truth,
+                                               double distance_m) const {
+  LocalizationMetrics metrics;
+  const Eigen::Vector3d error = estimate.X_WB.translation() - truth.X_WB.translation();
+  metrics.final_position_error_m = error.head<2>().norm();
+  metrics.final_z_error_m = error.z();
+  const Eigen::Matrix3d R_error = estimate.X_WB.linear() * truth.X_WB.linear().transpose();
+  metrics.final_yaw_error_deg = std::atan2(R_error(1, 0), R_error(0, 0)) * kRadToDeg;
+  metrics.max_position_error_m = std::max(max_position_error_m_, metrics.final_position_error_m);
+  metrics.error_per_10_m =
+      distance_m > 0.0 ? 10.0 * metrics.final_position_error_m / distance_m : 0.0;
+  return metrics;
+}
+
 TimeSeriesRecorder::TimeSeriesRecorder(const std::string& output_dir)
     : path_(output_dir + "/timeseries.csv"), file_(path_) {
   file_ << "t,x,y,yaw,v_forward,yaw_rate,roll_deg,pitch_deg,vertical_acceleration,cmd_v,"

@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "scenarios/run/closed_loop.h"
+#include "scenarios/run/scenario_run.h"
 
 namespace trav::scenarios {
 
@@ -112,6 +113,21 @@ class MotionStatistics : public LoopObserver {
   double sum_roll2_{0.0};
   double sum_pitch2_{0.0};
   double sum_vertical_acceleration2_{0.0};
+};
+
+/// How far the pose estimate strays from the truth over a run (compared when each command is
+/// decided, the estimate and the state being of the same time).
+class LocalizationError : public LoopObserver {
+ public:
+  void OnCommand(const ClosedLoop& loop) override;
+
+  /// The errors of `estimate` against `truth` (the run's last) and the largest seen; the
+  /// method is left for the caller.
+  LocalizationMetrics Metrics(const common::RobotState& estimate, const common::RobotState& truth,
+                              double distance_m) const;
+
+ private:
+  double max_position_error_m_{0.0};
 };
 
 /// How the robot and the movers met (mode navigate): the closest gap, near misses, and how well

@@ -312,6 +312,10 @@ void VisitScenario(Archive* a, Scenario* s) {
     l.Field("mount", &s->lidar_mount_B, {-10, 10});
   });
   a->Map("imu", &s->imu);
+  a->Map("localization", [s](Archive& l) {
+    l.Enum("method", &s->pose_noise.method);
+    s->pose_noise.odometry.Serialize(&l);
+  });
   a->Map("mapping", [s](Archive& m) {
     m.Field("enabled", &s->mapping_enabled);
     m.Enum("method", &s->mapper);
@@ -349,6 +353,7 @@ void ValidateSections(const Scenario& s) {
     planner::ValidateNavigationSettings(s.navigation);
     sim::ValidatePoseNoiseConfig(s.pose_noise);
   });
+  ValidateAt("localization", [&] { sim::ValidateOdometryDriftConfig(s.pose_noise.odometry); });
   ValidateAt("traffic", [&] { sim::ValidateTrafficSettings(s.traffic); });
   ValidateAt("moving_obstacles", [&] { sim::ValidateMovingObstacles(s.movers); });
 }

@@ -192,6 +192,8 @@ RunSummary RunLoop(ClosedLoop* loop, const std::vector<LoopObserver*>& observers
   const Scenario& scenario = loop->scenario();
   const bool navigate = loop->navigator() != nullptr;
   MotionStatistics motion(loop->state().X_WB.translation().head<2>());
+  LocalizationError localization;
+  if (scenario.pose_noise.active()) loop->AddObserver(&localization);
   MoverEncounters movers(scenario.planner.optimizer.robot_radius_m,
                          scenario.navigation.near_miss_clearance_m);
   loop->AddObserver(&motion);
@@ -239,6 +241,11 @@ RunSummary RunLoop(ClosedLoop* loop, const std::vector<LoopObserver*>& observers
     summary.navigation = SummarizeNavigation(*loop, summary, goal_record, movers, motion);
   }
   summary.collision = collision_record.record();
+  if (scenario.pose_noise.active()) {
+    summary.localization =
+        localization.Metrics(loop->estimate(), loop->state(), motion.distance_m());
+    summary.localization->method = scenario.pose_noise.method;
+  }
   summary.compute = loop->times().Summary();
   if (loop->mapper() != nullptr && !loop->mapping_ms().empty()) {
     common::GridLayers truth = SummarizeMapping(*loop, &summary.mapping.emplace());
@@ -327,6 +334,15 @@ void to_json(nlohmann::json& json, const MappingMetrics& m) {
           {"error_variance", m.error_variance}};
 }
 
+void to_json(nlohmann::json& json, const LocalizationMetrics& m) {
+  json = {{"method", common::NameOf(m.method)},
+          {"final_position_error_m", m.final_position_error_m},
+          {"final_z_error_m", m.final_z_error_m},
+          {"final_yaw_error_deg", m.final_yaw_error_deg},
+          {"max_position_error_m", m.max_position_error_m},
+          {"error_per_10_m", m.error_per_10_m}};
+}
+
 void to_json(nlohmann::json& json, const CollisionRecord& c) {
   json = {{"with", c.target},
           {"mover", c.mover},
@@ -366,6 +382,7 @@ void to_json(nlohmann::json& json, const RunSummary& s) {
   }
   if (s.collision) json["collision"] = *s.collision;
   if (s.tracking) json["tracking"] = *s.tracking;
+  if (s.localization) json["localization"] = *s.localization;
 }
 
 void to_json(nlohmann::json& json, const SummaryFile& file) {
@@ -393,6 +410,7 @@ SummaryFile SummaryWithEverySection() {
   summary.mapping.emplace();
   summary.navigation.emplace().min_mover_clearance_m = 0.0;  // finite: a number
   summary.collision.emplace();
+  summary.localization.emplace();
   for (const char* module : kTimedModules) summary.compute[module] = ModuleTime{};
   return file;
 }

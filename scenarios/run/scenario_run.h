@@ -73,6 +73,20 @@ struct MappingMetrics {
 /// summary.json's "mapping" object.
 void to_json(nlohmann::json& json, const MappingMetrics& metrics);
 
+/// How far the stack's pose estimate was from the truth (when localisation is not the true pose).
+struct LocalizationMetrics {
+  sim::LocalizationMethod method{sim::LocalizationMethod::kTrue};
+  double final_position_error_m{0.0};  ///< horizontal, at the end of the run
+  double final_z_error_m{0.0};
+  double final_yaw_error_deg{0.0};
+  double max_position_error_m{0.0};  ///< horizontal, over the run
+  /// final_position_error_m per 10 m driven (0 when the robot did not move) [m]
+  double error_per_10_m{0.0};
+};
+
+/// summary.json's "localization" object.
+void to_json(nlohmann::json& json, const LocalizationMetrics& metrics);
+
 /// What `trav run` reports in summary.json.
 struct RunSummary {
   Outcome outcome{Outcome::kCompleted};
@@ -96,6 +110,7 @@ struct RunSummary {
   std::optional<MappingMetrics> mapping;                ///< when a mapper updated its map
   std::optional<NavigationMetrics> navigation;          ///< mode navigate only
   std::optional<CollisionRecord> collision;             ///< outcome collision only
+  std::optional<LocalizationMetrics> localization;      ///< when the pose is estimated
   std::map<std::string, ModuleTime> compute;            ///< wall time per module
   /// Mode navigate: the PNG plots written (speed, roll and pitch, mapping error, compute), or null
   /// when gnuplot is missing.

@@ -82,6 +82,31 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, SuiteTest,
                            return param_info.param;
                          });
 
+// The same with the whole stack (navigator, mapper, mover tracker) on the drift model's pose
+// estimate, the map built in its odometry frame (docs/localization.md).
+class SuiteDriftTest : public testing::TestWithParam<std::string> {};
+
+TEST_P(SuiteDriftTest, ReachesTheGoalOnDriftingOdometry) {
+  Scenario scenario = LoadFile("suite/" + GetParam() + ".yaml");
+  scenario.pose_noise.method = sim::LocalizationMethod::kDriftModel;
+  const RunSummary summary = RunHeadless(scenario, GetParam() + "_drift");
+  ASSERT_EQ(summary.outcome, Outcome::kSuccess)
+      << common::NameOf(summary.outcome)
+      << ", planner: " << summary.navigation->last_planner_status;
+  EXPECT_FALSE(summary.collision.has_value());
+  ASSERT_TRUE(summary.localization.has_value());
+  // the estimate drifted, and by the drift model's order: well under a metre on these routes
+  EXPECT_GT(summary.localization->max_position_error_m, 0.0);
+  EXPECT_LT(summary.localization->max_position_error_m, 1.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenarios, SuiteDriftTest,
+                         testing::Values("hilly", "forest", "ruin", "road", "indoor", "steep_hill",
+                                         "narrow_passage", "crossing", "head_on"),
+                         [](const testing::TestParamInfo<std::string>& param_info) {
+                           return param_info.param;
+                         });
+
 TEST(FailingScenarioTest, DrivingIntoAWallIsACollision) {
   const RunSummary summary = RunHeadless(LoadFile("failing/wall_collision.yaml"), "wall");
   ASSERT_EQ(summary.outcome, Outcome::kCollision);

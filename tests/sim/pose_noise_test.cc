@@ -56,5 +56,63 @@ TEST(PoseNoiseTest, DriftIsARandomWalkGrowingWithTheSquareRootOfTime) {
   EXPECT_NEAR(sum2 / kWalks, 0.2, 0.03);
 }
 
+// A straight drive along x at 1 m per call.
+common::RobotState AlongX(double x_m) {
+  common::RobotState state;
+  state.time_s = x_m;
+  state.X_WB.translation() = Eigen::Vector3d(x_m, 0.0, 0.2);
+  return state;
+}
+
+TEST(PoseNoiseTest, OdometryDriftGrowsWithTheDistanceNotTheTime) {
+  PoseNoiseConfig settings;
+  settings.method = LocalizationMethod::kDriftModel;
+  PoseNoise dut(settings);
+  for (int k = 0; k < 1000; ++k) {
+    common::RobotState still = AlongX(0.0);
+    still.time_s = 0.01 * k;
+    EXPECT_TRUE(dut.Estimate(still).X_WB.isApprox(still.X_WB, 0.0));
+  }
+}
+
+TEST(PoseNoiseTest, OdometryDriftHasItsRatesAfterADistance) {
+  // 400 drives of 100 m: yaw error sigma_yaw * sqrt(100 m), height error sigma_z * sqrt(100 m)
+  PoseNoiseConfig settings;
+  settings.method = LocalizationMethod::kDriftModel;
+  settings.odometry = {0.05, 0.02, 1e-3};
+  double yaw2 = 0.0, z2 = 0.0;
+  constexpr int kDrives = 400;
+  for (int w = 0; w < kDrives; ++w) {
+    settings.seed = static_cast<std::uint64_t>(w + 1);
+    PoseNoise dut(settings);
+    for (int k = 0; k <= 100; ++k) dut.Estimate(AlongX(k));
+    yaw2 += std::pow(dut.odometry_yaw_error_rad(), 2);
+    z2 += std::pow(dut.odometry_position_error_W().z(), 2);
+  }
+  EXPECT_NEAR(std::sqrt(yaw2 / kDrives), 1e-3 * 10.0, 0.1 * 1e-3 * 10.0);
+  EXPECT_NEAR(std::sqrt(z2 / kDrives), 0.02 * 10.0, 0.1 * 0.02 * 10.0);
+}
+
+TEST(PoseNoiseTest, AHeadingErrorTurnsTheDrivenPathWithoutStretchingIt) {
+  // only yaw drift: the believed path is the true one turned step by step, so every believed
+  // step is as long as the true step, and the believed heading is off by the yaw error
+  PoseNoiseConfig settings;
+  settings.method = LocalizationMethod::kDriftModel;
+  settings.odometry = {0.0, 0.0, 0.05};
+  PoseNoise dut(settings);
+  Eigen::Vector3d previous = dut.Estimate(AlongX(0.0)).X_WB.translation();
+  for (int k = 1; k <= 50; ++k) {
+    const common::RobotState estimate = dut.Estimate(AlongX(k));
+    const double yaw = dut.odometry_yaw_error_rad();
+    EXPECT_NEAR((estimate.X_WB.translation() - previous).norm(), 1.0, 1e-12);
+    const Eigen::Vector3d forward = estimate.X_WB.linear().col(0);
+    EXPECT_NEAR(std::atan2(forward.y(), forward.x()), yaw, 1e-12);
+    previous = estimate.X_WB.translation();
+  }
+  // after 50 m of a wandering heading the believed position is off sideways
+  EXPECT_GT(std::abs(dut.odometry_position_error_W().y()), 0.01);
+  EXPECT_EQ(dut.odometry_position_error_W().z(), 0.0);
+}
+
 }  // namespace
 }  // namespace trav::sim
