@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -14,8 +15,13 @@ struct PointCloud {
   Eigen::Matrix3Xf points;       ///< [m], one point per column
   Eigen::VectorXf time_offsets;  ///< per-point time after `stamp_s` [s]; empty if not measured
   Eigen::VectorXi line_ids;      ///< per-point laser line; empty if not applicable
-  double stamp_s{0.0};           ///< time of the frame [s]
-  std::string frame_id{"W"};     ///< frame the points are expressed in
+  /// Per-point reflectivity on Livox's scale (0 to 150: diffuse reflectance 0 to 100 %; 151 to
+  /// 255: retro-reflectors); empty if not measured.
+  Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1> reflectivity;
+  /// Per-point Livox tag (0: a normal point of the first return); empty if not measured.
+  Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1> tags;
+  double stamp_s{0.0};        ///< time of the frame [s]
+  std::string frame_id{"W"};  ///< frame the points are expressed in
 
   /// Number of points.
   Eigen::Index size() const { return points.cols(); }

@@ -83,13 +83,61 @@ lidar::RaySceneDescription RaySceneOf(const TerrainWorld& world,
                                       const std::vector<MovingObstacle>& movers) {
   lidar::RaySceneDescription description;
   description.meshes_W.push_back(GroundMesh(world));
+  description.reflectance.push_back(GroundReflectance(world.config.type));
   description.primitives_W.assign(world.obstacles.begin(), world.obstacles.end());
+  for (const Obstacle& obstacle : world.obstacles) {
+    description.reflectance.push_back(ObstacleReflectance(obstacle.name));
+  }
   for (const MovingObstacle& mover : movers) {
     description.moving_meshes_I.push_back(
         common::PrimitiveMesh(MoverPrimitive(mover), description.primitive_segments));
     description.X_WI.push_back(MoverPoseAt(mover, 0.0, world));
+    description.reflectance.push_back(MoverReflectance(mover));
   }
   return description;
+}
+
+float GroundReflectance(TerrainType type) {
+  switch (type) {
+    case TerrainType::kHilly:
+    case TerrainType::kSlope:
+      return 0.5f;
+    case TerrainType::kForest:
+      return 0.25f;
+    case TerrainType::kRuin:
+      return 0.3f;
+    case TerrainType::kRoad:
+      return 0.12f;
+    case TerrainType::kIndoor:
+      return 0.4f;
+    case TerrainType::kFlat:
+    case TerrainType::kStep:
+    case TerrainType::kStairs:
+      return 0.35f;
+  }
+  return lidar::kDefaultReflectance;
+}
+
+float ObstacleReflectance(const std::string& name) {
+  // the kind is the name's prefix ("tree_3", "placed_box_1" keeps the placed object's kind)
+  struct Kind {
+    const char* prefix;
+    float reflectance;
+  };
+  static constexpr Kind kKinds[] = {
+      {"tree", 0.35f},   {"canopy", 0.5f},     {"box", 0.35f},   {"riser", 0.35f},
+      {"column", 0.35f}, {"rubble", 0.3f},     {"wall", 0.7f},   {"ceiling", 0.8f},
+      {"pole", 0.45f},   {"furniture", 0.45f}, {"table", 0.45f},
+  };
+  const std::string kind = name.rfind("placed_", 0) == 0 ? name.substr(7) : name;
+  for (const Kind& k : kKinds) {
+    if (kind.rfind(k.prefix, 0) == 0) return k.reflectance;
+  }
+  return lidar::kDefaultReflectance;
+}
+
+float MoverReflectance(const MovingObstacle& mover) {
+  return mover.shape == MoverShape::kCapsule ? 0.35f : 0.45f;
 }
 
 }  // namespace trav::sim

@@ -30,8 +30,26 @@ Eigen::MatrixXf ObstacleHeightGrid(const TerrainWorld& world, double max_height_
 /// obstacle as a primitive (objects 1.., in the order of `world.obstacles`), tree crowns and
 /// ceilings included, and every mover as a moving mesh in its frame O (moving object i is
 /// movers[i], object id 1 + world.obstacles.size() + i), placed at its pose at t = 0: move it with
-/// RayScene::SetMovingPose(i, X_WO). The robot is not part of it, so it never sees itself.
+/// RayScene::SetMovingPose(i, X_WO). The robot is not part of it, so it never sees itself. Each
+/// object carries its diffuse reflectance (GroundReflectance, ObstacleReflectance,
+/// MoverReflectance).
 lidar::RaySceneDescription RaySceneOf(const TerrainWorld& world,
                                       const std::vector<MovingObstacle>& movers = {});
+
+/// Diffuse reflectance at 905 nm (the MID-360's wavelength) of the ground of a terrain type:
+/// grass (hilly, slope) 0.5, forest floor 0.25, rubble and dust (ruin) 0.3, asphalt (road) 0.12,
+/// concrete (flat, step, stairs) 0.35, indoor floor 0.4. Rounded typical values (vegetation is
+/// bright in the near infrared, asphalt dark), not measurements (docs/lidar.md).
+float GroundReflectance(TerrainType type);
+
+/// Diffuse reflectance of an obstacle by its kind, the prefix of its name: tree (bark) 0.35,
+/// canopy (leaves) 0.5, box and riser (concrete) 0.35, column (stone) 0.35, rubble 0.3, wall
+/// (painted) 0.7, ceiling 0.8, pole (painted metal) 0.45, furniture, table, table_leg (wood) 0.45;
+/// anything else lidar::kDefaultReflectance.
+float ObstacleReflectance(const std::string& name);
+
+/// Diffuse reflectance of a mover: 0.35 for a capsule (a pedestrian's clothes), 0.45 for a box or
+/// cylinder (a cart, a crate).
+float MoverReflectance(const MovingObstacle& mover);
 
 }  // namespace trav::sim

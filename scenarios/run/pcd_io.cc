@@ -9,7 +9,8 @@
 
 #include "common/input_error.h"
 
-// A LiDAR point with its time offset and laser line, as Livox drivers publish them. PCL's point
+// A LiDAR point with its time offset, laser line, reflectivity and tag, as Livox drivers publish
+// them. PCL's point
 // macro declares an anonymous struct in a union, which clang flags as an extension.
 #if defined(__clang__)
 #pragma clang diagnostic push
@@ -20,13 +21,18 @@ struct EIGEN_ALIGN16 TravLidarPoint {
   PCL_ADD_POINT4D;
   float time;
   std::uint16_t line;
+  std::uint8_t reflectivity;
+  std::uint8_t tag;
   PCL_MAKE_ALIGNED_OPERATOR_NEW
 };
 #if defined(__clang__)
 #pragma clang diagnostic pop
 #endif
-POINT_CLOUD_REGISTER_POINT_STRUCT(TravLidarPoint, (float, x, x)(float, y, y)(float, z, z)(
-                                                      float, time, time)(std::uint16_t, line, line))
+POINT_CLOUD_REGISTER_POINT_STRUCT(TravLidarPoint,
+                                  (float, x, x)(float, y, y)(float, z, z)(float, time, time)(
+                                      std::uint16_t, line, line)(std::uint8_t, reflectivity,
+                                                                 reflectivity)(std::uint8_t, tag,
+                                                                               tag))
 
 namespace trav::scenarios {
 
@@ -52,6 +58,8 @@ void WriteLidarFramePcd(const std::string& path, const lidar::LidarFrame& frame)
     point.z = cloud.points(2, i);
     point.time = cloud.time_offsets[i];
     point.line = static_cast<std::uint16_t>(cloud.line_ids[i]);
+    point.reflectivity = cloud.reflectivity[i];
+    point.tag = cloud.tags[i];
   }
   const Eigen::Isometry3d& X_WL = frame.X_WL_start();
   pcl_cloud.sensor_origin_ = Eigen::Vector4f(static_cast<float>(X_WL.translation().x()),

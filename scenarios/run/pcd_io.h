@@ -11,7 +11,8 @@ namespace trav::scenarios {
 void WritePcd(const std::string& path, const common::PointCloud& cloud);
 
 /// Writes a LiDAR frame as binary PCD with fields x, y, z (in L), `time` (offset after the frame
-/// stamp [s]) and `line`; the viewpoint is the frame-start sensor pose.
+/// stamp [s]), `line`, `reflectivity` (Livox's 0..255 scale) and `tag`; the viewpoint is the
+/// frame-start sensor pose.
 /// @throws std::runtime_error on failure.
 void WriteLidarFramePcd(const std::string& path, const lidar::LidarFrame& frame);
 

@@ -51,6 +51,8 @@ LidarEmulator::LidarEmulator(const LidarConfig& config) : config_(config), rando
   }
   rays_per_frame_ =
       static_cast<int>(std::lround(config_.points_per_second * config_.frame_period_s));
+  detection_exponent_ =
+      std::log(config_.range_at_80_percent_m / config_.range_at_10_percent_m) / std::log(8.0);
   building_.index = -1;
 }
 
@@ -64,6 +66,8 @@ void LidarEmulator::StartFrame(std::int64_t index, const Eigen::Isometry3d& X_WL
   building_.points_L.points.resize(3, rays_per_frame_);
   building_.points_L.time_offsets.resize(rays_per_frame_);
   building_.points_L.line_ids.resize(rays_per_frame_);
+  building_.points_L.reflectivity.resize(rays_per_frame_);
+  building_.points_L.tags.resize(rays_per_frame_);
   building_.batch_poses_W.clear();
   building_.batch_times_s.clear();
   building_.batch_poses_W.push_back(X_WL);
@@ -83,9 +87,19 @@ void LidarEmulator::FinishFrame(const Eigen::Isometry3d& X_WL) {
   building_.points_L.points.conservativeResize(3, filled_);
   building_.points_L.time_offsets.conservativeResize(filled_);
   building_.points_L.line_ids.conservativeResize(filled_);
+  building_.points_L.reflectivity.conservativeResize(filled_);
+  building_.points_L.tags.conservativeResize(filled_);
   std::swap(building_, complete_);
   ready_ = true;
   building_.index = -1;
+}
+
+double LidarEmulator::DetectionProbability(double effective_reflectance, double range_m) const {
+  if (!config_.detection) return 1.0;
+  const double reach_m = config_.range_at_10_percent_m *
+                         std::pow(std::max(effective_reflectance, 1e-6) / 0.1, detection_exponent_);
+  // a logistic step of width 5 % of the reach
+  return 1.0 / (1.0 + std::exp((range_m - reach_m) / (0.05 * reach_m / 4.0)));
 }
 
 bool LidarEmulator::Occluded(float azimuth_rad) const {
@@ -164,7 +178,9 @@ void LidarEmulator::Scan(const RayScene& scene, double t_begin_s, double t_end_s
     scene.Cast(p_WL, directions_W_.leftCols(kept), static_cast<float>(config_.range_max_m), &hits_,
                config_.threads);
 
-    // returns within range become points in L, with range noise
+    // returns within range that are strong enough become points in L, with range noise and
+    // their reflectivity: diffuse reflectance times cos(incidence) (no lower than the rough-surface
+    // floor) on Livox's 0..150 scale
     for (Eigen::Index k = 0; k < kept; ++k) {
       const float range = hits_.range_m[k];
       if (!std::isfinite(range)) {
@@ -175,10 +191,25 @@ void LidarEmulator::Scan(const RayScene& scene, double t_begin_s, double t_end_s
         ++building_.dropped.blind;
         continue;
       }
+      const double cos_incidence =
+          std::max(config_.incidence_floor,
+                   std::abs(static_cast<double>(hits_.normal_W.col(k).dot(directions_W_.col(k)))));
+      const double effective =
+          static_cast<double>(scene.reflectance(hits_.object_id[k])) * cos_incidence;
+      const double p_return = DetectionProbability(effective, range);
+      if (p_return < 1.0 && random_.Uniform() >= p_return) {
+        ++building_.dropped.weak;
+        continue;
+      }
       const float noisy = range + static_cast<float>(config_.range_noise_m * random_.Normal());
+      const double reflectivity =
+          150.0 * effective * (1.0 + config_.reflectivity_noise * random_.Normal());
       building_.points_L.points.col(filled_) = noisy * directions_L_.col(k);
       building_.points_L.time_offsets[filled_] = times_[k];
       building_.points_L.line_ids[filled_] = lines_[k];
+      building_.points_L.reflectivity[filled_] =
+          static_cast<std::uint8_t>(std::lround(std::clamp(reflectivity, 0.0, 150.0)));
+      building_.points_L.tags[filled_] = 0;
       ++filled_;
     }
     next_ray_ = chunk_end;

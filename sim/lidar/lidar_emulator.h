@@ -20,12 +20,13 @@ struct DropCounts {
   int blind{0};     ///< first surface closer than range_min (the blind zone)
   int dropout{0};   ///< random dropout
   int occluded{0};  ///< inside an occluded azimuth sector
+  int weak{0};      ///< echo too weak: a dark or grazing surface beyond its detection range
 };
 
 /// One complete LiDAR frame.
 struct LidarFrame {
   /// Points in the sensor frame L at each point's own time (what a real sensor reports), with per-
-  /// point time offsets after `stamp_s` [s] and line ids.
+  /// point time offsets after `stamp_s` [s], line ids, reflectivity and tags (Livox's fields).
   common::PointCloud points_L;
   std::int64_t index{0};  ///< frame number since the sensor started
   int rays{0};            ///< rays fired in the frame
@@ -74,6 +75,9 @@ class LidarEmulator {
   void StartFrame(std::int64_t index, const Eigen::Isometry3d& X_WL, double t_s);
   void FinishFrame(const Eigen::Isometry3d& X_WL);
   bool Occluded(float azimuth_rad) const;
+  // The chance that a surface of diffuse reflectance times cos(incidence) `effective_reflectance`
+  // returns an echo from `range_m` (LidarConfig::detection).
+  double DetectionProbability(double effective_reflectance, double range_m) const;
 
   LidarConfig config_;
   std::shared_ptr<const ScanPattern> pattern_;  // the shipped table is shared by all emulators
@@ -93,6 +97,7 @@ class LidarEmulator {
   Eigen::VectorXi lines_;
   Eigen::VectorXf times_;
   RayHits hits_;
+  double detection_exponent_{0.0};  // k of LidarConfig::detection
 };
 
 }  // namespace trav::lidar

@@ -104,6 +104,13 @@ struct RayScene::Embree {
 };
 
 RayScene::RayScene(const RaySceneDescription& description) : embree_(std::make_unique<Embree>()) {
+  const std::size_t objects = description.meshes_W.size() + description.primitives_W.size() +
+                              description.moving_meshes_I.size();
+  if (!description.reflectance.empty() && description.reflectance.size() != objects) {
+    throw std::invalid_argument(
+        "RaySceneDescription: " + std::to_string(description.reflectance.size()) +
+        " reflectances for " + std::to_string(objects) + " objects");
+  }
   Embree& e = *embree_;
   // BVH builds on the calling thread: the top level is rebuilt every physics step for the movers,
   // and Embree's TBB workers, started for each of those small builds, spun on both cores (14 % of
@@ -152,6 +159,10 @@ RayScene::RayScene(const RaySceneDescription& description) : embree_(std::make_u
   rtcCommitScene(e.top_scene);
   e.CheckDevice("building the scene");
   num_objects_ = object;
+  reflectance_ =
+      description.reflectance.empty()
+          ? std::vector<float>(static_cast<std::size_t>(num_objects_), kDefaultReflectance)
+          : description.reflectance;
 }
 
 RayScene::~RayScene() {

@@ -10,6 +10,9 @@
 
 namespace trav::lidar {
 
+/// The diffuse reflectance of an object whose description gives none.
+inline constexpr float kDefaultReflectance = 0.3f;
+
 /// Plain description of what rays can hit, in the world frame W. Object ids are assigned in this
 /// order: `meshes_W`, then `primitives_W`, then `moving_meshes_I`.
 struct RaySceneDescription {
@@ -18,6 +21,9 @@ struct RaySceneDescription {
   /// Moving objects: each a mesh in its own frame I, placed by `X_WI` (updatable between casts).
   std::vector<common::TriangleMesh> moving_meshes_I;
   std::vector<Eigen::Isometry3d> X_WI;
+  /// Diffuse reflectance in [0, 1] of each object at the LiDAR's wavelength, in object-id order;
+  /// empty: every object kDefaultReflectance. Otherwise one entry per object.
+  std::vector<float> reflectance;
   /// Primitives are tessellated with this many segments around (a cylinder of radius r deviates at
   /// most r (1 - cos(pi / segments)) from its polygon: 0.2 % of r at 48).
   int primitive_segments{48};
@@ -51,6 +57,11 @@ class RayScene {
   /// Number of objects (meshes, primitives and moving meshes).
   int num_objects() const { return num_objects_; }
 
+  /// Diffuse reflectance of object `object_id` (RaySceneDescription::reflectance), in [0, 1].
+  float reflectance(int object_id) const {
+    return reflectance_[static_cast<std::size_t>(object_id)];
+  }
+
   /// Number of moving objects (meshes posed by SetMovingPose).
   int num_moving() const;
 
@@ -82,6 +93,7 @@ class RayScene {
                  Eigen::Index begin, Eigen::Index end, RayHits* hits) const;
   std::unique_ptr<Embree> embree_;
   int num_objects_{0};
+  std::vector<float> reflectance_;  // per object
 };
 
 }  // namespace trav::lidar

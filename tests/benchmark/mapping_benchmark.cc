@@ -48,7 +48,7 @@ const Frames& MakeFrames(trav::sim::TerrainType type, int count) {
     if (!lidar.frame_ready()) continue;
     lidar.TakeFrame(&frame);
     frames.clouds_W.push_back(trav::common::PointCloud{
-        trav::lidar::PointsInWorld(frame), {}, {}, frame.points_L.stamp_s, "W"});
+        trav::lidar::PointsInWorld(frame), {}, {}, {}, {}, frame.points_L.stamp_s, "W"});
     Eigen::Isometry3d X_WB = frame.X_WL_end;
     X_WB.translation().z() -= 0.2;
     frames.poses_W.push_back(X_WB);

@@ -1,6 +1,7 @@
 #include "sim/lidar/lidar_emulator.h"
 
 #include <cmath>
+#include <utility>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -113,6 +114,96 @@ TEST(LidarEmulatorTest, DropoutAndOcclusionRemoveTheConfiguredShare) {
   EXPECT_EQ(occluded.points_L.size() + occluded.dropped.occluded, 20000);
 }
 
+// A wall x = distance_m facing the sensor at the origin (a thin box), of diffuse reflectance rho.
+RayScene Wall(double distance_m, float rho) {
+  RaySceneDescription description;
+  description.primitives_W.push_back(
+      MakePrimitive(common::ShapeType::kBox, {0.01, 400, 400}, {distance_m + 0.01, 0, 0}));
+  description.reflectance = {rho};
+  return RayScene(description);
+}
+
+// The detection reach of the default config at an effective reflectance (LidarConfig::detection).
+double Reach(double effective) {
+  return 40.0 * std::pow(effective / 0.1, std::log(70.0 / 40.0) / std::log(8.0));
+}
+
+TEST(LidarEmulatorTest, ReflectivityIsTheReflectanceTimesTheCosineOfIncidence) {
+  LidarConfig config = Noiseless();
+  config.reflectivity_noise = 0.0;
+  config.incidence_floor = 0.0;
+  const LidarFrame frame = OneFrame(Wall(5.0, 0.6f), config, Eigen::Isometry3d::Identity());
+  ASSERT_GT(frame.points_L.size(), 5000);
+  ASSERT_EQ(frame.points_L.reflectivity.size(), frame.points_L.size());
+  for (Eigen::Index i = 0; i < frame.points_L.size(); ++i) {
+    const Eigen::Vector3f p = frame.points_L.points.col(i);
+    const double cos_incidence = p.x() / p.norm();  // the wall's normal is -x
+    ASSERT_NEAR(frame.points_L.reflectivity[i], 150.0 * 0.6 * cos_incidence, 0.5 + 1e-3) << i;
+    ASSERT_EQ(frame.points_L.tags[i], 0);
+  }
+  // a rough surface presents no less than the floor's cosine
+  config.incidence_floor = 0.3;
+  const LidarFrame rough = OneFrame(Wall(5.0, 0.6f), config, Eigen::Isometry3d::Identity());
+  int grazing = 0;
+  for (Eigen::Index i = 0; i < rough.points_L.size(); ++i) {
+    const Eigen::Vector3f p = rough.points_L.points.col(i);
+    const double c = std::max(0.3, static_cast<double>(p.x() / p.norm()));
+    grazing += p.x() / p.norm() < 0.3f ? 1 : 0;
+    ASSERT_NEAR(rough.points_L.reflectivity[i], 150.0 * 0.6 * c, 0.5 + 1e-3) << i;
+  }
+  EXPECT_GT(grazing, 100);
+  // with noise: 5 % of the value, unbiased
+  config.reflectivity_noise = 0.05;
+  const LidarFrame noisy = OneFrame(Wall(5.0, 0.6f), config, Eigen::Isometry3d::Identity());
+  double sum = 0.0, sum2 = 0.0;
+  for (Eigen::Index i = 0; i < noisy.points_L.size(); ++i) {
+    const Eigen::Vector3f p = noisy.points_L.points.col(i);
+    const double c = std::max(0.3, static_cast<double>(p.x() / p.norm()));
+    const double ratio = noisy.points_L.reflectivity[i] / (150.0 * 0.6 * c) - 1.0;
+    sum += ratio;
+    sum2 += ratio * ratio;
+  }
+  const double n = static_cast<double>(noisy.points_L.size());
+  EXPECT_NEAR(sum / n, 0.0, 0.005);
+  EXPECT_NEAR(std::sqrt(sum2 / n), 0.05, 0.01);  // with the rounding to whole steps
+}
+
+TEST(LidarEmulatorTest, DarkAndGrazingSurfacesReturnOnlyWithinTheirDetectionReach) {
+  LidarConfig config = Noiseless();
+  config.incidence_floor = 0.0;
+  for (const auto& [distance_m, rho] : {std::pair{30.0, 0.05f}, {30.0, 0.8f}, {60.0, 0.8f}}) {
+    SCOPED_TRACE(::testing::Message() << "wall at " << distance_m << " m, reflectance " << rho);
+    const LidarFrame frame = OneFrame(Wall(distance_m, rho), config, Eigen::Isometry3d::Identity());
+    // every returned point lies within its reach (the chance of a return is 1e-5 at 1.15 R)
+    for (Eigen::Index i = 0; i < frame.points_L.size(); ++i) {
+      const Eigen::Vector3f p = frame.points_L.points.col(i);
+      ASSERT_LT(p.norm(), 1.15 * Reach(rho * p.x() / p.norm()));
+    }
+    // the rays well within their reach all return, those well beyond none
+    const auto pattern = TablePattern::Mid360();
+    int sure = 0, possible = 0;
+    for (int i = 0; i < 20000; ++i) {
+      const Eigen::Vector3f d = pattern->Ray(i).direction_L;
+      if (d.x() <= 0.0f) continue;
+      const double range = distance_m / d.x();
+      if (range > config.range_max_m) continue;
+      const double reach = Reach(rho * d.x());
+      sure += range < 0.85 * reach ? 1 : 0;
+      possible += range < 1.15 * reach ? 1 : 0;
+    }
+    EXPECT_GE(frame.points_L.size(), sure);
+    EXPECT_LE(frame.points_L.size(), possible);
+    EXPECT_EQ(frame.points_L.size() + frame.dropped.weak + frame.dropped.miss, 20000);
+  }
+  // a dark wall at 30 m returns only near its normal; a bright one at 60 m still returns
+  EXPECT_LT(OneFrame(Wall(30.0, 0.05f), config, Eigen::Isometry3d::Identity()).points_L.size(),
+            OneFrame(Wall(30.0, 0.8f), config, Eigen::Isometry3d::Identity()).points_L.size() / 4);
+  LidarConfig ideal = config;
+  ideal.detection = false;
+  const LidarFrame all = OneFrame(Wall(30.0, 0.05f), ideal, Eigen::Isometry3d::Identity());
+  EXPECT_EQ(all.dropped.weak, 0);
+}
+
 TEST(LidarEmulatorTest, MissesAndTheBlindZoneGiveNoPoints) {
   RaySceneDescription description;
   // a small box 5 cm in front of the sensor (inside the blind zone) and open sky elsewhere
@@ -123,7 +214,8 @@ TEST(LidarEmulatorTest, MissesAndTheBlindZoneGiveNoPoints) {
   const LidarFrame frame = OneFrame(scene, Noiseless(), Eigen::Isometry3d::Identity());
   EXPECT_GT(frame.dropped.blind, 100);
   EXPECT_GT(frame.dropped.miss, 1000);
-  EXPECT_EQ(frame.points_L.size() + frame.dropped.blind + frame.dropped.miss, 20000);
+  EXPECT_EQ(frame.points_L.size() + frame.dropped.blind + frame.dropped.miss + frame.dropped.weak,
+            20000);
   for (Eigen::Index i = 0; i < frame.points_L.size(); ++i) {
     ASSERT_GE(frame.points_L.points.col(i).norm(), 0.1f);
   }

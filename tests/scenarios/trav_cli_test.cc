@@ -293,7 +293,9 @@ TEST_F(TravCliTest, ScanWritesTheRequestedFrames) {
   int frames = 0;
   for (const auto& entry : fs::directory_iterator(root_ / "scan" / "clouds")) {
     ++frames;
-    EXPECT_THAT(ReadFile(entry.path()), HasSubstr("FIELDS x y z time line"));
+    // Livox's fields: time offset, line, reflectivity and tag
+    const std::string pcd = ReadFile(entry.path());
+    EXPECT_THAT(pcd, HasSubstr("FIELDS x y z time line reflectivity tag\nSIZE 4 4 4 4 2 1 1\n"));
   }
   EXPECT_EQ(frames, 3);
   EXPECT_FALSE(fs::exists(root_ / "scan" / "video.mp4"));
