@@ -537,6 +537,60 @@ std::string WriteAblation(const fs::path& folder, const EvalOptions& options,
   return md.str();
 }
 
+// The mappers on each pose source against the true pose: pose_sources.csv and the table for
+// results.md (empty without pose sources).
+std::string WritePoseSources(const fs::path& folder, const EvalOptions& options,
+                             const std::vector<EvalAggregate>& rows) {
+  if (options.pose_sources.empty()) return "";
+  std::string csv = "method,pose_source";
+  std::ostringstream md;
+  md << "## The mappers on another pose source\n\n"
+     << "Each mapper fed the same drive's frames in the odometry frame of the pose source's "
+        "estimate (docs/localization.md), scored against the truth in the world: mean error on the "
+        "true pose -> on the source (change), and AUROC on the true pose -> on the source.\n\n"
+     << "| method | pose source |";
+  for (const std::string& terrain : options.terrains) {
+    csv += "," + terrain + "_error_true," + terrain + "_error," + terrain + "_auroc_true," +
+           terrain + "_auroc";
+    md << " " << terrain << " |";
+  }
+  csv += "\n";
+  md << "\n|---|---|";
+  for (std::size_t i = 0; i < options.terrains.size(); ++i) md << "---|";
+  md << "\n";
+  auto number = [](const char* format, const std::optional<double>& value) {
+    return value ? common::FormatNumber(format, *value) : std::string();
+  };
+  for (const std::string& source : options.pose_sources) {
+    for (const std::string& mapper : PoseSourceMappers(options)) {
+      csv += mapper + "," + source;
+      md << "| " << mapper << " | " << source << " |";
+      for (const std::string& terrain : options.terrains) {
+        const EvalAggregate* on_true = Find(rows, terrain, mapper);
+        const EvalAggregate* on_source =
+            Find(rows, terrain, PoseSourceMethod{mapper, source}.Name());
+        if (on_true == nullptr || on_source == nullptr) {
+          csv += ",,,,";
+          md << " - |";
+          continue;
+        }
+        csv += "," + common::FormatNumber("%.6g", on_true->mean_error) + "," +
+               common::FormatNumber("%.6g", on_source->mean_error) + "," +
+               number("%.6g", on_true->auroc) + "," + number("%.6g", on_source->auroc);
+        const double change = 100.0 * (on_source->mean_error / on_true->mean_error - 1.0);
+        md << " " << common::FormatNumber("%.4f", on_true->mean_error) << " -> "
+           << common::FormatNumber("%.4f", on_source->mean_error) << " ("
+           << common::FormatNumber("%+.1f", change) << " %); " << Cell(on_true->auroc, "%.3f")
+           << " -> " << Cell(on_source->auroc, "%.3f") << " |";
+      }
+      csv += "\n";
+      md << "\n";
+    }
+  }
+  WriteTextFileAtomically((folder / "pose_sources.csv").string(), csv);
+  return md.str();
+}
+
 }  // namespace
 
 void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
@@ -555,6 +609,7 @@ void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
   // the inducing-point ablation
   const std::vector<AblationRow> ablation = AblationRows(options, base_inducing_points);
   const std::string ablation_md = WriteAblation(folder, options, rows, ablation, &notes);
+  const std::string pose_sources_md = WritePoseSources(folder, options, rows);
 
   // results.md
   std::ostringstream md;
@@ -579,7 +634,7 @@ void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
                    "paper")
      << "\nPeak memory: the largest growth of the heap in use (glibc mallinfo2, all arenas) "
         "between the method's construction and the end of any of its updates in one scene.\n\n"
-     << ablation_md;
+     << ablation_md << (pose_sources_md.empty() ? "" : "\n") << pose_sources_md;
   if (!failures.empty()) {
     md << "\n## Failed scenes\n\n| scene | end | exit code | signal | log "
           "|\n|---|---|---|---|---|\n";

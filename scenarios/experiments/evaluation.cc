@@ -153,7 +153,9 @@ std::unique_ptr<mapping::TraversabilityMapper> MakeEvalMapper(const std::string&
     return std::make_unique<PaintingMapper>(truth_W, scene.mapping.area, constant);
   }
   Scenario configured = scene;
-  if (method == kNoFeatures || method == kFixedGain) {
+  if (const std::optional<PoseSourceMethod> on_source = ParsePoseSourceMethod(method)) {
+    configured.mapper = *StandardMethod(on_source->base);
+  } else if (method == kNoFeatures || method == kFixedGain) {
     configured.mapper = MapperMethod::kFsgpBgk;
     if (method == kNoFeatures) {
       configured.mapping.gp.length_scales.tail<2>().setConstant(kIgnoredLengthScale);
@@ -178,10 +180,11 @@ double HeapInUseBytes() {
   return static_cast<double>(info.uordblks) + static_cast<double>(info.hblkhd);
 }
 
-// A LiDAR frame recorded during the drive.
+// A LiDAR frame recorded during the drive, in the mapper's frame M: W on the true pose, the
+// odometry frame O of a pose estimate on another pose source.
 struct RecordedFrame {
-  common::PointCloud points_W;
-  Eigen::Isometry3d X_WB;
+  common::PointCloud cloud_M;
+  Eigen::Isometry3d X_MB;
   double t_s;
 };
 
@@ -198,6 +201,28 @@ class FrameRecorder : public LoopObserver {
  private:
   std::vector<RecordedFrame>* frames_;
 };
+
+// The frames of a drive on the true pose as a mapper on `localization`'s pose estimate gets them:
+// each moved into the odometry frame O of the estimate at its time (X_OW = X_OB X_WB^-1), the
+// estimate fed the drive's true poses frame by frame (its drift grows with the distance between
+// them, as along the physics steps).
+std::vector<RecordedFrame> FramesOnPoseSource(const std::vector<RecordedFrame>& frames_W,
+                                              const sim::PoseNoiseConfig& localization) {
+  sim::PoseNoise estimator(localization);
+  std::vector<RecordedFrame> frames_O;
+  frames_O.reserve(frames_W.size());
+  for (const RecordedFrame& frame : frames_W) {
+    common::RobotState truth;
+    truth.time_s = frame.t_s;
+    truth.X_WB = frame.X_MB;
+    const Eigen::Isometry3d X_OB = estimator.Estimate(truth).X_WB;
+    const Eigen::Isometry3f X_OW = (X_OB * frame.X_MB.inverse()).cast<float>();
+    RecordedFrame moved{frame.cloud_M, X_OB, frame.t_s};
+    moved.cloud_M.points = (X_OW.linear() * frame.cloud_M.points).colwise() + X_OW.translation();
+    frames_O.push_back(std::move(moved));
+  }
+  return frames_O;
+}
 
 // A number, or none if it is NaN.
 std::optional<double> NumberOrNone(double value) {
@@ -222,7 +247,7 @@ EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene
   for (const RecordedFrame& frame : frames) {
     const common::Stopwatch start;
     const common::ThreadCpuStopwatch cpu;
-    const mapping::MapUpdateResult update = mapper->Update(frame.points_W, frame.X_WB, frame.t_s);
+    const mapping::MapUpdateResult update = mapper->Update(frame.cloud_M, frame.X_MB, frame.t_s);
     runtime.push_back(cpu.ElapsedMilliseconds());
     wall.push_back(start.ElapsedMilliseconds());
     if (!std::isnan(update.mean_fusion_weight)) {
@@ -232,7 +257,7 @@ EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene
     const double heap = HeapInUseBytes() - heap_before;
     peak_heap = std::max(peak_heap, heap);
     heap_mb.push_back(heap / kBytesPerMiB);
-    observed.Add(frame.points_W, frame.X_WB.translation());
+    observed.Add(frame.cloud_M, frame.X_MB.translation());
     const LayerError error =
         CompareObserved(mapper->map(), truth_W, observed, mapping::layers::kTraversability);
     t.push_back(frame.t_s);
@@ -384,6 +409,19 @@ void ValidateEvalOptions(const EvalOptions& options) {
     common::RequireValue(count >= 10 && count <= 3000, "--inducing", count,
                          "must be in [10, 3000]");
   }
+  std::set<std::string> sources;
+  for (const std::string& source : options.pose_sources) {
+    const std::optional<sim::LocalizationMethod> method =
+        common::EnumFromName<sim::LocalizationMethod>(source);
+    if (!method || *method == sim::LocalizationMethod::kTrue) {
+      throw common::InputError("--pose-sources", source,
+                               "unknown pose source (expected drift-model; the true pose always "
+                               "runs)");
+    }
+    if (!sources.insert(source).second) {
+      throw common::InputError("--pose-sources", source, "is listed twice");
+    }
+  }
   std::set<std::string> terrains;
   for (const std::string& terrain : options.terrains) {
     if (!terrains.insert(terrain).second) {
@@ -400,6 +438,7 @@ nlohmann::json EvalOptionsJson(const EvalOptions& options) {
           {"seed", options.seed},
           {"methods", options.methods},
           {"inducing_points", options.inducing_points},
+          {"pose_sources", options.pose_sources},
           {"route_length_m", options.route_length_m},
           {"max_frames", options.max_frames},
           {"sets", options.sets},
@@ -415,6 +454,8 @@ EvalOptions EvalOptionsFromJson(const nlohmann::json& json, const std::string& s
     json.at("seed").get_to(options.seed);
     json.at("methods").get_to(options.methods);
     json.at("inducing_points").get_to(options.inducing_points);
+    // absent in evaluations written before pose sources existed: the true pose only
+    options.pose_sources = json.value("pose_sources", std::vector<std::string>{});
     json.at("route_length_m").get_to(options.route_length_m);
     json.at("max_frames").get_to(options.max_frames);
     json.at("sets").get_to(options.sets);
@@ -435,7 +476,8 @@ EvalOptions EvalOptionsFromJson(const nlohmann::json& json, const std::string& s
 bool SameEvaluation(const EvalOptions& a, const EvalOptions& b) {
   return a.terrains == b.terrains && a.scenes == b.scenes && a.seed == b.seed &&
          a.methods == b.methods && a.inducing_points == b.inducing_points &&
-         a.route_length_m == b.route_length_m && a.max_frames == b.max_frames && a.sets == b.sets;
+         a.pose_sources == b.pose_sources && a.route_length_m == b.route_length_m &&
+         a.max_frames == b.max_frames && a.sets == b.sets;
 }
 
 std::vector<EvalScene> EvalScenes(const EvalOptions& options) {
@@ -469,7 +511,33 @@ std::vector<std::string> EvalMethods(const EvalOptions& options) {
       if (count != base) methods.push_back(AblationMethod{gp_method, count}.Name());
     }
   }
+  for (const std::string& source : options.pose_sources) {
+    for (const std::string& mapper : PoseSourceMappers(options)) {
+      methods.push_back(PoseSourceMethod{mapper, source}.Name());
+    }
+  }
   return methods;
+}
+
+std::optional<PoseSourceMethod> ParsePoseSourceMethod(const std::string& method) {
+  const std::size_t at = method.find('@');
+  if (at == std::string::npos) return std::nullopt;
+  PoseSourceMethod parsed{method.substr(0, at), method.substr(at + 1)};
+  const std::optional<MapperMethod> mapper = StandardMethod(parsed.base);
+  if (!mapper || *mapper == MapperMethod::kGroundTruth ||
+      !common::EnumFromName<sim::LocalizationMethod>(parsed.source)) {
+    return std::nullopt;
+  }
+  return parsed;
+}
+
+std::vector<std::string> PoseSourceMappers(const EvalOptions& options) {
+  std::vector<std::string> mappers;
+  for (const std::string& method : options.methods) {
+    const std::optional<MapperMethod> mapper = StandardMethod(method);
+    if (mapper && *mapper != MapperMethod::kGroundTruth) mappers.push_back(method);
+  }
+  return mappers;
 }
 
 std::optional<AblationMethod> ParseAblationMethod(const std::string& method) {
@@ -614,16 +682,28 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   }
   const common::GridLayers& truth_W = *routable;
 
-  // the drive: the closed loop on the oracle, every frame recorded as the mapper would get it
+  // the drive: the closed loop on the oracle and the true pose, every frame recorded as the mapper
+  // would get it (the pose sources' estimates are made along it afterwards)
+  Scenario drive_scenario = scenario;
+  drive_scenario.pose_noise = sim::PoseNoiseConfig{};
   std::vector<RecordedFrame> frames;
   FrameRecorder recorder(&frames);
-  ClosedLoop loop(scenario, {robot_model_path, options.max_frames});
+  ClosedLoop loop(drive_scenario, {robot_model_path, options.max_frames});
   const RunSummary drive = RunLoop(&loop, {&recorder});
 
+  std::map<std::string, std::vector<RecordedFrame>> frames_on_source;
+  for (const std::string& source : options.pose_sources) {
+    sim::PoseNoiseConfig localization = scenario.pose_noise;
+    localization.method = *common::EnumFromName<sim::LocalizationMethod>(source);
+    frames_on_source[source] = FramesOnPoseSource(frames, localization);
+  }
   for (const std::string& method : EvalMethods(options)) {
     const double fixed_gain =
         method == kFixedGain ? SceneMeanWeight(record, scenario, truth_W, frames) : 0.0;
-    record.methods[method] = EvaluateMethod(method, scenario, truth_W, frames, fixed_gain);
+    const std::optional<PoseSourceMethod> on_source = ParsePoseSourceMethod(method);
+    record.methods[method] =
+        EvaluateMethod(method, scenario, truth_W,
+                       on_source ? frames_on_source.at(on_source->source) : frames, fixed_gain);
   }
   record.route.start = {scenario.start_W.position.x(), scenario.start_W.position.y(),
                         scenario.start_W.yaw};

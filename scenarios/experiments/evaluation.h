@@ -35,6 +35,11 @@ struct EvalOptions {
   /// each count other than the scenes' own M (mapping key max_training_points, 500) adds a method
   /// <method>-m<count> (fsgp-bgk-m50); empty: no ablation.
   std::vector<int> inducing_points{50, 125, 500};
+  /// Pose sources of the mappers besides the true pose (localization methods other than `true`:
+  /// drift-model): each adds <method>@<source> for every mapper of `methods`, run on the drive's
+  /// frames moved into the odometry frame of that source's pose estimate along the drive (the
+  /// drive itself navigates on the true pose). Empty: the true pose only.
+  std::vector<std::string> pose_sources;
   double route_length_m{24.0};  ///< straight-line distance from start to goal [m], > 0
   int max_frames{0};            ///< LiDAR frames per scene, 0: until the drive ends; >= 0
   /// Scenario overrides applied to every scene (key.path=value, as `trav run --set`).
@@ -67,7 +72,7 @@ std::vector<EvalScene> EvalScenes(const EvalOptions& options);
 
 /// The methods every scene runs: `options.methods`, the floor and the ceiling of every table
 /// (constant=0.5 unless a constant is listed, and the ground-truth oracle), then the ablation's
-/// <method>-m<count>.
+/// <method>-m<count>, then per pose source <method>@<source>.
 std::vector<std::string> EvalMethods(const EvalOptions& options);
 
 /// The inducing-point count M of the GP mappers in the scenes (the mapping default unless
@@ -88,6 +93,22 @@ std::optional<AblationMethod> ParseAblationMethod(const std::string& method);
 /// The GP mappers the ablation covers: those of sgp, fsgp and fsgp-bgk among `options.methods`,
 /// in their order there (none without inducing-point counts).
 std::vector<std::string> AblatedMethods(const EvalOptions& options);
+
+/// A method on another pose source: a mapper of `methods` fed the frames in the odometry frame of
+/// the source's pose estimate.
+struct PoseSourceMethod {
+  std::string base;    ///< the mapper (sgp, fsgp, fsgp-bgk, fsgp-accumulation, em)
+  std::string source;  ///< the localization method's name (drift-model)
+  /// The method's name: <base>@<source>.
+  std::string Name() const { return base + "@" + source; }
+};
+
+/// The pose-source method named `method` (fsgp-bgk@drift-model), if it is one.
+std::optional<PoseSourceMethod> ParsePoseSourceMethod(const std::string& method);
+
+/// The mappers each pose source runs: the standard mappers among `options.methods` (not the
+/// oracle, constants or the contribution ablations), in their order there.
+std::vector<std::string> PoseSourceMappers(const EvalOptions& options);
 
 /// One method's frames in a scene, frame by frame (every vector has one value per frame).
 struct EvalFrames {

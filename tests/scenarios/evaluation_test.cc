@@ -2,6 +2,7 @@
 // oracle and a constant method, resuming, failed scenes, and bad arguments.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -211,6 +212,51 @@ TEST_F(EvaluationTest, TheContributionAblationsRunBesideFsgpBgk) {
   EXPECT_EQ(
       RunTrav("eval --out " + (root_ / "bad").string() + " --methods fsgp-bgk-no-gain").exit_code,
       2);
+}
+
+// The mappers on the drift model's pose: the same drive's frames moved into the estimate's
+// odometry frame. With no drift the moved frames are the frames, so the maps are the same.
+TEST_F(EvaluationTest, ThePoseSourcesRunEveryMapperOnTheEstimatesFrames) {
+  const CommandResult run = RunTrav(
+      "eval --out " + (root_ / "eval").string() +
+      " --terrains flat --scenes 1 --seed 5 --frames 6 --jobs 1 --route-length 6 --no-ablation "
+      "--methods fsgp-bgk,em,ground-truth --pose-sources drift-model --set "
+      "'terrain.boxes=[{name: crate, centre: [0, 0], half_extents: [0.4, 0.4], height: 0.6}]' "
+      "--set localization.translation_drift=0.5 --set localization.yaw_drift=0.05");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json methods = ReadJson(root_ / "eval" / "scenes" / "flat-5.json").at("methods");
+  // every mapper of --methods, not the oracle or the floor
+  EXPECT_TRUE(methods.contains("fsgp-bgk@drift-model"));
+  EXPECT_TRUE(methods.contains("em@drift-model"));
+  EXPECT_FALSE(methods.contains("ground-truth@drift-model"));
+  EXPECT_FALSE(methods.contains("constant=0.5@drift-model"));
+  // the drift moved the frames: the maps differ from those on the true pose
+  EXPECT_NE(methods.at("em@drift-model").at("frames").at("mean_error"),
+            methods.at("em").at("frames").at("mean_error"));
+  EXPECT_THAT(ReadFile(root_ / "eval" / "results.md"),
+              HasSubstr("## The mappers on another pose source"));
+  const std::string csv = ReadFile(root_ / "eval" / "pose_sources.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "method,pose_source,flat_error_true,flat_error,flat_auroc_true,flat_auroc");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);  // the header, fsgp-bgk and em
+
+  // without drift the estimate is the truth: the same maps, number for number
+  const CommandResult still = RunTrav(
+      "eval --out " + (root_ / "still").string() +
+      " --terrains flat --scenes 1 --seed 5 --frames 6 --jobs 1 --route-length 6 --no-ablation "
+      "--methods em --pose-sources drift-model --set localization.translation_drift=0 --set "
+      "localization.z_drift=0 --set localization.yaw_drift=0");
+  ASSERT_EQ(still.exit_code, 0) << still.output;
+  const nlohmann::json same = ReadJson(root_ / "still" / "scenes" / "flat-5.json").at("methods");
+  EXPECT_EQ(same.at("em@drift-model").at("frames").at("mean_error"),
+            same.at("em").at("frames").at("mean_error"));
+
+  EXPECT_EQ(RunTrav("eval --out " + (root_ / "bad").string() + " --pose-sources true").exit_code,
+            2);
+  EXPECT_EQ(
+      RunTrav("eval --out " + (root_ / "bad").string() + " --pose-sources scan-matching").exit_code,
+      2);
+  EXPECT_FALSE(fs::exists(root_ / "bad"));
 }
 
 // Walls along both axes through the centre: every route (through the centre) is cut.
