@@ -413,10 +413,10 @@ void ValidateEvalOptions(const EvalOptions& options) {
   for (const std::string& source : options.pose_sources) {
     const std::optional<sim::LocalizationMethod> method =
         common::EnumFromName<sim::LocalizationMethod>(source);
-    if (!method || *method == sim::LocalizationMethod::kTrue) {
+    if (!method || *method != sim::LocalizationMethod::kDriftModel) {
       throw common::InputError("--pose-sources", source,
                                "unknown pose source (expected drift-model; the true pose always "
-                               "runs)");
+                               "runs, scan-matching runs in the closed loop only)");
     }
     if (!sources.insert(source).second) {
       throw common::InputError("--pose-sources", source, "is listed twice");

@@ -161,6 +161,13 @@ ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& option
   }
   if (scenario.imu.enabled && simulation_->ImuTruth()) imu_.emplace(scenario.imu);
   pose_noise_.emplace(scenario.pose_noise);
+  if (lidar_ && scenario.pose_noise.method == sim::LocalizationMethod::kScanMatching) {
+    // O is where the sensor starts; the sensor's mount is fixed on the base
+    const Eigen::Isometry3d X_WB = simulation_->State().X_WB;
+    X_BL_odometry_ = X_BL_ ? *X_BL_ : Eigen::Isometry3d(X_WB.inverse() * simulation_->LidarPose());
+    odometry_ =
+        std::make_unique<mapping::LidarOdometry>(scenario.lidar_odometry, X_WB * X_BL_odometry_);
+  }
   total_steps_ = static_cast<int>(std::ceil(scenario.duration_s / simulation_->timestep() - 1e-9));
   state_ = simulation_->State();
 }
@@ -212,7 +219,7 @@ void ClosedLoop::PlaceMovers() {
 void ClosedLoop::DecideCommand() {
   const double now_s = simulation_->time();
   // the one pose estimate of this step, for the navigator, the mapper and the mover tracker
-  estimate_ = pose_noise_->Estimate(state_);
+  estimate_ = EstimatePose();
   if (!navigator_) {
     command_ = tracker_ ? tracker_->Command(state_) : DriveCommandAt(scenario_.drive, now_s);
     return;
@@ -248,6 +255,7 @@ bool ClosedLoop::Scan() {
   if (!lidar_->frame_ready()) return true;
   lidar_->TakeFrame(&lidar_frame_);
   ++lidar_frames_;
+  if (odometry_) RegisterScan();
   lidar_points_ += static_cast<double>(lidar_frame_.points_L.size());
   // the frame in W, each point placed with its own sensor pose: once for everything that wants it
   common::PointCloud cloud_W;
@@ -284,6 +292,41 @@ bool ClosedLoop::Scan() {
                                std::move(cloud_O), estimate_.X_WB, simulation.time()});
   }
   return max_lidar_frames_ <= 0 || lidar_frames_ < max_lidar_frames_;
+}
+
+common::RobotState ClosedLoop::EstimatePose() {
+  if (!odometry_) return pose_noise_->Estimate(state_);
+  common::RobotState estimate = state_;
+  // between scans the motion since the last one carries the estimate on, as an IMU would
+  if (last_scan_pose_) {
+    estimate.X_WB = last_scan_pose_->X_OB * (last_scan_pose_->X_WB.inverse() * state_.X_WB);
+  }
+  return estimate;
+}
+
+void ClosedLoop::RegisterScan() {
+  const common::Stopwatch start;
+  std::optional<Eigen::Matrix3d> R_turn;
+  if (imu_) {
+    const Eigen::Matrix3d& R_BL = X_BL_odometry_.linear();
+    R_turn = R_BL.transpose() * gyro_turn_B_ * R_BL;
+    gyro_turn_B_.setIdentity();
+  }
+  const Eigen::Isometry3d& X_OL =
+      odometry_->AddScan(lidar_frame_.points_L.points, lidar_frame_.points_L.time_offsets,
+                         scenario_.lidar.frame_period_s, R_turn);
+  times_.Add("localization", start.ElapsedMilliseconds());
+  last_scan_pose_ = ScanPose{X_OL * X_BL_odometry_.inverse(), state_.X_WB};
+  estimate_.X_WB = last_scan_pose_->X_OB;
+}
+
+void ClosedLoop::IntegrateGyro() {
+  const double dt = 1.0 / scenario_.imu.rate_hz;
+  for (const sim::ImuSample& sample : imu_->samples()) {
+    const Eigen::Vector3d& w = sample.measured.gyro_I;
+    const double angle = w.norm() * dt;
+    if (angle > 0.0) gyro_turn_B_ = gyro_turn_B_ * Eigen::AngleAxisd(angle, w.normalized());
+  }
 }
 
 Eigen::Isometry3d ClosedLoop::OdometryFromWorld() const {
@@ -337,7 +380,10 @@ Outcome ClosedLoop::Run(const std::function<void(double fraction)>& progress) {
     const sim::StepStatus status = simulation.Step();
     times_.Add("physics", physics_start.ElapsedMilliseconds());
     // MuJoCo's sensors of this step read the state at its start
-    if (imu_) imu_->AddReading(step_start_s, *simulation.ImuTruth());
+    if (imu_) {
+      imu_->AddReading(step_start_s, *simulation.ImuTruth());
+      if (odometry_) IntegrateGyro();
+    }
     ++physics_steps_;
     if (status == sim::StepStatus::kDiverged) {
       outcome = Outcome::kDiverged;

@@ -14,6 +14,7 @@
 #include "common/pose.h"
 #include "common/stopwatch.h"
 #include "controller/mpc_tracker.h"
+#include "mapping/lidar_odometry.h"
 #include "mapping/mover_tracker.h"
 #include "mapping/traversability_mapper.h"
 #include "planner/navigation/navigator.h"
@@ -183,6 +184,13 @@ class ClosedLoop {
   void MapPendingFrames();
   // X_OW: the odometry frame O of this step's pose estimate from W (identity for true poses).
   Eigen::Isometry3d OdometryFromWorld() const;
+  // This step's pose estimate: the pose noise model's, or with scan-matching the pose of the last
+  // registered scan carried on by the motion since.
+  common::RobotState EstimatePose();
+  // Registers a complete frame with the LiDAR odometry (scan-matching).
+  void RegisterScan();
+  // Adds the IMU's samples of the last step to the gyroscope's rotation since the last scan.
+  void IntegrateGyro();
   std::optional<Outcome> CheckEnd(EndCondition::Stage stage, const LoopStep& step);
 
   const common::Stopwatch wall_clock_;
@@ -202,6 +210,18 @@ class ClosedLoop {
   std::optional<common::GridLayers> truth_W_;
   std::optional<planner::Navigator> navigator_;
   std::optional<sim::PoseNoise> pose_noise_;
+  // localization method scan-matching: the odometry, the sensor in the base frame, and the pose
+  // of the base at the last registered scan in O and (to carry it on between scans) in W
+  std::unique_ptr<mapping::LidarOdometry> odometry_;
+  Eigen::Isometry3d X_BL_odometry_{Eigen::Isometry3d::Identity()};
+  struct ScanPose {
+    Eigen::Isometry3d X_OB;
+    Eigen::Isometry3d X_WB;
+  };
+  std::optional<ScanPose> last_scan_pose_;
+  // the gyroscope's rotation of the base since the last registered scan (the IMU's axes are the
+  // base's), the odometry's rotation prior
+  Eigen::Matrix3d gyro_turn_B_{Eigen::Matrix3d::Identity()};
   std::optional<sim::Imu> imu_;
   std::optional<mapping::MoverTracker> mover_tracker_;
 

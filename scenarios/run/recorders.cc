@@ -83,14 +83,20 @@ void ImuRecorder::OnEnd(const ClosedLoop& /*loop*/, Outcome /*outcome*/) {
 }
 
 void LocalizationError::OnCommand(const ClosedLoop& loop) {
-  const Eigen::Vector3d error =
-      loop.estimate().X_WB.translation() - loop.state().X_WB.translation();
-  max_position_error_m_ = std::max(max_position_error_m_, error.head<2>().norm());
+  const Eigen::Isometry3d& X_WB = loop.state().X_WB;
+  const Eigen::Isometry3d& X_OB = loop.estimate().X_WB;
+  max_position_error_m_ =
+      std::max(max_position_error_m_, (X_OB.translation() - X_WB.translation()).head<2>().norm());
+  if (last_p_W_) distance_m_ += (X_WB.translation() - *last_p_W_).head<2>().norm();
+  last_p_W_ = X_WB.translation();
+  constexpr double kSampleSpacing_m = 0.1;
+  if (samples_.empty() || distance_m_ - samples_.back().distance_m >= kSampleSpacing_m) {
+    samples_.push_back({distance_m_, X_WB, X_OB});
+  }
 }
 
 LocalizationMetrics LocalizationError::Metrics(const common::RobotState& estimate,
-                                               const common::RobotState& truth,
-                                               double distance_m) const {
+                                               const common::RobotState& truth) const {
   LocalizationMetrics metrics;
   const Eigen::Vector3d error = estimate.X_WB.translation() - truth.X_WB.translation();
   metrics.final_position_error_m = error.head<2>().norm();
@@ -98,8 +104,10 @@ LocalizationMetrics LocalizationError::Metrics(const common::RobotState& estimat
   const Eigen::Matrix3d R_error = estimate.X_WB.linear() * truth.X_WB.linear().transpose();
   metrics.final_yaw_error_deg = std::atan2(R_error(1, 0), R_error(0, 0)) * kRadToDeg;
   metrics.max_position_error_m = std::max(max_position_error_m_, metrics.final_position_error_m);
-  metrics.error_per_10_m =
-      distance_m > 0.0 ? 10.0 * metrics.final_position_error_m / distance_m : 0.0;
+  const RelativePoseError relative = RelativePoseErrorOver(samples_, 10.0);
+  metrics.relative_error_10m_m = relative.translation_m;
+  metrics.relative_yaw_error_10m_deg = relative.yaw_deg;
+  metrics.relative_error_stretches = relative.stretches;
   return metrics;
 }
 

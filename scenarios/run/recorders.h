@@ -3,6 +3,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -116,18 +117,22 @@ class MotionStatistics : public LoopObserver {
 };
 
 /// How far the pose estimate strays from the truth over a run (compared when each command is
-/// decided, the estimate and the state being of the same time).
+/// decided, the estimate and the state being of the same time): the largest error, and the poses
+/// every 0.1 m driven for the relative pose error over 10 m.
 class LocalizationError : public LoopObserver {
  public:
   void OnCommand(const ClosedLoop& loop) override;
 
-  /// The errors of `estimate` against `truth` (the run's last) and the largest seen; the
-  /// method is left for the caller.
-  LocalizationMetrics Metrics(const common::RobotState& estimate, const common::RobotState& truth,
-                              double distance_m) const;
+  /// The errors of `estimate` against `truth` (the run's last), the largest seen and the relative
+  /// errors; the method is left for the caller.
+  LocalizationMetrics Metrics(const common::RobotState& estimate,
+                              const common::RobotState& truth) const;
 
  private:
   double max_position_error_m_{0.0};
+  double distance_m_{0.0};
+  std::optional<Eigen::Vector3d> last_p_W_;
+  std::vector<PoseSample> samples_;
 };
 
 /// How the robot and the movers met (mode navigate): the closest gap, near misses, and how well

@@ -205,6 +205,27 @@ double ModuleTimes::Total(const std::string& module) const {
   return it == totals_ms_.end() ? 0.0 : it->second;
 }
 
+RelativePoseError RelativePoseErrorOver(const std::vector<PoseSample>& samples, double stretch_m) {
+  RelativePoseError error;
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    j = std::max(j, i);
+    while (j < samples.size() && samples[j].distance_m - samples[i].distance_m < stretch_m) ++j;
+    if (j == samples.size()) break;
+    const Eigen::Isometry3d true_motion = samples[i].X_WB.inverse() * samples[j].X_WB;
+    const Eigen::Isometry3d estimated_motion = samples[i].X_OB.inverse() * samples[j].X_OB;
+    const Eigen::Isometry3d difference = true_motion.inverse() * estimated_motion;
+    error.translation_m += difference.translation().norm();
+    error.yaw_deg += std::abs(std::atan2(difference.linear()(1, 0), difference.linear()(0, 0)));
+    ++error.stretches;
+  }
+  if (error.stretches > 0) {
+    error.translation_m /= error.stretches;
+    error.yaw_deg *= 180.0 / M_PI / error.stretches;
+  }
+  return error;
+}
+
 std::map<std::string, ModuleTime> ModuleTimes::Summary() const {
   std::map<std::string, ModuleTime> times;
   for (const auto& [module, samples] : samples_) {

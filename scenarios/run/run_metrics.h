@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <nlohmann/json_fwd.hpp>
 
 #include "common/grid.h"
@@ -119,6 +119,25 @@ class ProgressMonitor {
 /// timeseries.csv.
 inline constexpr const char* kTimedModules[] = {"lidar",   "mapping", "planning",
                                                 "control", "physics", "render"};
+
+/// The robot's pose at a distance driven: the true one and the estimate the stack used.
+struct PoseSample {
+  double distance_m{0.0};
+  Eigen::Isometry3d X_WB{Eigen::Isometry3d::Identity()};
+  Eigen::Isometry3d X_OB{Eigen::Isometry3d::Identity()};
+};
+
+/// The relative pose error of an estimate at one stretch length, odometry's usual drift metric
+/// (KITTI's, at one length): for every sample i and the first sample j at least `stretch_m`
+/// farther along, the difference between the estimated motion X_OB(i)^-1 X_OB(j) and the true one;
+/// the means of its translation [m] and of its yaw [deg], over `stretches` pairs (0, and means 0,
+/// when the samples span less than `stretch_m`).
+struct RelativePoseError {
+  double translation_m{0.0};
+  double yaw_deg{0.0};
+  int stretches{0};
+};
+RelativePoseError RelativePoseErrorOver(const std::vector<PoseSample>& samples, double stretch_m);
 
 /// One module's wall time over a run: summary.json's compute.<module>.
 struct ModuleTime {

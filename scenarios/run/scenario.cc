@@ -315,6 +315,7 @@ void VisitScenario(Archive* a, Scenario* s) {
   a->Map("localization", [s](Archive& l) {
     l.Enum("method", &s->pose_noise.method);
     s->pose_noise.odometry.Serialize(&l);
+    s->lidar_odometry.Serialize(&l);
   });
   a->Map("mapping", [s](Archive& m) {
     m.Field("enabled", &s->mapping_enabled);
@@ -353,7 +354,14 @@ void ValidateSections(const Scenario& s) {
     planner::ValidateNavigationSettings(s.navigation);
     sim::ValidatePoseNoiseConfig(s.pose_noise);
   });
-  ValidateAt("localization", [&] { sim::ValidateOdometryDriftConfig(s.pose_noise.odometry); });
+  ValidateAt("localization", [&] {
+    sim::ValidateOdometryDriftConfig(s.pose_noise.odometry);
+    mapping::ValidateLidarOdometryConfig(s.lidar_odometry);
+    if (s.pose_noise.method == sim::LocalizationMethod::kScanMatching && !s.lidar.enabled) {
+      throw common::InputError("", "method",
+                               "value scan-matching needs the LiDAR (lidar.enabled: true)");
+    }
+  });
   ValidateAt("traffic", [&] { sim::ValidateTrafficSettings(s.traffic); });
   ValidateAt("moving_obstacles", [&] { sim::ValidateMovingObstacles(s.movers); });
 }

@@ -15,6 +15,7 @@
 #include "controller/skid_steer.h"
 #include "mapping/fsgp_config.h"
 #include "mapping/ground_truth.h"
+#include "mapping/lidar_odometry.h"
 #include "planner/navigation/navigator.h"
 #include "planner/navigation_planner.h"
 #include "renders/camera.h"
@@ -137,6 +138,8 @@ struct Scenario {
   planner::NavigationSettings navigation{};    ///< scenario key `navigation` (mode navigate)
   /// navigation.position_noise, yaw_noise, drift, localization_seed: the pose the stack believes
   sim::PoseNoiseConfig pose_noise{};
+  /// localization's scan-matching keys: the LiDAR odometry of method scan-matching
+  mapping::LidarOdometryConfig lidar_odometry{};
   double rollover_limit_deg{60.0};  ///< tilt that ends the run as rolled over [deg]
   /// moving_obstacles: movers of the closed loop (MuJoCo mocap bodies the LiDAR sees)
   std::vector<sim::MovingObstacle> movers;

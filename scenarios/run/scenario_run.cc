@@ -242,8 +242,7 @@ RunSummary RunLoop(ClosedLoop* loop, const std::vector<LoopObserver*>& observers
   }
   summary.collision = collision_record.record();
   if (scenario.pose_noise.active()) {
-    summary.localization =
-        localization.Metrics(loop->estimate(), loop->state(), motion.distance_m());
+    summary.localization = localization.Metrics(loop->estimate(), loop->state());
     summary.localization->method = scenario.pose_noise.method;
   }
   summary.compute = loop->times().Summary();
@@ -340,7 +339,9 @@ void to_json(nlohmann::json& json, const LocalizationMetrics& m) {
           {"final_z_error_m", m.final_z_error_m},
           {"final_yaw_error_deg", m.final_yaw_error_deg},
           {"max_position_error_m", m.max_position_error_m},
-          {"error_per_10_m", m.error_per_10_m}};
+          {"relative_error_10m_m", m.relative_error_10m_m},
+          {"relative_yaw_error_10m_deg", m.relative_yaw_error_10m_deg},
+          {"relative_error_stretches", m.relative_error_stretches}};
 }
 
 void to_json(nlohmann::json& json, const CollisionRecord& c) {

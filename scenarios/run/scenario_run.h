@@ -80,8 +80,13 @@ struct LocalizationMetrics {
   double final_z_error_m{0.0};
   double final_yaw_error_deg{0.0};
   double max_position_error_m{0.0};  ///< horizontal, over the run
-  /// final_position_error_m per 10 m driven (0 when the robot did not move) [m]
-  double error_per_10_m{0.0};
+  /// The relative pose error over 10 m, odometry's usual drift metric: over every stretch of 10 m
+  /// driven (starting every 0.1 m), the difference between the estimated and the true motion
+  /// across it; means of its length [m] and of its yaw [deg], and the number of stretches (0, and
+  /// the means 0, when the robot drove less than 10 m).
+  double relative_error_10m_m{0.0};
+  double relative_yaw_error_10m_deg{0.0};
+  int relative_error_stretches{0};
 };
 
 /// summary.json's "localization" object.

@@ -15,13 +15,16 @@ namespace trav::sim {
 
 /// Where the stack's pose comes from (scenario key `localization.method`).
 enum class LocalizationMethod {
-  kTrue,        ///< the true pose (with the `navigation` noise keys, when set)
-  kDriftModel,  ///< LiDAR-inertial odometry's error: drift growing with the distance driven
+  kTrue,          ///< the true pose (with the `navigation` noise keys, when set)
+  kDriftModel,    ///< LiDAR-inertial odometry's error: drift growing with the distance driven
+  kScanMatching,  ///< a LiDAR odometry on the scans (mapping::LidarOdometry), not this model
 };
 
 /// The names of LocalizationMethod's values (common/enum_names.h).
-inline constexpr std::array<common::EnumName<LocalizationMethod>, 2> kLocalizationMethodNames{
-    {{LocalizationMethod::kTrue, "true"}, {LocalizationMethod::kDriftModel, "drift-model"}}};
+inline constexpr std::array<common::EnumName<LocalizationMethod>, 3> kLocalizationMethodNames{
+    {{LocalizationMethod::kTrue, "true"},
+     {LocalizationMethod::kDriftModel, "drift-model"},
+     {LocalizationMethod::kScanMatching, "scan-matching"}}};
 constexpr const auto& EnumNames(LocalizationMethod) { return kLocalizationMethodNames; }
 
 /// The odometry drift of `localization.method: drift-model`: each stretch ds [m] the robot drives
@@ -71,7 +74,7 @@ struct PoseNoiseConfig {
   /// Whether the estimate can differ from the truth.
   bool active() const {
     return position_noise_m > 0.0 || yaw_noise_rad > 0.0 || drift_m_per_sqrt_s > 0.0 ||
-           method == LocalizationMethod::kDriftModel;
+           method != LocalizationMethod::kTrue;
   }
 };
 
@@ -84,7 +87,9 @@ void ValidatePoseNoiseConfig(const PoseNoiseConfig& config);
 void ValidateOdometryDriftConfig(const OdometryDriftConfig& config);
 
 /// The pose the robot believes: the true one with the config's noise and drift. Seeded and
-/// repeatable; when the config is not active() it returns the true state unchanged.
+/// repeatable; when the config is not active() it returns the true state unchanged. Method
+/// scan-matching is not a model: its estimate comes from mapping::LidarOdometry, and here only the
+/// `navigation` noise keys act.
 class PoseNoise {
  public:
   explicit PoseNoise(const PoseNoiseConfig& config);

@@ -14,6 +14,7 @@
 
 #include "mapping/baselines.h"
 #include "mapping/fsgp_bgk_mapper.h"
+#include "mapping/lidar_odometry.h"
 #include "sim/lidar/lidar_emulator.h"
 #include "sim/terrain_geometry.h"
 
@@ -24,6 +25,8 @@ using trav::lidar::LidarFrame;
 struct Frames {
   std::vector<trav::common::PointCloud> clouds_W;
   std::vector<Eigen::Isometry3d> poses_W;
+  std::vector<trav::common::PointCloud> scans_L;  // as the sensor reports them, for the odometry
+  std::vector<Eigen::Isometry3d> X_WL_end;
 };
 
 // Frames of the robot driving at 1 m/s along +x from (-10, 0), 0.3 m above the ground.
@@ -52,6 +55,8 @@ const Frames& MakeFrames(trav::sim::TerrainType type, int count) {
     Eigen::Isometry3d X_WB = frame.X_WL_end;
     X_WB.translation().z() -= 0.2;
     frames.poses_W.push_back(X_WB);
+    frames.scans_L.push_back(frame.points_L);
+    frames.X_WL_end.push_back(frame.X_WL_end);
   }
   return frames;
 }
@@ -161,6 +166,25 @@ void BM_FsgpBgkSequence(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_FsgpBgkSequence)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// The LiDAR odometry (localization.method scan-matching, no gyroscope): 30 scans of driving through
+// the forest at 1 m/s, each de-skewed, thinned and registered against the local map (time per
+// scan: the iteration's time / 30, or 1 / items_per_second); the final position error beside.
+void BM_LidarOdometryScan(benchmark::State& state) {
+  const Frames& frames = MakeFrames(trav::sim::TerrainType::kForest, 30);
+  double error_m = 0.0;
+  for (auto _ : state) {
+    trav::mapping::LidarOdometry odometry(trav::mapping::LidarOdometryConfig{},
+                                          frames.X_WL_end.front());
+    for (const trav::common::PointCloud& scan : frames.scans_L) {
+      benchmark::DoNotOptimize(odometry.AddScan(scan.points, scan.time_offsets, 0.1));
+    }
+    error_m = (odometry.X_OL().translation() - frames.X_WL_end.back().translation()).norm();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(frames.scans_L.size()));
+  state.counters["final_error_m"] = error_m;
+}
+BENCHMARK(BM_LidarOdometryScan)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -97,8 +97,9 @@ TEST(FlattenSummaryTest, ASummaryWithEverySectionHasEveryMetric) {
        "replans_on_events", "safety_stops", "mover_tracking_error_m", "perceived_mover_samples",
        "false_mover_samples", "near_misses", "min_mover_clearance_m", "path_length_m"});
   add("collision.", {"mover", "relative_speed_m_s", "robot_speed_m_s", "time_s"});
-  add("localization.", {"final_position_error_m", "final_z_error_m", "final_yaw_error_deg",
-                        "max_position_error_m", "error_per_10_m"});
+  add("localization.",
+      {"final_position_error_m", "final_z_error_m", "final_yaw_error_deg", "max_position_error_m",
+       "relative_error_10m_m", "relative_yaw_error_10m_deg", "relative_error_stretches"});
   add("tracking.", {"rms_lateral_error_m", "max_lateral_error_m", "rms_heading_error_rad",
                     "max_heading_error_rad", "rms_speed_error_m_s", "max_speed_error_m_s",
                     "rms_acceleration_command_m_s2", "rms_yaw_acceleration_command_rad_s2",
@@ -112,7 +113,7 @@ TEST(FlattenSummaryTest, ASummaryWithEverySectionHasEveryMetric) {
     metrics.insert(key);
   }
   EXPECT_EQ(metrics, expected);
-  EXPECT_EQ(metrics.size(), 90u);
+  EXPECT_EQ(metrics.size(), 92u);
 }
 
 }  // namespace

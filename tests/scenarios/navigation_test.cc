@@ -107,6 +107,31 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, SuiteDriftTest,
                            return param_info.param;
                          });
 
+// And on the LiDAR odometry (scan-matching) where it holds: every suite world but the two open
+// flat ones with walkers (crossing, head_on), whose scans constrain no horizontal motion
+// (docs/localization.md).
+class SuiteScanMatchingTest : public testing::TestWithParam<std::string> {};
+
+TEST_P(SuiteScanMatchingTest, ReachesTheGoalOnTheLidarOdometry) {
+  Scenario scenario = LoadFile("suite/" + GetParam() + ".yaml");
+  scenario.pose_noise.method = sim::LocalizationMethod::kScanMatching;
+  const RunSummary summary = RunHeadless(scenario, GetParam() + "_scan_matching");
+  ASSERT_EQ(summary.outcome, Outcome::kSuccess)
+      << common::NameOf(summary.outcome)
+      << ", planner: " << summary.navigation->last_planner_status;
+  ASSERT_TRUE(summary.localization.has_value());
+  EXPECT_LT(summary.localization->max_position_error_m, 0.6);
+  // the registration ran on every scan
+  EXPECT_GT(summary.compute.at("localization").calls, 150);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenarios, SuiteScanMatchingTest,
+                         testing::Values("hilly", "forest", "ruin", "road", "indoor", "steep_hill",
+                                         "narrow_passage"),
+                         [](const testing::TestParamInfo<std::string>& param_info) {
+                           return param_info.param;
+                         });
+
 TEST(FailingScenarioTest, DrivingIntoAWallIsACollision) {
   const RunSummary summary = RunHeadless(LoadFile("failing/wall_collision.yaml"), "wall");
   ASSERT_EQ(summary.outcome, Outcome::kCollision);

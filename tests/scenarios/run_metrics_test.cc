@@ -1,6 +1,7 @@
 #include "scenarios/run/run_metrics.h"
 
 #include <cmath>
+#include <functional>
 #include <map>
 #include <string>
 
@@ -208,6 +209,60 @@ TEST(CompareObservedTest, ScoresObservedCellsTheMapKnows) {
   const LayerError on_shifted = CompareObserved(shifted, truth, observed, "traversability");
   EXPECT_EQ(on_shifted.known_cells, 3);
   EXPECT_NEAR(on_shifted.mean, (0.0 + 0.2 + 0.1) / 3.0, 1e-6);
+}
+
+}  // namespace
+}  // namespace trav::scenarios
+
+namespace trav::scenarios {
+namespace {
+
+// A straight drive along x, sampled every 0.1 m for `length_m`, the estimate `estimated(X_WB)`.
+std::vector<PoseSample> StraightDrive(
+    double length_m, const std::function<Eigen::Isometry3d(const Eigen::Isometry3d&)>& estimated) {
+  std::vector<PoseSample> samples;
+  for (int k = 0; k * 0.1 <= length_m + 1e-9; ++k) {
+    PoseSample sample;
+    sample.distance_m = 0.1 * k;
+    sample.X_WB.translation().x() = 0.1 * k;
+    sample.X_OB = estimated(sample.X_WB);
+    samples.push_back(sample);
+  }
+  return samples;
+}
+
+TEST(RelativePoseErrorTest, AScaleErrorShowsAsItsShareOfTheStretch) {
+  // the odometry reads 1 % too far: 0.1 m over every 10 m
+  const RelativePoseError dut =
+      RelativePoseErrorOver(StraightDrive(20.0,
+                                          [](const Eigen::Isometry3d& X_WB) {
+                                            Eigen::Isometry3d X_OB = X_WB;
+                                            X_OB.translation() *= 1.01;
+                                            return X_OB;
+                                          }),
+                            10.0);
+  EXPECT_GE(dut.stretches, 100);
+  EXPECT_NEAR(dut.translation_m, 0.1, 1e-3);
+  EXPECT_NEAR(dut.yaw_deg, 0.0, 1e-9);
+}
+
+TEST(RelativePoseErrorTest, AConstantOffsetIsNoRelativeError) {
+  // a frame O turned and shifted from W once and for all: every motion is right
+  Eigen::Isometry3d X_OW = Eigen::Isometry3d::Identity();
+  X_OW.linear() = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  X_OW.translation() = Eigen::Vector3d(0.5, -0.3, 0.1);
+  const RelativePoseError dut = RelativePoseErrorOver(
+      StraightDrive(15.0, [&](const Eigen::Isometry3d& X_WB) { return X_OW * X_WB; }), 10.0);
+  EXPECT_GT(dut.stretches, 40);
+  EXPECT_NEAR(dut.translation_m, 0.0, 1e-9);
+  EXPECT_NEAR(dut.yaw_deg, 0.0, 1e-9);
+}
+
+TEST(RelativePoseErrorTest, ShorterDrivesHaveNoStretch) {
+  const RelativePoseError dut = RelativePoseErrorOver(
+      StraightDrive(9.5, [](const Eigen::Isometry3d& X_WB) { return X_WB; }), 10.0);
+  EXPECT_EQ(dut.stretches, 0);
+  EXPECT_EQ(dut.translation_m, 0.0);
 }
 
 }  // namespace
