@@ -70,9 +70,10 @@ void AddEvalOptions(CLI::App* eval, EvalFlags* flags) {
       ->delimiter(',')
       ->capture_default_str();
   eval->add_flag("--no-ablation", flags->no_ablation, "Skip the inducing-point ablation");
-  eval->add_option("--pose-sources", options.pose_sources,
-                   "Pose sources of the mappers besides the true pose (drift-model), "
-                   "comma-separated: each runs every mapper of --methods as <method>@<source>")
+  eval->add_option(
+          "--pose-sources", options.pose_sources,
+          "Pose sources of the mappers besides the true pose (drift-model, scan-matching), "
+          "comma-separated: each runs every mapper of --methods as <method>@<source>")
       ->delimiter(',');
   eval->add_option("--route-length", options.route_length_m, "Distance from start to goal [m]")
       ->capture_default_str();

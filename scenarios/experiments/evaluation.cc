@@ -21,6 +21,7 @@
 #include "common/statistics.h"
 #include "common/stopwatch.h"
 #include "common/yaml_reader.h"
+#include "mapping/lidar_odometry.h"
 #include "mapping/traversability_mapper.h"
 #include "scenarios/experiments/eval_report.h"
 #include "scenarios/experiments/job_array.h"
@@ -188,36 +189,93 @@ struct RecordedFrame {
   double t_s;
 };
 
-// Records every LiDAR frame as the mapper gets it (movers removed).
+// A LiDAR frame as the sensor reported it, for an odometry on the scans: the points in L with their
+// times, the sensor's true pose at the frame's end, and the base's rotation the gyroscope measured
+// since the previous frame.
+struct RecordedScan {
+  common::PointCloud points_L;
+  Eigen::Isometry3d X_WL_end;
+  std::optional<Eigen::Matrix3d> R_turn_B;
+};
+
+// Records every LiDAR frame as the mapper gets it (movers removed) and, with `scans`, as the sensor
+// reported it.
 class FrameRecorder : public LoopObserver {
  public:
-  explicit FrameRecorder(std::vector<RecordedFrame>* frames) : frames_(frames) {}
+  FrameRecorder(std::vector<RecordedFrame>* frames, std::vector<RecordedScan>* scans)
+      : frames_(frames), scans_(scans) {}
   bool WantsPoints() const override { return true; }
+  void OnLidarFrame(const ClosedLoop& loop, const lidar::LidarFrame& frame,
+                    const Eigen::Matrix3Xf& /*points_W*/) override {
+    if (scans_ == nullptr) return;
+    std::optional<Eigen::Matrix3d> turn;
+    if (loop.imu() != nullptr) turn = gyro_turn_B_;
+    scans_->push_back({frame.points_L, frame.X_WL_end, turn});
+    gyro_turn_B_.setIdentity();
+  }
   void OnMapInput(const ClosedLoop& /*loop*/, const common::PointCloud& cloud_O,
                   const Eigen::Isometry3d& X_OB, double t_s) override {
     frames_->push_back({cloud_O, X_OB, t_s});
   }
+  void OnPhysicsStep(const ClosedLoop& loop, const LoopStep& /*step*/) override {
+    if (scans_ != nullptr && loop.imu() != nullptr) {
+      gyro_turn_B_ =
+          sim::IntegrateGyro(gyro_turn_B_, loop.imu()->samples(), loop.scenario().imu.rate_hz);
+    }
+  }
 
  private:
   std::vector<RecordedFrame>* frames_;
+  std::vector<RecordedScan>* scans_;
+  Eigen::Matrix3d gyro_turn_B_{Eigen::Matrix3d::Identity()};
 };
 
-// The frames of a drive on the true pose as a mapper on `localization`'s pose estimate gets them:
-// each moved into the odometry frame O of the estimate at its time (X_OW = X_OB X_WB^-1), the
-// estimate fed the drive's true poses frame by frame (its drift grows with the distance between
-// them, as along the physics steps).
-std::vector<RecordedFrame> FramesOnPoseSource(const std::vector<RecordedFrame>& frames_W,
-                                              const sim::PoseNoiseConfig& localization) {
+// The drift model's estimates X_OB at the frames of a drive on the true pose, the model fed the
+// drive's true poses frame by frame (its drift grows with the distance between them, as along the
+// physics steps).
+std::vector<Eigen::Isometry3d> DriftModelPoses(const std::vector<RecordedFrame>& frames_W,
+                                               const sim::PoseNoiseConfig& localization) {
   sim::PoseNoise estimator(localization);
-  std::vector<RecordedFrame> frames_O;
-  frames_O.reserve(frames_W.size());
+  std::vector<Eigen::Isometry3d> X_OB;
   for (const RecordedFrame& frame : frames_W) {
     common::RobotState truth;
     truth.time_s = frame.t_s;
     truth.X_WB = frame.X_MB;
-    const Eigen::Isometry3d X_OB = estimator.Estimate(truth).X_WB;
-    const Eigen::Isometry3f X_OW = (X_OB * frame.X_MB.inverse()).cast<float>();
-    RecordedFrame moved{frame.cloud_M, X_OB, frame.t_s};
+    X_OB.push_back(estimator.Estimate(truth).X_WB);
+  }
+  return X_OB;
+}
+
+// The LiDAR odometry's estimates X_OB at the frames of a drive, run on the drive's scans (with the
+// gyroscope's rotations when the IMU recorded them), O where the sensor ended the first frame.
+std::vector<Eigen::Isometry3d> ScanMatchingPoses(const std::vector<RecordedFrame>& frames_W,
+                                                 const std::vector<RecordedScan>& scans,
+                                                 const Scenario& scene) {
+  std::vector<Eigen::Isometry3d> X_OB;
+  if (scans.empty()) return X_OB;
+  mapping::LidarOdometry odometry(scene.lidar_odometry, scans.front().X_WL_end);
+  for (std::size_t k = 0; k < scans.size() && k < frames_W.size(); ++k) {
+    const Eigen::Isometry3d X_BL = frames_W[k].X_MB.inverse() * scans[k].X_WL_end;
+    std::optional<Eigen::Matrix3d> R_turn;
+    if (scans[k].R_turn_B) R_turn = X_BL.linear().transpose() * *scans[k].R_turn_B * X_BL.linear();
+    const Eigen::Isometry3d& X_OL =
+        odometry.AddScan(scans[k].points_L.points, scans[k].points_L.time_offsets,
+                         scene.lidar.frame_period_s, R_turn);
+    X_OB.push_back(X_OL * X_BL.inverse());
+  }
+  return X_OB;
+}
+
+// The frames of a drive on the true pose as a mapper on a pose estimate gets them: each moved into
+// the estimate's odometry frame O (X_OW = X_OB X_WB^-1), with the base at X_OB.
+std::vector<RecordedFrame> FramesOnPoses(const std::vector<RecordedFrame>& frames_W,
+                                         const std::vector<Eigen::Isometry3d>& X_OB) {
+  std::vector<RecordedFrame> frames_O;
+  frames_O.reserve(frames_W.size());
+  for (std::size_t k = 0; k < frames_W.size() && k < X_OB.size(); ++k) {
+    const RecordedFrame& frame = frames_W[k];
+    const Eigen::Isometry3f X_OW = (X_OB[k] * frame.X_MB.inverse()).cast<float>();
+    RecordedFrame moved{frame.cloud_M, X_OB[k], frame.t_s};
     moved.cloud_M.points = (X_OW.linear() * frame.cloud_M.points).colwise() + X_OW.translation();
     frames_O.push_back(std::move(moved));
   }
@@ -413,10 +471,10 @@ void ValidateEvalOptions(const EvalOptions& options) {
   for (const std::string& source : options.pose_sources) {
     const std::optional<sim::LocalizationMethod> method =
         common::EnumFromName<sim::LocalizationMethod>(source);
-    if (!method || *method != sim::LocalizationMethod::kDriftModel) {
+    if (!method || *method == sim::LocalizationMethod::kTrue) {
       throw common::InputError("--pose-sources", source,
-                               "unknown pose source (expected drift-model; the true pose always "
-                               "runs, scan-matching runs in the closed loop only)");
+                               "unknown pose source (expected drift-model or scan-matching; the "
+                               "true pose always runs)");
     }
     if (!sources.insert(source).second) {
       throw common::InputError("--pose-sources", source, "is listed twice");
@@ -686,8 +744,11 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   // would get it (the pose sources' estimates are made along it afterwards)
   Scenario drive_scenario = scenario;
   drive_scenario.pose_noise = sim::PoseNoiseConfig{};
+  const bool scan_matching = std::find(options.pose_sources.begin(), options.pose_sources.end(),
+                                       "scan-matching") != options.pose_sources.end();
   std::vector<RecordedFrame> frames;
-  FrameRecorder recorder(&frames);
+  std::vector<RecordedScan> scans;
+  FrameRecorder recorder(&frames, scan_matching ? &scans : nullptr);
   ClosedLoop loop(drive_scenario, {robot_model_path, options.max_frames});
   const RunSummary drive = RunLoop(&loop, {&recorder});
 
@@ -695,7 +756,10 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   for (const std::string& source : options.pose_sources) {
     sim::PoseNoiseConfig localization = scenario.pose_noise;
     localization.method = *common::EnumFromName<sim::LocalizationMethod>(source);
-    frames_on_source[source] = FramesOnPoseSource(frames, localization);
+    frames_on_source[source] =
+        FramesOnPoses(frames, localization.method == sim::LocalizationMethod::kScanMatching
+                                  ? ScanMatchingPoses(frames, scans, scenario)
+                                  : DriftModelPoses(frames, localization));
   }
   for (const std::string& method : EvalMethods(options)) {
     const double fixed_gain =

@@ -36,9 +36,10 @@ struct EvalOptions {
   /// <method>-m<count> (fsgp-bgk-m50); empty: no ablation.
   std::vector<int> inducing_points{50, 125, 500};
   /// Pose sources of the mappers besides the true pose (localization methods other than `true`:
-  /// drift-model): each adds <method>@<source> for every mapper of `methods`, run on the drive's
-  /// frames moved into the odometry frame of that source's pose estimate along the drive (the
-  /// drive itself navigates on the true pose). Empty: the true pose only.
+  /// drift-model, scan-matching): each adds <method>@<source> for every mapper of `methods`, run
+  /// on the drive's frames moved into the odometry frame of that source's pose estimate along the
+  /// drive (the drift model fed the true poses, the LiDAR odometry the drive's scans; the drive
+  /// itself navigates on the true pose). Empty: the true pose only.
   std::vector<std::string> pose_sources;
   double route_length_m{24.0};  ///< straight-line distance from start to goal [m], > 0
   int max_frames{0};            ///< LiDAR frames per scene, 0: until the drive ends; >= 0
@@ -98,7 +99,7 @@ std::vector<std::string> AblatedMethods(const EvalOptions& options);
 /// the source's pose estimate.
 struct PoseSourceMethod {
   std::string base;    ///< the mapper (sgp, fsgp, fsgp-bgk, fsgp-accumulation, em)
-  std::string source;  ///< the localization method's name (drift-model)
+  std::string source;  ///< the localization method's name (drift-model, scan-matching)
   /// The method's name: <base>@<source>.
   std::string Name() const { return base + "@" + source; }
 };

@@ -320,15 +320,6 @@ void ClosedLoop::RegisterScan() {
   estimate_.X_WB = last_scan_pose_->X_OB;
 }
 
-void ClosedLoop::IntegrateGyro() {
-  const double dt = 1.0 / scenario_.imu.rate_hz;
-  for (const sim::ImuSample& sample : imu_->samples()) {
-    const Eigen::Vector3d& w = sample.measured.gyro_I;
-    const double angle = w.norm() * dt;
-    if (angle > 0.0) gyro_turn_B_ = gyro_turn_B_ * Eigen::AngleAxisd(angle, w.normalized());
-  }
-}
-
 Eigen::Isometry3d ClosedLoop::OdometryFromWorld() const {
   return scenario_.pose_noise.active() ? estimate_.X_WB * state_.X_WB.inverse()
                                        : Eigen::Isometry3d::Identity();
@@ -382,7 +373,8 @@ Outcome ClosedLoop::Run(const std::function<void(double fraction)>& progress) {
     // MuJoCo's sensors of this step read the state at its start
     if (imu_) {
       imu_->AddReading(step_start_s, *simulation.ImuTruth());
-      if (odometry_) IntegrateGyro();
+      if (odometry_)
+        gyro_turn_B_ = sim::IntegrateGyro(gyro_turn_B_, imu_->samples(), scenario_.imu.rate_hz);
     }
     ++physics_steps_;
     if (status == sim::StepStatus::kDiverged) {

@@ -189,8 +189,6 @@ class ClosedLoop {
   common::RobotState EstimatePose();
   // Registers a complete frame with the LiDAR odometry (scan-matching).
   void RegisterScan();
-  // Adds the IMU's samples of the last step to the gyroscope's rotation since the last scan.
-  void IntegrateGyro();
   std::optional<Outcome> CheckEnd(EndCondition::Stage stage, const LoopStep& step);
 
   const common::Stopwatch wall_clock_;

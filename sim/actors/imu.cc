@@ -67,4 +67,15 @@ ImuSample Imu::Sample(double t_s, const ImuMeasurement& truth) {
   return sample;
 }
 
+Eigen::Matrix3d IntegrateGyro(const Eigen::Matrix3d& R, const std::vector<ImuSample>& samples,
+                              double rate_hz) {
+  Eigen::Matrix3d turned = R;
+  for (const ImuSample& sample : samples) {
+    const Eigen::Vector3d& w = sample.measured.gyro_I;
+    const double angle = w.norm() / rate_hz;
+    if (angle > 0.0) turned = turned * Eigen::AngleAxisd(angle, w.normalized()).toRotationMatrix();
+  }
+  return turned;
+}
+
 }  // namespace trav::sim

@@ -5,7 +5,7 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "common/archive.h"
 #include "common/random.h"
@@ -82,5 +82,11 @@ class Imu {
   std::optional<std::pair<double, ImuMeasurement>> previous_reading_;
   std::vector<ImuSample> samples_;
 };
+
+/// `R` turned on by the rotation the gyroscopes of `samples` measured, each sample's rate held for
+/// 1 / rate_hz (R exp(w_1 dt) exp(w_2 dt) ...): the IMU frame's rotation over the samples when R is
+/// the identity.
+Eigen::Matrix3d IntegrateGyro(const Eigen::Matrix3d& R, const std::vector<ImuSample>& samples,
+                              double rate_hz);
 
 }  // namespace trav::sim

@@ -220,7 +220,7 @@ TEST_F(EvaluationTest, ThePoseSourcesRunEveryMapperOnTheEstimatesFrames) {
   const CommandResult run = RunTrav(
       "eval --out " + (root_ / "eval").string() +
       " --terrains flat --scenes 1 --seed 5 --frames 6 --jobs 1 --route-length 6 --no-ablation "
-      "--methods fsgp-bgk,em,ground-truth --pose-sources drift-model --set "
+      "--methods fsgp-bgk,em,ground-truth --pose-sources drift-model,scan-matching --set "
       "'terrain.boxes=[{name: crate, centre: [0, 0], half_extents: [0.4, 0.4], height: 0.6}]' "
       "--set localization.translation_drift=0.5 --set localization.yaw_drift=0.05");
   ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -228,6 +228,8 @@ TEST_F(EvaluationTest, ThePoseSourcesRunEveryMapperOnTheEstimatesFrames) {
   // every mapper of --methods, not the oracle or the floor
   EXPECT_TRUE(methods.contains("fsgp-bgk@drift-model"));
   EXPECT_TRUE(methods.contains("em@drift-model"));
+  EXPECT_TRUE(methods.contains("fsgp-bgk@scan-matching"));
+  EXPECT_EQ(methods.at("em@scan-matching").at("frames").at("t_s").size(), 6u);
   EXPECT_FALSE(methods.contains("ground-truth@drift-model"));
   EXPECT_FALSE(methods.contains("constant=0.5@drift-model"));
   // the drift moved the frames: the maps differ from those on the true pose
@@ -238,7 +240,8 @@ TEST_F(EvaluationTest, ThePoseSourcesRunEveryMapperOnTheEstimatesFrames) {
   const std::string csv = ReadFile(root_ / "eval" / "pose_sources.csv");
   EXPECT_EQ(csv.substr(0, csv.find('\n')),
             "method,pose_source,flat_error_true,flat_error,flat_auroc_true,flat_auroc");
-  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);  // the header, fsgp-bgk and em
+  // the header, then fsgp-bgk and em on each source
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5);
 
   // without drift the estimate is the truth: the same maps, number for number
   const CommandResult still = RunTrav(
@@ -253,9 +256,9 @@ TEST_F(EvaluationTest, ThePoseSourcesRunEveryMapperOnTheEstimatesFrames) {
 
   EXPECT_EQ(RunTrav("eval --out " + (root_ / "bad").string() + " --pose-sources true").exit_code,
             2);
-  EXPECT_EQ(
-      RunTrav("eval --out " + (root_ / "bad").string() + " --pose-sources scan-matching").exit_code,
-      2);
+  EXPECT_EQ(RunTrav("eval --out " + (root_ / "bad").string() + " --pose-sources dead-reckoning")
+                .exit_code,
+            2);
   EXPECT_FALSE(fs::exists(root_ / "bad"));
 }
 
