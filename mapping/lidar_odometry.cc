@@ -28,15 +28,24 @@ Cloud::Ptr Thinned(const Cloud::Ptr& cloud, double voxel_m) {
   return thinned;
 }
 
-// The pose a fraction f in [-1, 0] of the way back along `motion` (constant twist, first order):
-// motion^f.
-Eigen::Isometry3d Fraction(const Eigen::Isometry3d& motion, double f) {
-  const Eigen::AngleAxisd rotation(motion.linear());
-  Eigen::Isometry3d part = Eigen::Isometry3d::Identity();
-  part.linear() = Eigen::AngleAxisd(f * rotation.angle(), rotation.axis()).toRotationMatrix();
-  part.translation() = f * motion.translation();
-  return part;
-}
+// Fractions of a motion at constant twist (first order): At(f) = motion^f, f in [-1, 0] going back
+// along it. The motion's angle and axis are taken apart once, not per point.
+class MotionFraction {
+ public:
+  explicit MotionFraction(const Eigen::Isometry3d& motion)
+      : rotation_(motion.linear()), translation_(motion.translation()) {}
+
+  Eigen::Isometry3d At(double f) const {
+    Eigen::Isometry3d part = Eigen::Isometry3d::Identity();
+    part.linear() = Eigen::AngleAxisd(f * rotation_.angle(), rotation_.axis()).toRotationMatrix();
+    part.translation() = f * translation_;
+    return part;
+  }
+
+ private:
+  Eigen::AngleAxisd rotation_;
+  Eigen::Vector3d translation_;
+};
 
 }  // namespace
 
@@ -82,14 +91,14 @@ const Eigen::Isometry3d& LidarOdometry::AddScan(const Eigen::Matrix3Xf& points_L
   Eigen::Isometry3d motion = motion_;
   if (R_turn) motion.linear() = *R_turn;
   // de-skewed into the sensor frame at the scan's end, cropped to the matching ranges
+  const MotionFraction back_along(motion);
   Cloud::Ptr scan(new Cloud);
   scan->reserve(static_cast<std::size_t>(points_L.cols()));
   for (Eigen::Index i = 0; i < points_L.cols(); ++i) {
     const double range = static_cast<double>(points_L.col(i).norm());
     if (range < config_.min_range_m || range > config_.max_range_m) continue;
     const double f = static_cast<double>(time_offsets_s[i]) / scan_period_s - 1.0;
-    const Eigen::Vector3f p_end =
-        (Fraction(motion, f) * points_L.col(i).cast<double>()).cast<float>();
+    const Eigen::Vector3f p_end = (back_along.At(f) * points_L.col(i).cast<double>()).cast<float>();
     scan->push_back(pcl::PointXYZ(p_end.x(), p_end.y(), p_end.z()));
   }
   const Cloud::Ptr thinned = Thinned(scan, config_.scan_voxel_m);
