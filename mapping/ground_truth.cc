@@ -21,8 +21,9 @@ common::GridLayers ComputeGroundTruth(const common::GridGeometry& map_geometry,
       map_geometry, {layers::kTraversability, layers::kSlope, layers::kCurvature, layers::kGradient,
                      layers::kElevation});
   const double step = world_geometry.resolution_m;
-  const int reach = static_cast<int>(
-      std::ceil(std::max(config.neighbourhood_radius_m, config.footprint_radius_m) / step));
+  const double half_cell_m = 0.5 * map_geometry.resolution_m;
+  const int reach = static_cast<int>(std::ceil(
+      std::max({config.neighbourhood_radius_m, config.footprint_radius_m, half_cell_m}) / step));
   std::vector<Eigen::Vector3d> samples;
   for (int mx = 0; mx < map_geometry.num_x; ++mx) {
     for (int my = 0; my < map_geometry.num_y; ++my) {
@@ -39,7 +40,9 @@ common::GridLayers ComputeGroundTruth(const common::GridGeometry& map_geometry,
           if (!world_geometry.Contains(wx, wy)) continue;
           const Eigen::Vector2d p = world_geometry.CellCenter(wx, wy);
           const double distance = (p - centre).norm();
-          if (distance <= config.footprint_radius_m && obstacle_m(wx, wy) > config.clearance_m)
+          const bool in_cell = (p - centre).cwiseAbs().maxCoeff() <= half_cell_m;
+          if ((in_cell || distance <= config.footprint_radius_m) &&
+              obstacle_m(wx, wy) > config.clearance_m)
             blocked = true;
           if (distance <= config.neighbourhood_radius_m) {
             samples.emplace_back(p.x(), p.y(), ground_m(wx, wy) + obstacle_m(wx, wy));

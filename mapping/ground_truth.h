@@ -10,15 +10,18 @@ namespace trav::mapping {
 struct GroundTruthConfig {
   double neighbourhood_radius_m{
       0.3};  ///< metric neighbourhood of the slope, curvature and gradient terms [m]
-  double clearance_m{0.115};       ///< the Scout Mini's ground clearance [m]
-  double footprint_radius_m{0.3};  ///< half the robot's width [m]
+  double clearance_m{0.115};  ///< the Scout Mini's ground clearance [m]
+  /// An obstacle within the cell or within this radius of its centre makes it untraversable [m].
+  /// 0: the cell itself; the planners add the robot's footprint (docs/navigation.md), so that the
+  /// robot's size is counted once.
+  double footprint_radius_m{0.0};
 
   /// The keys of scenario section `ground_truth` (common/archive.h).
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Field("neighbourhood_radius", &neighbourhood_radius_m, {0.01, 5.0});
     a->Field("clearance", &clearance_m, {0.01, 5.0});
-    a->Field("footprint_radius", &footprint_radius_m, {0.01, 5.0});
+    a->Field("footprint_radius", &footprint_radius_m, {0.0, 5.0});
   }
 };
 
@@ -28,9 +31,9 @@ struct GroundTruthConfig {
 /// radius (so the result does not depend on point density): slope of the least-squares plane,
 /// curvature lambda_min / (sum lambda + 1e-6) of the samples' covariance and gradient mean |z_j -
 /// z_centre|, on the surface (ground plus obstacles); combined with the mapper's weights and
-/// normalisers (PreliminaryScore). A cell with an obstacle higher than the clearance within the
-/// footprint radius is untraversable (1). Layers: traversability, slope, curvature, gradient,
-/// elevation.
+/// normalisers (PreliminaryScore). A cell with an obstacle higher than the clearance within it or
+/// within the footprint radius of its centre is untraversable (1). Layers: traversability, slope,
+/// curvature, gradient, elevation.
 common::GridLayers ComputeGroundTruth(const common::GridGeometry& map_geometry,
                                       const common::GridGeometry& world_geometry,
                                       const Eigen::MatrixXf& ground_m,

@@ -5,6 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 namespace trav::planner {
 namespace {
 
@@ -108,6 +110,16 @@ CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf
       distance_(ix, iy) = d;
     }
   }
+}
+
+double FootprintDistance(const CostField& field, const Eigen::Vector2d& position_W, double yaw,
+                         const std::vector<Eigen::Vector2d>& body_points_B) {
+  const Eigen::Rotation2Dd R_WB(yaw);
+  double smallest = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector2d& b : body_points_B) {
+    smallest = std::min(smallest, field.Distance(position_W + R_WB * b).value);
+  }
+  return smallest;
 }
 
 FieldSample CostField::Interpolate(const Eigen::MatrixXd& layer, const Eigen::Vector2d& p_W) const {

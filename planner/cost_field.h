@@ -1,5 +1,7 @@
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "common/grid.h"
@@ -48,6 +50,12 @@ class CostField {
   Eigen::MatrixXd cost_;
   Eigen::MatrixXd distance_;
 };
+
+/// The smallest signed distance to lethal cells (CostField::Distance) of the robot's body points
+/// `body_points_B` (common::Footprint::BoundaryPoints_B) with its base at position_W and heading
+/// `yaw` [m]; infinity without points.
+double FootprintDistance(const CostField& field, const Eigen::Vector2d& position_W, double yaw,
+                         const std::vector<Eigen::Vector2d>& body_points_B);
 
 /// Euclidean distance [cells] from each cell centre to the nearest cell where `mask` is true, exact
 /// (Felzenszwalb and Huttenlocher, "Distance Transforms of Sampled Functions", 2012: two passes of

@@ -14,30 +14,36 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-// Per-cell cost for the search (infinity = blocked), with the inflation applied to the known
-// lethal cells (unknown cells blocked by the policy are not grown).
+// Per-cell cost for the search (infinity = blocked), with the inflation and the band applied round
+// the known lethal cells (unknown cells blocked by the policy are not grown).
 Eigen::MatrixXd SearchCosts(const common::GridGeometry& g, const Eigen::MatrixXf& layer,
                             const CostMapConfig& config) {
   Eigen::MatrixXd costs(g.num_x, g.num_y);
-  std::vector<Eigen::Vector2i> lethal;
+  Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> lethal(g.num_x, g.num_y);
   for (int ix = 0; ix < g.num_x; ++ix) {
     for (int iy = 0; iy < g.num_y; ++iy) {
       const float c = layer(ix, iy);
+      lethal(ix, iy) = IsLethal(c, config) && !std::isnan(c);
       if (IsLethal(c, config)) {
         costs(ix, iy) = kInfinity;
-        if (!std::isnan(c)) lethal.emplace_back(ix, iy);
       } else {
         costs(ix, iy) = std::isnan(c) ? config.unknown_cost : std::max(0.0f, c);
       }
     }
   }
-  // grow the lethal cells by the footprint radius (a disc of cells)
-  const int r = static_cast<int>(std::floor(config.inflation_radius_m / g.resolution_m + 1e-9));
-  for (const Eigen::Vector2i& cell : lethal) {
-    for (int dx = -r; dx <= r; ++dx) {
-      for (int dy = -r; dy <= r; ++dy) {
-        if (dx * dx + dy * dy > r * r || !g.Contains(cell.x() + dx, cell.y() + dy)) continue;
-        costs(cell.x() + dx, cell.y() + dy) = kInfinity;
+  if (config.inflation_radius_m <= 0.0 && config.band_radius_m <= 0.0) return costs;
+  // the distance between the boundaries of a cell and of the nearest lethal cell, as CostField
+  // measures it: the search admits exactly the cells where the field's distance allows the robot
+  const Eigen::MatrixXd centre_cells = DistanceTransform(lethal);
+  const double band = config.band_radius_m - config.inflation_radius_m;
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const double distance_m = (centre_cells(ix, iy) - 0.5) * g.resolution_m;
+      if (lethal(ix, iy) || !std::isfinite(distance_m)) continue;
+      if (distance_m < config.inflation_radius_m) {
+        costs(ix, iy) = kInfinity;
+      } else if (band > 0.0 && distance_m < config.band_radius_m) {
+        costs(ix, iy) += config.band_cost * (config.band_radius_m - distance_m) / band;
       }
     }
   }
@@ -108,6 +114,15 @@ bool CostMap::LethalAt(const Eigen::Vector2d& p_W) const {
 const SearchCostMap& CostMap::search() const {
   if (!search_) search_ = std::make_unique<SearchCostMap>(geometry_, layer_, config_);
   return *search_;
+}
+
+const SearchCostMap& CostMap::wide_search() const {
+  if (!wide_search_) {
+    CostMapConfig wide = config_;
+    wide.inflation_radius_m = std::max(config_.inflation_radius_m, config_.band_radius_m);
+    wide_search_ = std::make_unique<SearchCostMap>(geometry_, layer_, wide);
+  }
+  return *wide_search_;
 }
 
 const CostField& CostMap::field() const {

@@ -30,18 +30,26 @@ struct CostMapConfig {
   std::string cost_layer{"traversability"};  ///< layer of costs in [0, 1]
   double cost_weight{5.0};                   ///< w in the cost L (1 + w c), >= 0
   double lethal_threshold{0.8};              ///< cells at or above this cost are blocked
-  double inflation_radius_m{0.3};  ///< blocked cells grow by the robot's footprint radius [m]
   UnknownPolicy unknown_policy{UnknownPolicy::kCost};
   double unknown_cost{0.5};  ///< cost of an unknown cell under kCost
+  /// Cells whose centre lies closer than this to a known lethal cell (the distance between their
+  /// boundaries, CostField) are blocked [m]. Not a scenario key: NavigationPlannerConfig sets it
+  /// from the robot's footprint (its inscribed radius plus the smallest clearance).
+  double inflation_radius_m{0.3};
+  /// Cells closer than this (and not blocked) pay `band_cost` more, falling linearly to 0 at this
+  /// distance [m] (the footprint's circumscribed radius plus the clearance): the search prefers
+  /// the middle of passages, where the robot can turn. Not a scenario key; 0: no band.
+  double band_radius_m{0.0};
+  double band_cost{0.5};  ///< extra cost next to the blocked cells, in [0, 1]
 
   /// The keys of scenario section `planner.search` that configure the costs (common/archive.h).
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Field("cost_weight", &cost_weight, {0, 1000000.0});
     a->Field("lethal_threshold", &lethal_threshold, {0, 1});
-    a->Field("inflation_radius", &inflation_radius_m, {0, 5});
     a->Enum("unknown_policy", &unknown_policy);
     a->Field("unknown_cost", &unknown_cost, {0, 1});
+    a->Field("band_cost", &band_cost, {0, 1});
   }
 };
 
@@ -50,10 +58,11 @@ struct CostMapConfig {
 bool IsLethal(float cost, const CostMapConfig& config);
 
 /// The per-cell cost c that every planner of this module pays, built once from a map: cells at or
-/// above the lethal threshold are blocked (infinite cost) and grow by the inflation radius (a disc
-/// of floor(radius / resolution) cells), unknown cells follow the unknown policy, other costs are
-/// clamped to >= 0. Moving a length L over cells of mean cost c costs L (1 + w c). A copyable
-/// value; reads are const and thread-safe.
+/// above the lethal threshold are blocked (infinite cost) and so are the cells within the inflation
+/// radius of them, cells within the band radius pay the band cost more (linearly less with the
+/// distance), unknown cells follow the unknown policy, other costs are clamped to >= 0. Moving a
+/// length L over cells of mean cost c costs L (1 + w c). A copyable value; reads are const and
+/// thread-safe.
 class SearchCostMap {
  public:
   /// @throws std::out_of_range if the map lacks `config.cost_layer`.
@@ -117,7 +126,11 @@ class CostMap {
   /// True if p_W lies in a lethal cell (IsLethal); false outside the grid.
   bool LethalAt(const Eigen::Vector2d& p_W) const;
 
-  /// The search costs (lethal cells grown by the inflation radius).
+  /// The search costs with the inflation widened to the band radius: on these cells the robot
+  /// can turn in place with the desired clearance (NavigationPlanner's first fallback).
+  const SearchCostMap& wide_search() const;
+
+  /// The search costs (lethal cells grown by the inflation radius, the band round them).
   const SearchCostMap& search() const;
 
   /// The cost and signed-distance fields.
@@ -128,6 +141,7 @@ class CostMap {
   CostMapConfig config_;
   Eigen::MatrixXf layer_;
   mutable std::unique_ptr<SearchCostMap> search_;
+  mutable std::unique_ptr<SearchCostMap> wide_search_;
   mutable std::unique_ptr<CostField> field_;
 };
 

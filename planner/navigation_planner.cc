@@ -10,6 +10,10 @@
 namespace trav::planner {
 namespace {
 
+// A robot heading this close to its path's first segment [rad] is not turned toward it: the
+// optimiser failed on an aligned start, and the next fallback (backing out) is tried instead.
+constexpr double kAlignedYaw_rad = 0.2;
+
 // The centre of the unblocked cell nearest to p_W within `radius_m`, if any: a robot standing in
 // the inflation of lethal cells (after a swerve, or when cells turn lethal around it) searches
 // from there.
@@ -43,19 +47,33 @@ void ValidateNavigationPlannerConfig(const NavigationPlannerConfig& c) {
   RequireValue(s.cost_weight >= 0.0, "search.cost_weight", s.cost_weight, "must be >= 0");
   RequireValue(s.lethal_threshold > 0.0 && s.lethal_threshold <= 1.0, "search.lethal_threshold",
                s.lethal_threshold, "must be in (0, 1]");
-  RequireValue(s.inflation_radius_m >= 0.0, "search.inflation_radius", s.inflation_radius_m,
-               "must be >= 0");
+  RequireValue(s.band_cost >= 0.0 && s.band_cost <= 1.0, "search.band_cost", s.band_cost,
+               "must be in [0, 1]");
   RequireValue(s.unknown_cost >= 0.0 && s.unknown_cost <= 1.0, "search.unknown_cost",
                s.unknown_cost, "must be in [0, 1]");
   RequireValue(c.substitute_goal_reach_m > 0.0, "search.substitute_goal_reach",
                c.substitute_goal_reach_m, "must be > 0");
   RequireValue(c.simplify_tolerance >= 0.0, "search.simplify_tolerance", c.simplify_tolerance,
                "must be >= 0");
-  common::ValidateAt("optimizer", [&] { ValidateTrajectoryOptimizerConfig(c.optimizer); });
+  common::ValidateAt("optimizer", [&] { ValidateTrajectoryOptimizerConfig(c.OptimizerConfig()); });
+  common::ValidateAt("fallback", [&] { ValidateFallbackConfig(c.fallback); });
+}
+
+CostMapConfig NavigationPlannerConfig::SearchConfig() const {
+  CostMapConfig resolved = search;
+  resolved.inflation_radius_m = footprint.InscribedRadius() + optimizer.min_clearance_m;
+  resolved.band_radius_m = footprint.CircumscribedRadius() + optimizer.clearance_m;
+  return resolved;
+}
+
+TrajectoryOptimizerConfig NavigationPlannerConfig::OptimizerConfig() const {
+  TrajectoryOptimizerConfig resolved = optimizer;
+  resolved.footprint = footprint;
+  return resolved;
 }
 
 NavigationPlanner::NavigationPlanner(const NavigationPlannerConfig& config)
-    : config_(config), optimizer_(config.optimizer) {
+    : config_(config), optimizer_(config.OptimizerConfig()) {
   ValidateNavigationPlannerConfig(config_);
 }
 
@@ -63,7 +81,7 @@ NavigationPlan NavigationPlanner::Plan(const common::GridLayers& map,
                                        const common::TrajectoryPoint& start,
                                        const Eigen::Vector2d& goal_W,
                                        const std::vector<MovingObstacle>& obstacles) {
-  return Plan(CostMap(map, config_.search), start, goal_W, obstacles);
+  return Plan(CostMap(map, config_.SearchConfig()), start, goal_W, obstacles);
 }
 
 NavigationPlan NavigationPlanner::Plan(const CostMap& costs, const common::TrajectoryPoint& start,
@@ -77,7 +95,7 @@ NavigationPlan NavigationPlanner::Plan(const CostMap& costs, const common::Traje
   if (plan.path.status == PlanStatus::kStartBlocked) {
     const std::optional<Eigen::Vector2d> free = NearestFreeCell(
         search.costs(), start.position_W,
-        config_.search.inflation_radius_m + 2.0 * search.costs().geometry().resolution_m);
+        costs.config().inflation_radius_m + 2.0 * search.costs().geometry().resolution_m);
     if (free) {
       search_start_W = *free;
       plan.path = search.Plan(search_start_W, goal_W);
@@ -117,21 +135,87 @@ NavigationPlan NavigationPlanner::Plan(const CostMap& costs, const common::Traje
   if (plan.path.status == PlanStatus::kFound) plan.waypoints_W.back() = goal_W;
 
   const common::Stopwatch optimization_start;
-  const CostField& field = costs.field();
   TrajectoryRequest request;
   request.start = start;
   request.goal_W = plan.waypoints_W.back();
   request.guide_W = plan.waypoints_W;
   request.obstacles = obstacles;
-  plan.optimized = optimizer_.Optimize(field, request);
-  plan.optimization_time_s = optimization_start.ElapsedSeconds();
+  plan.optimized = optimizer_.Optimize(costs.field(), request);
+  plan.status = plan.path.status == PlanStatus::kFound ? NavigationStatus::kPlanned
+                                                       : NavigationStatus::kPlannedToNearest;
   if (plan.optimized.status == OptimizationStatus::kInfeasible) {
-    plan.status = NavigationStatus::kOptimizerFailed;
-  } else {
-    plan.status = plan.path.status == PlanStatus::kFound ? NavigationStatus::kPlanned
-                                                         : NavigationStatus::kPlannedToNearest;
+    FallBack(costs, start, search_start_W, obstacles, &plan);
   }
+  plan.optimization_time_s = optimization_start.ElapsedSeconds();
   return plan;
+}
+
+void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryPoint& start,
+                                 const Eigen::Vector2d& search_start_W,
+                                 const std::vector<MovingObstacle>& obstacles,
+                                 NavigationPlan* plan) {
+  const CostField& field = costs.field();
+  const double resolution_m = field.geometry().resolution_m;
+  const std::vector<Eigen::Vector2d> body_B = config_.footprint.BoundaryPoints_B(resolution_m);
+  const double min_clearance_m = config_.optimizer.min_clearance_m;
+  const OptimizationDiagnostics failed = plan->optimized.diagnostics;
+  auto take = [&](common::Trajectory trajectory, Fallback fallback) {
+    plan->optimized = OptimizedTrajectory{};
+    plan->optimized.status = OptimizationStatus::kConverged;
+    plan->optimized.trajectory = std::move(trajectory);
+    plan->optimized.diagnostics = failed;
+    plan->fallback = fallback;
+  };
+  // 1. a path on which the robot can turn anywhere, optimised
+  const GridPlanner wide(costs.wide_search());
+  const GridPath wide_path = wide.Plan(search_start_W, plan->path.goal_W);
+  if (wide_path.status == PlanStatus::kFound) {
+    std::vector<Eigen::Vector2d> guide_W =
+        wide.Simplify(wide_path.points_W, config_.simplify_tolerance);
+    guide_W.front() = start.position_W;
+    guide_W.back() = plan->waypoints_W.back();
+    TrajectoryRequest request;
+    request.start = start;
+    request.goal_W = guide_W.back();
+    request.guide_W = guide_W;
+    request.obstacles = obstacles;
+    OptimizedTrajectory widened = optimizer_.Optimize(field, request);
+    if (widened.status != OptimizationStatus::kInfeasible) {
+      plan->optimized = std::move(widened);
+      plan->waypoints_W = std::move(guide_W);
+      plan->fallback = Fallback::kWiderMargin;
+      return;
+    }
+  }
+  // 2. the search path itself, slowly
+  common::Trajectory creep = CreepAlong(start, plan->waypoints_W, false, config_.fallback);
+  if (KeepsClear(field, creep, body_B, min_clearance_m)) {
+    take(std::move(creep), Fallback::kFollowPath);
+    return;
+  }
+  // 3. a turn toward the path, then 4. a reverse drive, that only free the robot
+  plan->status = NavigationStatus::kOptimizerFailed;
+  const Eigen::Vector2d towards = plan->waypoints_W.size() < 2
+                                      ? Eigen::Vector2d(Eigen::Vector2d::Zero())
+                                      : Eigen::Vector2d(plan->waypoints_W[1] - start.position_W);
+  const double heading = std::atan2(towards.y(), towards.x());
+  if (towards.norm() > 0.0 &&
+      std::abs(std::remainder(heading - start.yaw, 2.0 * M_PI)) > kAlignedYaw_rad) {
+    common::Trajectory turn = TurnInPlace(start, heading, config_.fallback);
+    if (KeepsClear(field, turn, body_B, min_clearance_m)) {
+      take(std::move(turn), Fallback::kTurnInPlace);
+      return;
+    }
+  }
+  const Eigen::Vector2d backwards(-std::cos(start.yaw), -std::sin(start.yaw));
+  for (double d = config_.fallback.back_out_distance_m; d >= resolution_m; d -= resolution_m) {
+    common::Trajectory back = CreepAlong(
+        start, {start.position_W, start.position_W + d * backwards}, true, config_.fallback);
+    if (KeepsClear(field, back, body_B, min_clearance_m)) {
+      take(std::move(back), Fallback::kBackOut);
+      return;
+    }
+  }
 }
 
 }  // namespace trav::planner

@@ -9,9 +9,11 @@
 
 #include "common/archive.h"
 #include "common/enum_names.h"
+#include "common/footprint.h"
 #include "common/grid.h"
 #include "common/trajectory.h"
 #include "planner/astar.h"
+#include "planner/manoeuvres.h"
 #include "planner/trajectory_optimizer.h"
 
 namespace trav::planner {
@@ -24,6 +26,20 @@ struct NavigationPlannerConfig {
   /// is this close to it [m], > 0.
   double substitute_goal_reach_m{3.0};
   TrajectoryOptimizerConfig optimizer;  ///< trajectory optimisation
+  FallbackConfig fallback;              ///< the manoeuvres when optimisation fails
+  /// The robot's outline (not a scenario key: the closed loop reads it from the robot file). It
+  /// replaces `optimizer.footprint` and sets the search's inflation (SearchConfig).
+  common::Footprint footprint;
+
+  /// The search settings the planner applies, `search` with the footprint: a cell is blocked when
+  /// the inscribed disc plus `optimizer.min_clearance` round its centre reaches a lethal cell (the
+  /// optimiser's smallest clearance for a robot broadside to the obstacle), and pays
+  /// `search.band_cost` more, less with the distance, while the circumscribed disc plus
+  /// `optimizer.clearance` does (where the robot cannot turn freely). docs/navigation.md.
+  CostMapConfig SearchConfig() const;
+
+  /// The optimiser settings the planner applies: `optimizer` with `footprint`.
+  TrajectoryOptimizerConfig OptimizerConfig() const;
 
   /// The keys of scenario section `planner` (common/archive.h).
   template <typename Archive>
@@ -34,6 +50,7 @@ struct NavigationPlannerConfig {
       k.Field("substitute_goal_reach", &substitute_goal_reach_m, {0, 100});
     });
     a->Map("optimizer", &optimizer);
+    a->Map("fallback", &fallback);
   }
 };
 
@@ -58,14 +75,37 @@ inline constexpr std::array<common::EnumName<NavigationStatus>, 4> kNavigationSt
      {NavigationStatus::kNoPath, "no-path"}}};
 constexpr const auto& EnumNames(NavigationStatus) { return kNavigationStatusNames; }
 
+/// The manoeuvre a plan falls back on when the optimised trajectory violates a constraint, tried
+/// in this order (docs/navigation.md).
+enum class Fallback {
+  kNone,         ///< the optimised trajectory along the search path
+  kWiderMargin,  ///< optimised along a path searched with the circumscribed disc's margin
+  kFollowPath,   ///< the search path itself at creep speed, turning in place at its vertices
+  kTurnInPlace,  ///< a turn in place toward the path's first segment
+  kBackOut,      ///< a straight reverse drive
+};
+
+/// The names of Fallback's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<Fallback>, 5> kFallbackNames{
+    {{Fallback::kNone, "none"},
+     {Fallback::kWiderMargin, "wider-margin"},
+     {Fallback::kFollowPath, "follow-path"},
+     {Fallback::kTurnInPlace, "turn-in-place"},
+     {Fallback::kBackOut, "back-out"}}};
+constexpr const auto& EnumNames(Fallback) { return kFallbackNames; }
+
 /// Result of one planning call.
 struct NavigationPlan {
   NavigationStatus status{NavigationStatus::kNoPath};
   GridPath path;                             ///< the A* path (cell centres)
   std::vector<Eigen::Vector2d> waypoints_W;  ///< its simplification, from the start to the goal
   OptimizedTrajectory optimized;             ///< empty trajectory if there was no path
-  double search_time_s{0.0};                 ///< A* wall time, including the map's search costs
-  double optimization_time_s{0.0};           ///< optimiser wall time
+  /// What the trajectory is when optimisation failed. With kWiderMargin and kFollowPath the
+  /// status stays kPlanned or kPlannedToNearest (it leads to the goal); with kTurnInPlace and
+  /// kBackOut it is kOptimizerFailed with a trajectory that only frees the robot.
+  Fallback fallback{Fallback::kNone};
+  double search_time_s{0.0};        ///< A* wall time, including the map's search costs
+  double optimization_time_s{0.0};  ///< optimiser wall time
 
   bool has_trajectory() const { return !optimized.trajectory.empty(); }
 };
@@ -76,8 +116,12 @@ struct NavigationPlan {
 /// inflation radius plus two cells (the trajectory leaves from the robot itself). When the goal
 /// cannot be reached on the map (unknown or outside it), the planner heads for the reachable cell
 /// nearest to it and keeps that substitute while it stays reachable, until the robot comes within
-/// `substitute_goal_reach_m` of it (a receding horizon that does not dither). Keeps
-/// the previous trajectory for warm starts (TrajectoryOptimizer). Failure is a status.
+/// `substitute_goal_reach_m` of it (a receding horizon that does not dither). When the optimised
+/// trajectory violates a constraint, the planner falls back, in order, on: an optimised trajectory
+/// along a path searched with the circumscribed disc's margin; the search path at creep speed; a
+/// turn in place toward it; a straight reverse drive (Fallback); each only if the footprint keeps
+/// the smallest clearance along it (KeepsClear). Keeps the previous trajectory for warm starts
+/// (TrajectoryOptimizer). Failure is a status.
 class NavigationPlanner {
  public:
   /// @throws common::InputError for an invalid config.
@@ -88,8 +132,8 @@ class NavigationPlanner {
   NavigationPlan Plan(const common::GridLayers& map, const common::TrajectoryPoint& start,
                       const Eigen::Vector2d& goal_W, const std::vector<MovingObstacle>& obstacles);
 
-  /// Plans on a map's costs built before (with this planner's `config().search`), so that plans
-  /// on one map share them.
+  /// Plans on a map's costs built before (with this planner's `config().SearchConfig()`), so that
+  /// plans on one map share them.
   NavigationPlan Plan(const CostMap& costs, const common::TrajectoryPoint& start,
                       const Eigen::Vector2d& goal_W, const std::vector<MovingObstacle>& obstacles);
 
@@ -102,6 +146,11 @@ class NavigationPlanner {
   const NavigationPlannerConfig& config() const { return config_; }
 
  private:
+  // The fallbacks of an optimisation that failed along plan->waypoints_W, in order.
+  void FallBack(const CostMap& costs, const common::TrajectoryPoint& start,
+                const Eigen::Vector2d& search_start_W, const std::vector<MovingObstacle>& obstacles,
+                NavigationPlan* plan);
+
   NavigationPlannerConfig config_;
   TrajectoryOptimizer optimizer_;
   std::optional<Eigen::Vector2d> substitute_goal_W_;

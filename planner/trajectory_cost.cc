@@ -46,7 +46,7 @@ Eigen::Vector2d Velocity(const FlatState& s) {
 
 // Partial derivatives of a penalty integrand with respect to what it depends on.
 struct Partials {
-  double dtheta{0.0}, ddtheta{0.0}, ds{0.0}, dds{0.0};
+  double theta{0.0}, dtheta{0.0}, ddtheta{0.0}, ds{0.0}, dds{0.0};
   Eigen::Vector2d position{Eigen::Vector2d::Zero()};
   double time{0.0};
 };
@@ -89,14 +89,25 @@ struct FieldTerms {
 };
 
 FieldTerms FieldPenalties(const CostField& field, const TrajectoryCostSetup& s,
-                          const Eigen::Vector2d& position, double v, Partials* partials) {
+                          const Eigen::Vector2d& position, double theta, double v,
+                          Partials* partials) {
   Partials& p = *partials;
   const TrajectoryCostWeights& w = s.weights;
   const double mu = s.smoothing;
   double slope = 0.0;
-  const FieldSample distance = field.Distance(position);
-  const double clearance = w.clearance * SmoothedL1(s.clearance_m - distance.value, mu, &slope);
-  p.position -= w.clearance * slope * distance.gradient_W;
+  // every point of the body's boundary keeps the clearance: q = position + R(theta) b
+  const double cos_t = std::cos(theta), sin_t = std::sin(theta);
+  double clearance = 0.0;
+  for (const Eigen::Vector2d& b : s.body_points_B) {
+    const Eigen::Vector2d rotated(cos_t * b.x() - sin_t * b.y(), sin_t * b.x() + cos_t * b.y());
+    const FieldSample distance = field.Distance(position + rotated);
+    if (distance.value >= s.clearance_m) continue;  // SmoothedL1 and its slope are 0 here
+    clearance += w.clearance * SmoothedL1(s.clearance_m - distance.value, mu, &slope);
+    p.position -= w.clearance * slope * distance.gradient_W;
+    // d rotated / d theta = (-rotated.y, rotated.x)
+    p.theta -= w.clearance * slope *
+               (distance.gradient_W.y() * rotated.x() - distance.gradient_W.x() * rotated.y());
+  }
 
   // int c |v| dt with |v| smoothed as sqrt(v^2 + e^2) - e
   constexpr double kSpeedSmoothing = 0.05;
@@ -203,7 +214,8 @@ CostTerms NodePenalties(const CostField& field, const TrajectoryCostSetup& s,
                         Partials* partials) {
   CostTerms g;
   g.limits = LimitsPenalty(state, s.limits, s.weights.limits, s.smoothing, partials);
-  const FieldTerms field_terms = FieldPenalties(field, s, position, state.ds, partials);
+  const FieldTerms field_terms =
+      FieldPenalties(field, s, position, state.theta, state.ds, partials);
   g.clearance = field_terms.clearance;
   g.traversability = field_terms.traversability;
   g.moving_obstacles = ObstaclesPenalty(s, position, t_abs, partials);
@@ -256,13 +268,13 @@ Eigen::Vector2d IntegratePenalties(const CostField& field, const TrajectoryCostS
       local.traversability += weight * node.traversability;
       local.moving_obstacles += weight * node.moving_obstacles;
       dK_dc.block<6, 1>(6 * i, 0) +=
-          weight * (p.dtheta * bases.b1 + p.ddtheta * bases.b2).transpose();
+          weight * (p.theta * bases.b0 + p.dtheta * bases.b1 + p.ddtheta * bases.b2).transpose();
       dK_dc.block<6, 1>(6 * i, 1) += weight * (p.ds * bases.b1 + p.dds * bases.b2).transpose();
       // the node's time k/K T_i and its weight (T_i / K) move with T_i
       const double fraction = static_cast<double>(k) / k_max;
       dK_dT(i) += weight * fraction *
-                      (p.dtheta * state.ddtheta + p.ddtheta * state.dddtheta + p.ds * state.dds +
-                       p.dds * state.ddds) +
+                      (p.theta * state.dtheta + p.dtheta * state.ddtheta +
+                       p.ddtheta * state.dddtheta + p.ds * state.dds + p.dds * state.ddds) +
                   weight / duration * g;
       tape->node_position_gradient[i * nodes_per_piece + k] = weight * p.position;
       tape->node_time_gradient[i * nodes_per_piece + k] = weight * p.time;

@@ -46,7 +46,10 @@ struct MovingObstacle {
 struct TrajectoryCostSetup {
   DynamicLimits limits;
   TrajectoryCostWeights weights;
-  double clearance_m{0.35};           ///< distance kept from lethal cells [m]
+  double clearance_m{0.35};  ///< distance kept from lethal cells by every body point [m]
+  /// The points of the robot's body in its base frame B that keep the clearance (the boundary of
+  /// its footprint, common::Footprint::BoundaryPoints_B) [m]; the default is the base's origin.
+  std::vector<Eigen::Vector2d> body_points_B{Eigen::Vector2d::Zero()};
   double robot_radius_m{0.35};        ///< disc around the base for moving obstacles [m]
   double obstacle_clearance_m{0.3};   ///< gap kept between that disc and a mover's [m]
   double clearance_growth_m_s{0.05};  ///< the gap grows by this per second ahead (prediction error)

@@ -235,6 +235,7 @@ Eigen::Vector2d PlanarVelocity(const FlatSample& s) {
 // Samples the trajectory (positions by Simpson's rule between samples) and checks it.
 OptimizedTrajectory Output(const TrajectoryOptimizerConfig& config, const CostField& field,
                            const TrajectoryRequest& request, double clearance_m,
+                           const std::vector<Eigen::Vector2d>& body_points_B,
                            const MinimumJerkPolynomial& polynomial) {
   OptimizedTrajectory out;
   OptimizationDiagnostics& d = out.diagnostics;
@@ -283,7 +284,7 @@ OptimizedTrajectory Output(const TrajectoryOptimizerConfig& config, const CostFi
           "yaw_acceleration");
     check(std::abs(p.v * p.omega) / lim.max_centripetal_acceleration_m_s2 - 1.0,
           "centripetal_acceleration");
-    const double distance = field.Distance(position).value;
+    const double distance = FootprintDistance(field, position, p.yaw, body_points_B);
     d.min_clearance_m = std::min(d.min_clearance_m, distance);
     // relative to the configured clearance (or to one cell when none is configured), so that
     // entering a lethal cell is a violation even where the clearance had to shrink
@@ -327,7 +328,8 @@ OptimizedTrajectory Solve(const TrajectoryOptimizerConfig& config, const CostFie
   }
   cost.Decode(z);
 
-  OptimizedTrajectory out = Output(config, field, request, setup.clearance_m, cost.polynomial());
+  OptimizedTrajectory out =
+      Output(config, field, request, setup.clearance_m, setup.body_points_B, cost.polynomial());
   OptimizationDiagnostics& d = out.diagnostics;
   d.clearance_m = setup.clearance_m;
   d.costs = solver.costs;
@@ -374,6 +376,8 @@ void ValidateTrajectoryOptimizerConfig(const TrajectoryOptimizerConfig& c) {
   RequireValue(c.clearance_m >= 0.0, "clearance", c.clearance_m, "must be >= 0");
   RequireValue(c.min_clearance_m >= 0.0 && c.min_clearance_m <= c.clearance_m, "min_clearance",
                c.min_clearance_m, "must be in [0, clearance]");
+  RequireValue(c.footprint.half_length_m > 0.0 && c.footprint.half_width_m > 0.0, "footprint",
+               c.footprint.half_length_m, "must have positive half extents");
   RequireValue(c.robot_radius_m > 0.0, "robot_radius", c.robot_radius_m, "must be > 0");
   RequireValue(c.obstacle_clearance_m >= 0.0, "obstacle_clearance", c.obstacle_clearance_m,
                "must be >= 0");
@@ -411,10 +415,14 @@ OptimizedTrajectory TrajectoryOptimizer::Optimize(const CostField& field,
   TrajectoryCostSetup setup;
   setup.limits = config_.limits;
   setup.weights = config_.weights;
-  // DDR-opt's rule for ends near lethal cells: the clearance shrinks to 85 % of the smaller
-  // distance of the start and the goal, so that neither end violates it
-  const double ends_m = std::min(field.Distance(request.start.position_W).value,
-                                 field.Distance(request.goal_W).value);
+  // body points at most a cell apart: no lethal cell fits between two of them
+  setup.body_points_B = config_.footprint.BoundaryPoints_B(field.geometry().resolution_m);
+  // DDR-opt's rule for ends near lethal cells: the clearance shrinks to 85 % of the smaller gap
+  // of the start and the goal, so that neither end violates it (the goal's yaw is free: its gap
+  // is the inscribed disc's)
+  const double ends_m = std::min(
+      FootprintDistance(field, request.start.position_W, request.start.yaw, setup.body_points_B),
+      field.Distance(request.goal_W).value - config_.footprint.InscribedRadius());
   setup.clearance_m = std::clamp(0.85 * ends_m, 0.0, config_.clearance_m);
   setup.robot_radius_m = config_.robot_radius_m;
   setup.obstacle_clearance_m = config_.obstacle_clearance_m;

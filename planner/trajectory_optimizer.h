@@ -9,6 +9,7 @@
 
 #include "common/archive.h"
 #include "common/enum_names.h"
+#include "common/footprint.h"
 #include "common/trajectory.h"
 #include "planner/cost_field.h"
 #include "planner/trajectory_cost.h"
@@ -19,15 +20,17 @@ namespace trav::planner {
 struct TrajectoryOptimizerConfig {
   DynamicLimits limits;
   TrajectoryCostWeights weights;
-  /// Kept from lethal cells [m], >= 0; shrinks to 85 % of the start's or goal's distance to them
-  /// when that is less (DDR-opt), so that an end near lethal cells is not infeasible by itself.
-  /// 0.35 m: at 0.3 m two of the 90 seeded suite runs (ruin 108, indoor 103) scraped furniture and
-  /// columns with the body's corners (the Scout Mini's half-diagonal is 0.42 m, its lethal cells
-  /// are already grown by the ground truth's footprint); at 0.4 m narrow rooms become unplannable.
-  double clearance_m{0.35};
+  /// The robot's outline: every point of its boundary keeps the clearance (the closed loop sets
+  /// it from the robot file; NavigationPlannerConfig::footprint).
+  common::Footprint footprint;
+  /// Gap kept between the footprint and lethal cells [m], >= 0; shrinks to 85 % of the start's or
+  /// goal's gap when that is less (DDR-opt), so that an end near lethal cells is not infeasible by
+  /// itself.
+  double clearance_m{0.1};
   /// When no trajectory keeps `clearance_m`, one more cold solve keeps this instead [m], in
-  /// [0, clearance]: a gap between 2 x 0.3 and 2 x 0.35 m of free space stays passable.
-  double min_clearance_m{0.3};
+  /// [0, clearance]; the search admits exactly the cells where the footprint's inscribed disc keeps
+  /// it (NavigationPlannerConfig::SearchConfig).
+  double min_clearance_m{0.01};
   double robot_radius_m{0.35};        ///< disc around the base for moving obstacles [m], > 0
   double obstacle_clearance_m{0.3};   ///< gap kept between the robot's and a mover's disc [m], >= 0
   double clearance_growth_m_s{0.05};  ///< growth of that gap per second ahead [m/s], >= 0
@@ -107,7 +110,7 @@ struct OptimizationDiagnostics {
   double max_violation{0.0};       ///< largest relative violation of a limit or clearance
   std::string worst_constraint;    ///< which constraint that was ("" if none)
   double clearance_m{0.0};         ///< clearance applied: the configured one, or less near the ends
-  double min_clearance_m{0.0};     ///< smallest signed distance to lethal cells on the path
+  double min_clearance_m{0.0};     ///< smallest signed distance of the footprint to lethal cells
   double min_obstacle_gap_m{0.0};  ///< smallest gap between the robot's and a mover's disc
   double terminal_error_m{0.0};    ///< distance from the end position to the goal
   int iterations{0};               ///< L-BFGS iterations

@@ -30,6 +30,14 @@ constexpr double kWheelY_m = 0.245;
 constexpr double kWheelRadius_m = 0.0875;
 constexpr double kDropHeight_m = 0.01;
 
+// The pose in W of a MuJoCo frame from its position and row-major rotation matrix.
+Eigen::Isometry3d FramePose(const mjtNum* position, const mjtNum* rotation) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.translation() = Eigen::Map<const Eigen::Vector3d>(position);
+  X.linear() = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(rotation);
+  return X;
+}
+
 const char* WarningName(int kind) {
   switch (kind) {
     case mjWARN_INERTIA:
@@ -236,6 +244,43 @@ Simulation::Simulation(const TerrainWorld& terrain, const common::Pose2& start_W
   SetMoverPoses(0.0);
   ClassifyGeoms(terrain);
   PlaceRobot(terrain, start_W);
+  footprint_ = MeasureFootprint();
+}
+
+common::Footprint Simulation::MeasureFootprint() const {
+  const mjModel* m = model_.get();
+  const Eigen::Isometry3d X_WB =
+      FramePose(data_->xpos + 3 * base_body_id_, data_->xmat + 9 * base_body_id_);
+  const int robot_root = m->body_rootid[base_body_id_];
+  Eigen::Vector2d extent_B = Eigen::Vector2d::Zero();
+  for (int g = 0; g < m->ngeom; ++g) {
+    const int body = m->geom_bodyid[g];
+    if (m->body_rootid[body] != robot_root ||
+        (m->geom_contype[g] == 0 && m->geom_conaffinity[g] == 0))
+      continue;
+    const mjtNum* size = m->geom_size + 3 * g;
+    // half extents of a box round the geom in its own frame; the bounding sphere for other types
+    Eigen::Vector3d half;
+    switch (m->geom_type[g]) {
+      case mjGEOM_BOX:
+      case mjGEOM_ELLIPSOID:
+        half = Eigen::Vector3d(size[0], size[1], size[2]);
+        break;
+      case mjGEOM_CYLINDER:
+        half = Eigen::Vector3d(size[0], size[0], size[1]);
+        break;
+      case mjGEOM_CAPSULE:
+        half = Eigen::Vector3d(size[0], size[0], size[1] + size[0]);
+        break;
+      default:
+        half = Eigen::Vector3d::Constant(m->geom_rbound[g]);
+    }
+    const Eigen::Isometry3d X_BG =
+        X_WB.inverse() * FramePose(data_->geom_xpos + 3 * g, data_->geom_xmat + 9 * g);
+    const Eigen::Vector3d reach = X_BG.linear().cwiseAbs() * half;
+    extent_B = extent_B.cwiseMax(X_BG.translation().head<2>().cwiseAbs() + reach.head<2>());
+  }
+  return {extent_B.x(), extent_B.y()};
 }
 
 Simulation::~Simulation() = default;
@@ -446,10 +491,7 @@ void Simulation::CollectWarnings() {
 common::RobotState Simulation::State() const {
   common::RobotState state;
   state.time_s = data_->time;
-  const mjtNum* p = data_->xpos + 3 * base_body_id_;
-  const mjtNum* R = data_->xmat + 9 * base_body_id_;
-  state.X_WB.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
-  state.X_WB.linear() = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(R);
+  state.X_WB = FramePose(data_->xpos + 3 * base_body_id_, data_->xmat + 9 * base_body_id_);
   // free joint velocity: linear in W, angular in B
   const mjtNum* qvel = data_->qvel + root_qvel_address_;
   state.v_WB_B = state.X_WB.linear().transpose() * Eigen::Vector3d(qvel[0], qvel[1], qvel[2]);
@@ -459,12 +501,7 @@ common::RobotState Simulation::State() const {
 }
 
 Eigen::Isometry3d Simulation::LidarPose() const {
-  Eigen::Isometry3d X_WL = Eigen::Isometry3d::Identity();
-  const mjtNum* p = data_->site_xpos + 3 * lidar_site_id_;
-  X_WL.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
-  X_WL.linear() = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
-      data_->site_xmat + 9 * lidar_site_id_);
-  return X_WL;
+  return FramePose(data_->site_xpos + 3 * lidar_site_id_, data_->site_xmat + 9 * lidar_site_id_);
 }
 
 std::optional<ImuMeasurement> Simulation::ImuTruth() const {

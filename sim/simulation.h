@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include "common/footprint.h"
 #include "common/pose.h"
 #include "sim/moving_obstacles.h"
 #include "sim/terrain.h"
@@ -147,6 +148,10 @@ class Simulation {
   /// Ground-truth state of the robot base.
   common::RobotState State() const;
 
+  /// The rectangle round the robot's collision geometry (chassis and wheels) in its base frame B,
+  /// centred on B's origin, as the robot file builds it at the start pose.
+  const common::Footprint& RobotFootprint() const { return footprint_; }
+
   /// Pose of the LiDAR site L in W.
   Eigen::Isometry3d LidarPose() const;
 
@@ -187,6 +192,7 @@ class Simulation {
   };
   void ClassifyGeoms(const TerrainWorld& terrain);
   void PlaceRobot(const TerrainWorld& terrain, const common::Pose2& start_W);
+  common::Footprint MeasureFootprint() const;
   void CheckMoverIndex(int index) const;
   void CollectWarnings();
 
@@ -199,6 +205,7 @@ class Simulation {
   int root_qpos_address_{0};
   int root_qvel_address_{0};
   std::array<int, 4> wheel_qvel_address_{};
+  common::Footprint footprint_;
   std::vector<GeomInfo> geom_info_;  // per MuJoCo geom
   std::vector<MoverTrack> mover_tracks_;
   std::vector<int> mover_mocap_ids_;

@@ -46,13 +46,13 @@ void ValidateNavigationSettings(const NavigationSettings& s) {
 
 namespace {
 
-// The MPC may exceed the plan's speed only to catch up a little (20 %), never up to the hardware
-// limit: a robot that fell behind a plan must not race to where the plan is now.
+// The MPC never drives faster than the planner's speed limit (a robot that fell behind a plan must
+// not race to where the plan is now); it may turn a little faster (20 %) to catch up a heading.
 controller::MpcConfig TrackingConfig(controller::MpcConfig mpc,
                                      const NavigationPlannerConfig& planner) {
   const DynamicLimits& limits = planner.optimizer.limits;
-  mpc.max_speed_m_s = std::min(mpc.max_speed_m_s, 1.2 * limits.max_speed_m_s);
-  mpc.min_speed_m_s = std::max(mpc.min_speed_m_s, -1.2 * limits.max_speed_m_s);
+  mpc.max_speed_m_s = std::min(mpc.max_speed_m_s, limits.max_speed_m_s);
+  mpc.min_speed_m_s = std::max(mpc.min_speed_m_s, -limits.max_speed_m_s);
   mpc.max_yaw_rate_rad_s = std::min(mpc.max_yaw_rate_rad_s, 1.2 * limits.max_yaw_rate_rad_s);
   return mpc;
 }
@@ -171,15 +171,20 @@ void Navigator::Replan(const common::RobotState& state, const common::GridLayers
   }
   statistics_.planning_ms.push_back(1e3 * (plan.search_time_s + plan.optimization_time_s));
   statistics_.last_status = common::NameOf(plan.status);
-  if (plan.status == NavigationStatus::kOptimizerFailed) {
+  if (plan.status == NavigationStatus::kOptimizerFailed || plan.fallback != Fallback::kNone) {
     const OptimizationDiagnostics& d = plan.optimized.diagnostics;
     statistics_.last_status += " (" + d.worst_constraint + " violated by " +
                                std::to_string(static_cast<int>(100.0 * d.max_violation)) +
                                " %, end " + std::to_string(d.terminal_error_m) +
                                " m from the goal)";
   }
-  const bool usable = plan.has_trajectory() && (plan.status == NavigationStatus::kPlanned ||
-                                                plan.status == NavigationStatus::kPlannedToNearest);
+  if (plan.fallback != Fallback::kNone) {
+    statistics_.last_status += ", " + std::string(common::NameOf(plan.fallback));
+    ++statistics_.fallbacks[static_cast<std::size_t>(plan.fallback)];
+  }
+  const bool leads_to_goal = plan.status == NavigationStatus::kPlanned ||
+                             plan.status == NavigationStatus::kPlannedToNearest;
+  const bool usable = plan.has_trajectory() && (leads_to_goal || plan.fallback != Fallback::kNone);
   // a plan to the substitute of an unreachable goal that ends where the robot already is leads
   // nowhere: it is followed, but the time without a plan keeps running
   const bool leads_nowhere =
@@ -190,7 +195,8 @@ void Navigator::Replan(const common::RobotState& state, const common::GridLayers
     trajectory_ = plan.optimized.trajectory;
     waypoints_W_ = plan.waypoints_W;
     tracker_.SetReference(trajectory_);
-    if (!leads_nowhere) last_valid_plan_s_ = now;
+    // a manoeuvre that only frees the robot does not count as a plan: the patience keeps running
+    if (leads_to_goal && !leads_nowhere) last_valid_plan_s_ = now;
     force_replan_ = false;
   } else {
     ++statistics_.failed_plans;
@@ -199,7 +205,7 @@ void Navigator::Replan(const common::RobotState& state, const common::GridLayers
 }
 
 const CostMap& Navigator::CostMapOf(const common::GridLayers& map) {
-  if (!cost_map_) cost_map_.emplace(map, planner_.config().search);
+  if (!cost_map_) cost_map_.emplace(map, planner_.config().SearchConfig());
   return *cost_map_;
 }
 

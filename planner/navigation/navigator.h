@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -96,6 +97,9 @@ class Navigator {
   /// the goal cannot be reached from here.
   double time_without_plan_s(double now_s) const;
 
+  /// The planner's settings, with the footprint it plans for.
+  const NavigationPlannerConfig& planner_config() const { return planner_.config(); }
+
   /// The trajectory being tracked (empty before the first plan).
   const common::Trajectory& trajectory() const { return trajectory_; }
 
@@ -104,8 +108,10 @@ class Navigator {
 
   /// Counters and timings for the summary.
   struct Statistics {
-    int plans{0};                     ///< planning calls
-    int failed_plans{0};              ///< calls without a usable trajectory
+    int plans{0};         ///< planning calls
+    int failed_plans{0};  ///< calls without a usable trajectory
+    /// Calls whose trajectory is a fallback, by Fallback (index kNone unused).
+    std::array<int, kFallbackNames.size()> fallbacks{};
     int safety_stops{0};              ///< control ticks that braked for safety
     int replans_on_events{0};         ///< calls triggered by an event rather than the clock
     std::vector<double> planning_ms;  ///< wall time of each planning call

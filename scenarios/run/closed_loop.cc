@@ -150,7 +150,10 @@ ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& option
   // the closed loop: the ground truth for the oracle and the metrics, the navigator on the map
   if (scenario.mode == RunMode::kNavigate) {
     truth_W_ = WorldGroundTruth(scenario, world_, obstacle_heights());
-    navigator_.emplace(scenario.navigation, scenario.planner, scenario.mpc, scenario.goal_W);
+    // the robot's outline from the robot file, for the search and the optimiser alike
+    planner::NavigationPlannerConfig planner = scenario.planner;
+    planner.footprint = simulation_->RobotFootprint();
+    navigator_.emplace(scenario.navigation, planner, scenario.mpc, scenario.goal_W);
     if (oracle) navigation_map_ = &*truth_W_;
     // movers perceived from the scans, when the scenario does not give the planner their state
     if (lidar_ && !scenario.navigation.movers_from_ground_truth) {

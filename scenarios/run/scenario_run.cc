@@ -75,12 +75,16 @@ NavigationMetrics SummarizeNavigation(const ClosedLoop& loop, const RunSummary& 
   NavigationMetrics navigation;
   navigation.goal_reached = summary.outcome == Outcome::kSuccess;
   navigation.time_to_goal_s = goal.time_to_goal_s();
-  navigation.optimal_path_length_m = OptimalPathLength(scenario, *loop.truth());
+  // with the footprint the navigator read from the robot file
+  Scenario resolved = scenario;
+  resolved.planner = loop.navigator()->planner_config();
+  navigation.optimal_path_length_m = OptimalPathLength(resolved, *loop.truth());
   const planner::Navigator::Statistics& stats = loop.navigator()->statistics();
   navigation.plans = stats.plans;
   navigation.failed_plans = stats.failed_plans;
   navigation.replans_on_events = stats.replans_on_events;
   navigation.safety_stops = stats.safety_stops;
+  navigation.fallbacks = stats.fallbacks;
   navigation.mover_tracking_error_m = movers.tracking_error_m();
   navigation.perceived_mover_samples = movers.perceived_samples();
   navigation.false_mover_samples = movers.false_mover_samples();
@@ -144,7 +148,7 @@ common::GridLayers ScenarioGroundTruth(const Scenario& scenario) {
 }
 
 double OptimalPathLength(const Scenario& scenario, const common::GridLayers& truth) {
-  const planner::GridPlanner search(truth, scenario.planner.search);
+  const planner::GridPlanner search(truth, scenario.planner.SearchConfig());
   const planner::GridPath path = search.Plan(scenario.start_W.position, scenario.goal_W);
   if (path.status != planner::PlanStatus::kFound) return 0.0;
   std::vector<Eigen::Vector2d> waypoints =
@@ -164,7 +168,7 @@ std::optional<common::GridLayers> RoutableGroundTruth(const Scenario& scenario) 
   common::GridLayers obstacles(world.geometry, {mapping::layers::kTraversability});
   obstacles.Layer(mapping::layers::kTraversability) =
       (obstacle_heights.array() > scenario.ground_truth.clearance_m).cast<float>();
-  const planner::GridPlanner quick(obstacles, scenario.planner.search);
+  const planner::GridPlanner quick(obstacles, scenario.planner.SearchConfig());
   if (quick.Plan(scenario.start_W.position, scenario.goal_W).status !=
       planner::PlanStatus::kFound) {
     return std::nullopt;
@@ -298,27 +302,33 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
 }
 
 void to_json(nlohmann::json& json, const NavigationMetrics& n) {
-  json = {{"goal_reached", n.goal_reached},
-          {"time_to_goal_s", n.time_to_goal_s},
-          {"final_goal_distance_m", n.final_goal_distance_m},
-          {"optimal_path_length_m", n.optimal_path_length_m},
-          {"path_length_ratio", n.path_length_ratio},
-          {"barn_score", n.barn_score},
-          {"rms_vertical_acceleration_m_s2", n.rms_vertical_acceleration_m_s2},
-          {"plans", n.plans},
-          {"failed_plans", n.failed_plans},
-          {"replans_on_events", n.replans_on_events},
-          {"safety_stops", n.safety_stops},
-          {"last_planner_status", n.last_planner_status},
-          {"mover_tracking_error_m", n.mover_tracking_error_m},
-          {"perceived_mover_samples", n.perceived_mover_samples},
-          {"false_mover_samples", n.false_mover_samples},
-          {"near_misses", n.near_misses},
-          {"min_mover_clearance_m", std::isfinite(n.min_mover_clearance_m)
-                                        ? nlohmann::json(n.min_mover_clearance_m)
-                                        : nlohmann::json(nullptr)},
-          {"goal", {n.goal_W.x(), n.goal_W.y()}},
-          {"path_length_m", n.path_length_m}};
+  json = {
+      {"goal_reached", n.goal_reached},
+      {"time_to_goal_s", n.time_to_goal_s},
+      {"final_goal_distance_m", n.final_goal_distance_m},
+      {"optimal_path_length_m", n.optimal_path_length_m},
+      {"path_length_ratio", n.path_length_ratio},
+      {"barn_score", n.barn_score},
+      {"rms_vertical_acceleration_m_s2", n.rms_vertical_acceleration_m_s2},
+      {"plans", n.plans},
+      {"failed_plans", n.failed_plans},
+      {"replans_on_events", n.replans_on_events},
+      {"safety_stops", n.safety_stops},
+      {"fallbacks",
+       {{"wider_margin", n.fallbacks[static_cast<std::size_t>(planner::Fallback::kWiderMargin)]},
+        {"follow_path", n.fallbacks[static_cast<std::size_t>(planner::Fallback::kFollowPath)]},
+        {"turn_in_place", n.fallbacks[static_cast<std::size_t>(planner::Fallback::kTurnInPlace)]},
+        {"back_out", n.fallbacks[static_cast<std::size_t>(planner::Fallback::kBackOut)]}}},
+      {"last_planner_status", n.last_planner_status},
+      {"mover_tracking_error_m", n.mover_tracking_error_m},
+      {"perceived_mover_samples", n.perceived_mover_samples},
+      {"false_mover_samples", n.false_mover_samples},
+      {"near_misses", n.near_misses},
+      {"min_mover_clearance_m", std::isfinite(n.min_mover_clearance_m)
+                                    ? nlohmann::json(n.min_mover_clearance_m)
+                                    : nlohmann::json(nullptr)},
+      {"goal", {n.goal_W.x(), n.goal_W.y()}},
+      {"path_length_m", n.path_length_m}};
 }
 
 void to_json(nlohmann::json& json, const MappingMetrics& m) {

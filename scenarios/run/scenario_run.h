@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -35,6 +36,8 @@ struct NavigationMetrics {
   int failed_plans{0};
   int replans_on_events{0};
   int safety_stops{0};
+  /// Plans that fell back on a manoeuvre, by planner::Fallback (docs/navigation.md).
+  std::array<int, planner::kFallbackNames.size()> fallbacks{};
   std::string last_planner_status;
   /// Movers perceived from the scans (navigation.movers_from_ground_truth false), sampled every
   /// physics step: the mean distance from each perceived mover to the nearest true one over those

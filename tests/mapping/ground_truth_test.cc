@@ -53,7 +53,7 @@ TEST(GroundTruthTest, AThirtyDegreeSlopeSaturatesTheSlopeTerm) {
               1e-5);
 }
 
-TEST(GroundTruthTest, CellsAroundATwentyCentimetreBoxAreUntraversable) {
+TEST(GroundTruthTest, CellsOfATwentyCentimetreBoxAreUntraversableAndTheFootprintRadiusGrowsThem) {
   // a 0.6 m x 0.6 m box 0.2 m high at (2, 2)
   Eigen::MatrixXf obstacles = kNoObstacles;
   for (int ix = 0; ix < kWorld.num_x; ++ix) {
@@ -66,9 +66,15 @@ TEST(GroundTruthTest, CellsAroundATwentyCentimetreBoxAreUntraversable) {
       ComputeGroundTruth(kMap, kWorld, Heights([](double, double) { return 0.0; }), obstacles,
                          FsgpConfig{}, GroundTruthConfig{});
   EXPECT_EQ(*truth.At(layers::kTraversability, {2.0, 2.0}), 1.0f);
-  EXPECT_EQ(*truth.At(layers::kTraversability, {2.4, 2.0}),
-            1.0f);  // within the footprint of the edge
-  EXPECT_EQ(*truth.At(layers::kTraversability, {1.6, 2.0}), 1.0f);
+  EXPECT_EQ(*truth.At(layers::kTraversability, {2.2, 2.0}), 1.0f);  // the box's edge cell
+  // by default the box's own cells only: the planners add the robot's footprint
+  EXPECT_LT(*truth.At(layers::kTraversability, {2.4, 2.0}), 1.0f);
+  GroundTruthConfig grown;
+  grown.footprint_radius_m = 0.3;
+  const common::GridLayers truth_grown = ComputeGroundTruth(
+      kMap, kWorld, Heights([](double, double) { return 0.0; }), obstacles, FsgpConfig{}, grown);
+  EXPECT_EQ(*truth_grown.At(layers::kTraversability, {2.4, 2.0}), 1.0f);  // within 0.3 m of it
+  EXPECT_EQ(*truth_grown.At(layers::kTraversability, {1.6, 2.0}), 1.0f);
   EXPECT_EQ(*truth.At(layers::kTraversability, {-2.0, -2.0}), 0.0f);
   EXPECT_LT(*truth.At(layers::kTraversability, {3.4, 2.0}), 1.0f);
 }

@@ -70,7 +70,7 @@ TEST(CostMapTest, ASegmentOverABlockedCellOrOffTheMapIsInfinite) {
   EXPECT_EQ(dut.SegmentCost({-1, 0.1}, {std::nan(""), 0.1}), kInfinity);
 }
 
-TEST(CostMapTest, InflationGrowsLethalCellsByADiscOfCells) {
+TEST(CostMapTest, InflationBlocksCellsCloserToALethalCellThanItsRadius) {
   common::GridLayers map = ConstantMap(2.0, 0.25f);
   map.Layer("traversability")(10, 10) = 0.8f;    // at the threshold: lethal
   map.Layer("traversability")(13, 10) = 0.125f;  // cheaper, but inside the inflation
@@ -78,18 +78,33 @@ TEST(CostMapTest, InflationGrowsLethalCellsByADiscOfCells) {
     CostMapConfig config;
     config.inflation_radius_m = radius_m;
     const SearchCostMap dut(map, config);
-    const int r = radius_m == 0.3 ? 3 : 2;
+    // the gap between cell boundaries, (centre distance - 0.5 cells) x 0.1 m, below the radius
     int blocked = 0;
     for (int ix = 0; ix < 21; ++ix) {
       for (int iy = 0; iy < 21; ++iy) {
-        const int d2 = (ix - 10) * (ix - 10) + (iy - 10) * (iy - 10);
-        EXPECT_EQ(std::isinf(dut.cost(ix, iy)), d2 <= r * r) << ix << ", " << iy;
+        const double gap_m = (std::hypot(ix - 10, iy - 10) - 0.5) * 0.1;
+        EXPECT_EQ(std::isinf(dut.cost(ix, iy)), gap_m < radius_m - 1e-12) << ix << ", " << iy;
         blocked += std::isinf(dut.cost(ix, iy)) ? 1 : 0;
       }
     }
-    EXPECT_EQ(blocked, r == 3 ? 29 : 13);
-    EXPECT_EQ(dut.min_cost(), r == 3 ? 0.25 : 0.125);
+    EXPECT_EQ(blocked, radius_m == 0.3 ? 37 : 25);
+    EXPECT_EQ(dut.min_cost(), radius_m == 0.3 ? 0.25 : 0.125);
   }
+}
+
+TEST(CostMapTest, TheBandChargesCellsNearTheInflationLinearlyLess) {
+  common::GridLayers map = ConstantMap(2.0, 0.25f);
+  map.Layer("traversability")(10, 10) = 1.0f;
+  CostMapConfig config;
+  config.inflation_radius_m = 0.15;
+  config.band_radius_m = 0.55;
+  config.band_cost = 0.4;
+  const SearchCostMap dut(map, config);
+  // along +x: gaps 0.05, 0.15, 0.25, ... m from the lethal cell's boundary
+  EXPECT_TRUE(std::isinf(dut.cost(11, 10)));
+  EXPECT_NEAR(dut.cost(12, 10), 0.25 + 0.4, 1e-12);              // gap 0.15: the band's inner edge
+  EXPECT_NEAR(dut.cost(14, 10), 0.25 + 0.4 * 0.2 / 0.4, 1e-12);  // gap 0.35: half way
+  EXPECT_EQ(dut.cost(16, 10), 0.25);                             // gap 0.55: outside
 }
 
 TEST(CostMapTest, UnknownCellsFollowThePolicyAndCostsAreClampedAtZero) {

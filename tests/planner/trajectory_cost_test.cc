@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/footprint.h"
 #include "common/random.h"
 
 namespace trav::planner {
@@ -36,7 +37,7 @@ TrajectoryCostWeights Only(const std::string& term) {
   w.time = term == "time" ? 50.0 : 0.0;
   w.traversability = term == "traversability" ? 50.0 : 0.0;
   w.limits = term == "limits" ? 1.0e3 : 0.0;
-  w.clearance = term == "clearance" ? 1.0e3 : 0.0;
+  w.clearance = term == "clearance" || term == "body_clearance" ? 1.0e3 : 0.0;
   w.moving_obstacles = term == "moving_obstacles" ? 1.0e3 : 0.0;
   return w;
 }
@@ -51,6 +52,11 @@ TrajectoryCostSetup CostSetup(const std::string& term) {
   s.limits.max_yaw_acceleration_rad_s2 = 0.3;
   s.limits.max_centripetal_acceleration_m_s2 = 0.1;
   s.clearance_m = 0.8;
+  // the footprint's boundary keeps the clearance: the yaw enters the term too
+  if (term == "body_clearance") {
+    s.body_points_B = common::Footprint{}.BoundaryPoints_B(0.2);
+    s.clearance_m = 0.3;
+  }
   s.start_time_s = 3.0;
   s.start_W = Eigen::Vector2d(0.0, 0.1);
   s.head << 0.1, 0.0, 0.2, 0.5, 0.0, 0.1;
@@ -98,6 +104,7 @@ TEST_P(TrajectoryCostGradientTest, MatchesCentralDifferences) {
                               : GetParam() == "traversability"   ? terms.traversability
                               : GetParam() == "limits"           ? terms.limits
                               : GetParam() == "clearance"        ? terms.clearance
+                              : GetParam() == "body_clearance"   ? terms.clearance
                               : GetParam() == "moving_obstacles" ? terms.moving_obstacles
                                                                  : terms.terminal;
     ASSERT_GT(term_value, 0.0) << GetParam() << " inactive for seed " << seed;
@@ -118,7 +125,7 @@ TEST_P(TrajectoryCostGradientTest, MatchesCentralDifferences) {
 
 INSTANTIATE_TEST_SUITE_P(EveryTerm, TrajectoryCostGradientTest,
                          testing::Values("energy", "time", "traversability", "limits", "clearance",
-                                         "moving_obstacles", "terminal"),
+                                         "body_clearance", "moving_obstacles", "terminal"),
                          [](const testing::TestParamInfo<std::string>& param_info) {
                            return param_info.param;
                          });

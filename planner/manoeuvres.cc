@@ -1,0 +1,92 @@
+#include "planner/manoeuvres.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/input_error.h"
+
+namespace trav::planner {
+namespace {
+
+// The angle from `from` to `to` wrapped into (-pi, pi] [rad].
+double TurnAngle(double from, double to) { return std::remainder(to - from, 2.0 * M_PI); }
+
+// Appends samples of a constant-rate motion from `from` (a copy: it may be an element of `points`)
+// over `duration_s`: `v` forward and `omega`
+// about z, after `from` (the end is included, the beginning is not).
+void AppendMotion(common::TrajectoryPoint from, double duration_s, double v, double omega,
+                  double step_s, std::vector<common::TrajectoryPoint>* points) {
+  if (duration_s < 1e-6) return;  // shorter motions would not advance the time stamps
+  const int steps = std::max(1, static_cast<int>(std::ceil(duration_s / step_s - 1e-9)));
+  for (int k = 1; k <= steps; ++k) {
+    const double t = duration_s * k / steps;
+    common::TrajectoryPoint p;
+    p.t_s = from.t_s + t;
+    p.yaw = from.yaw + omega * t;
+    p.position_W =
+        from.position_W + v * t * Eigen::Vector2d(std::cos(from.yaw), std::sin(from.yaw));
+    p.v = k == steps ? 0.0 : v;
+    p.omega = k == steps ? 0.0 : omega;
+    points->push_back(p);
+  }
+}
+
+}  // namespace
+
+void ValidateFallbackConfig(const FallbackConfig& c) {
+  using common::RequireValue;
+  RequireValue(c.creep_speed_m_s > 0.0, "creep_speed", c.creep_speed_m_s, "must be > 0");
+  RequireValue(c.creep_yaw_rate_rad_s > 0.0, "creep_yaw_rate", c.creep_yaw_rate_rad_s,
+               "must be > 0");
+  RequireValue(c.back_out_distance_m > 0.0, "back_out_distance", c.back_out_distance_m,
+               "must be > 0");
+  RequireValue(c.output_step_s > 0.0, "output_step", c.output_step_s, "must be > 0");
+}
+
+common::Trajectory CreepAlong(const common::TrajectoryPoint& start,
+                              const std::vector<Eigen::Vector2d>& waypoints_W, bool reverse,
+                              const FallbackConfig& config) {
+  common::TrajectoryPoint at = start;
+  at.v = at.omega = at.acceleration = 0.0;
+  std::vector<common::TrajectoryPoint> points{at};
+  const double direction = reverse ? -1.0 : 1.0;
+  for (std::size_t i = 1; i < waypoints_W.size(); ++i) {
+    const Eigen::Vector2d segment = waypoints_W[i] - points.back().position_W;
+    const double length = segment.norm();
+    if (length < 1e-6) continue;
+    const double heading = std::atan2(direction * segment.y(), direction * segment.x());
+    const double turn = TurnAngle(points.back().yaw, heading);
+    const double omega = std::copysign(config.creep_yaw_rate_rad_s, turn);
+    AppendMotion(points.back(), std::abs(turn) / config.creep_yaw_rate_rad_s, 0.0, omega,
+                 config.output_step_s, &points);
+    AppendMotion(points.back(), length / config.creep_speed_m_s, direction * config.creep_speed_m_s,
+                 0.0, config.output_step_s, &points);
+  }
+  return common::Trajectory(std::move(points));
+}
+
+common::Trajectory TurnInPlace(const common::TrajectoryPoint& start, double yaw,
+                               const FallbackConfig& config) {
+  common::TrajectoryPoint at = start;
+  at.v = at.omega = at.acceleration = 0.0;
+  std::vector<common::TrajectoryPoint> points{at};
+  const double turn = TurnAngle(start.yaw, yaw);
+  AppendMotion(at, std::abs(turn) / config.creep_yaw_rate_rad_s, 0.0,
+               std::copysign(config.creep_yaw_rate_rad_s, turn), config.output_step_s, &points);
+  return common::Trajectory(std::move(points));
+}
+
+bool KeepsClear(const CostField& field, const common::Trajectory& trajectory,
+                const std::vector<Eigen::Vector2d>& body_points_B, double min_clearance_m) {
+  const std::vector<common::TrajectoryPoint>& points = trajectory.points();
+  if (points.empty()) return true;
+  const double floor_m =
+      std::min(min_clearance_m, FootprintDistance(field, points.front().position_W,
+                                                  points.front().yaw, body_points_B)) -
+      1e-9;
+  return std::all_of(points.begin(), points.end(), [&](const common::TrajectoryPoint& p) {
+    return FootprintDistance(field, p.position_W, p.yaw, body_points_B) >= floor_m;
+  });
+}
+
+}  // namespace trav::planner

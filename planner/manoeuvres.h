@@ -1,0 +1,52 @@
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "common/archive.h"
+#include "common/trajectory.h"
+#include "planner/cost_field.h"
+
+namespace trav::planner {
+
+/// Settings of the slow manoeuvres the planner falls back on when trajectory optimisation fails
+/// (scenario key `planner.fallback`; docs/navigation.md).
+struct FallbackConfig {
+  double creep_speed_m_s{0.3};       ///< speed along the search path or backwards [m/s], > 0
+  double creep_yaw_rate_rad_s{0.6};  ///< yaw rate of the turns in place [rad/s], > 0
+  double back_out_distance_m{0.6};   ///< longest reverse drive [m], > 0
+  double output_step_s{0.02};        ///< sample spacing [s], > 0
+
+  /// The keys of scenario section `planner.fallback` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("creep_speed", &creep_speed_m_s, {0.01, 5});
+    a->Field("creep_yaw_rate", &creep_yaw_rate_rad_s, {0.01, 10});
+    a->Field("back_out_distance", &back_out_distance_m, {0.01, 10});
+  }
+};
+
+/// Checks a config. @throws common::InputError naming the key (relative: "creep_speed").
+void ValidateFallbackConfig(const FallbackConfig& config);
+
+/// A slow trajectory through `waypoints_W` from the start's pose: at the start and at each vertex
+/// the robot turns in place to the next segment's heading at `creep_yaw_rate`, then drives the
+/// segment straight at `creep_speed`, forward, or backward (facing away from it) when `reverse`.
+/// Sampled every `output_step_s` from start.t_s; rates are piecewise constant. The first waypoint
+/// is where the robot is (start.position_W); an empty or single-point list gives the start alone.
+common::Trajectory CreepAlong(const common::TrajectoryPoint& start,
+                              const std::vector<Eigen::Vector2d>& waypoints_W, bool reverse,
+                              const FallbackConfig& config);
+
+/// A turn in place at the start's position from its yaw to `yaw` (the shorter way round).
+common::Trajectory TurnInPlace(const common::TrajectoryPoint& start, double yaw,
+                               const FallbackConfig& config);
+
+/// True if the footprint's body points never come closer to lethal cells than
+/// min(min_clearance_m, their gap at the trajectory's start), sampled at every point: a manoeuvre
+/// may start too close, never get closer.
+bool KeepsClear(const CostField& field, const common::Trajectory& trajectory,
+                const std::vector<Eigen::Vector2d>& body_points_B, double min_clearance_m);
+
+}  // namespace trav::planner
