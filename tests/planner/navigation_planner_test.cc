@@ -1,8 +1,11 @@
 #include "planner/navigation_planner.h"
 
+#include "planner_test_util.h"
 #include <gtest/gtest.h>
 
 #include "common/enum_names.h"
+#include "common/random.h"
+#include "planner/cost_field.h"
 
 namespace trav::planner {
 namespace {
@@ -73,6 +76,126 @@ TEST(NavigationPlannerTest, ABlockedGoalIsMovedAndAnUnreachableOneHasNoPath) {
   EXPECT_EQ(none.status, NavigationStatus::kNoPath);
   EXPECT_FALSE(none.has_trajectory());
   EXPECT_EQ(common::NameOf(none.status), "no-path");
+}
+
+// The smallest gap between the footprint and lethal cells along a trajectory, and at its start [m].
+std::pair<double, double> FootprintGaps(const common::GridLayers& map,
+                                        const NavigationPlannerConfig& config,
+                                        const common::Trajectory& trajectory) {
+  const CostField field(map, config.SearchConfig());
+  const std::vector<Eigen::Vector2d> body_B =
+      config.footprint.BoundaryPoints_B(map.geometry().resolution_m);
+  double smallest = std::numeric_limits<double>::infinity();
+  for (const common::TrajectoryPoint& p : trajectory.points()) {
+    smallest = std::min(smallest, FootprintDistance(field, p.position_W, p.yaw, body_B));
+  }
+  const common::TrajectoryPoint& first = trajectory.points().front();
+  return {smallest, FootprintDistance(field, first.position_W, first.yaw, body_B)};
+}
+
+// 12 x 8 m at 0.2 m (the mappers' resolution), cost 0.1, with `boxes` random lethal boxes of 0.2
+// to 2.4 m by 0.2 to 0.6 m (walls and columns), none over the start (-5, 0) or the goal (5, 0).
+common::GridLayers RandomWorld(std::uint64_t seed, int boxes) {
+  common::GridLayers map(
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(12, 8), 0.2),
+      {"traversability"});
+  map.Layer("traversability").setConstant(0.1f);
+  common::Random random(seed);
+  for (int b = 0; b < boxes; ++b) {
+    const Eigen::Vector2d centre(random.Uniform(-4.0, 4.0), random.Uniform(-3.5, 3.5));
+    Eigen::Vector2d half(random.Uniform(0.1, 1.2), random.Uniform(0.1, 0.3));
+    if (random.Uniform(0.0, 1.0) < 0.5) std::swap(half.x(), half.y());
+    test_util::Paint(&map, 1.0f, [&](const Eigen::Vector2d& p) {
+      return ((p - centre).cwiseAbs() - half).maxCoeff() <= 0.0 &&
+             (p - Eigen::Vector2d(-5, 0)).norm() > 0.8 && (p - Eigen::Vector2d(5, 0)).norm() > 0.8;
+    });
+  }
+  return map;
+}
+
+// The relation of the footprint model (docs/navigation.md): whatever path A* admits, the planner
+// returns a trajectory, optimised or one of the fallbacks, and the footprint never comes closer
+// to lethal cells along it than the smallest clearance (or than it started), up to the
+// optimiser's 5 % tolerance on a 0.2 m cell.
+TEST(NavigationPlannerTest, EveryPathTheSearchAdmitsYieldsATrajectoryThatKeepsTheFootprintClear) {
+  const NavigationPlannerConfig config;
+  const double tolerance_m = config.optimizer.violation_tolerance * 0.2;
+  int paths = 0, tight = 0;
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    const common::GridLayers map = RandomWorld(seed, 14);
+    common::TrajectoryPoint start;
+    start.position_W = Eigen::Vector2d(-5, 0);
+    start.yaw = 0.5 * static_cast<double>(seed);  // any heading
+    NavigationPlanner dut(config);
+    const NavigationPlan plan = dut.Plan(map, start, {5, 0}, {});
+    if (plan.status == NavigationStatus::kNoPath) continue;
+    ++paths;
+    ASSERT_TRUE(plan.has_trajectory()) << "seed " << seed;
+    const bool leads_to_goal = plan.status == NavigationStatus::kPlanned ||
+                               plan.status == NavigationStatus::kPlannedToNearest;
+    ASSERT_TRUE(leads_to_goal || plan.fallback != Fallback::kNone)
+        << "seed " << seed << ": " << plan.optimized.diagnostics.worst_constraint;
+    const auto [smallest_m, start_m] = FootprintGaps(map, config, plan.optimized.trajectory);
+    EXPECT_GE(smallest_m, std::min(config.optimizer.min_clearance_m, start_m) - tolerance_m)
+        << "seed " << seed << " fallback " << common::NameOf(plan.fallback);
+    tight += smallest_m < config.optimizer.clearance_m ? 1 : 0;
+  }
+  // the worlds leave most routes open, and many pass closer than the desired clearance
+  EXPECT_GE(paths, 30);
+  EXPECT_GE(tight, 10);
+}
+
+// With one L-BFGS iteration and a micrometre of end tolerance the optimiser cannot converge, so
+// the planner falls back.
+NavigationPlannerConfig OneIteration() {
+  NavigationPlannerConfig config;
+  config.optimizer.max_iterations = 1;
+  config.optimizer.terminal_tolerance_m = 1e-6;
+  return config;
+}
+
+TEST(NavigationPlannerTest, AFailedOptimisationFollowsTheSearchPathAtCreepSpeed) {
+  const NavigationPlannerConfig config = OneIteration();
+  NavigationPlanner dut(config);
+  // a wall across the way with a 1.0 m gap: too narrow for a path on which the robot can turn
+  // (the wider margin's 2 x (0.423 + 0.1) m), wide enough for the robot
+  common::GridLayers map = WallMap();
+  test_util::Paint(&map, 0.1f, [](const Eigen::Vector2d&) { return true; });
+  test_util::Paint(&map, 1.0f, [](const Eigen::Vector2d& p) {
+    return p.x() >= 4.0 && p.x() <= 4.6 && std::abs(p.y()) > 0.5;
+  });
+  const NavigationPlan plan = dut.Plan(map, Start(), {9.0, 0.0}, {});
+  ASSERT_EQ(plan.fallback, Fallback::kFollowPath);
+  EXPECT_EQ(plan.status, NavigationStatus::kPlanned);
+  const common::Trajectory& t = plan.optimized.trajectory;
+  EXPECT_LE((t.points().back().position_W - Eigen::Vector2d(9.0, 0.0)).norm(), 1e-9);
+  for (const common::TrajectoryPoint& p : t.points()) {
+    EXPECT_LE(std::abs(p.v), config.fallback.creep_speed_m_s);
+    EXPECT_LE(std::abs(p.omega), config.fallback.creep_yaw_rate_rad_s);
+  }
+  EXPECT_GE(FootprintGaps(map, config, t).first, config.optimizer.min_clearance_m);
+}
+
+TEST(NavigationPlannerTest, ARobotFacingTheEndOfANarrowDeadEndBacksOut) {
+  // a dead end 0.8 m wide (cells of 0.1 m) closed at x = 1: too narrow to turn the 0.85 m
+  // circumscribed disc in; the goal lies behind the robot
+  common::GridLayers map = WallMap();
+  test_util::Paint(&map, 0.1f, [](const Eigen::Vector2d&) { return true; });
+  test_util::Paint(&map, 1.0f, [](const Eigen::Vector2d& p) {
+    return p.x() > -3.0 && p.x() < 1.2 && (std::abs(p.y()) > 0.4 || p.x() > 1.0) &&
+           std::abs(p.y()) < 0.7;
+  });
+  const NavigationPlannerConfig config = OneIteration();
+  NavigationPlanner dut(config);
+  common::TrajectoryPoint start;
+  start.position_W = Eigen::Vector2d(0.55, 0.0);  // the front 0.137 m from the end
+  const NavigationPlan plan = dut.Plan(map, start, {-5.5, 0.0}, {});
+  ASSERT_EQ(plan.fallback, Fallback::kBackOut) << common::NameOf(plan.status);
+  EXPECT_EQ(plan.status, NavigationStatus::kOptimizerFailed);
+  const common::Trajectory& t = plan.optimized.trajectory;
+  EXPECT_NEAR(t.points().back().position_W.x(), 0.55 - config.fallback.back_out_distance_m, 1e-9);
+  EXPECT_EQ(t.points().back().yaw, 0.0);
+  EXPECT_LT(t.Sample(0.5).v, 0.0);
 }
 
 }  // namespace

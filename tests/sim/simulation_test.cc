@@ -257,6 +257,17 @@ Obstacle Barrier(const std::string& name, double x_m, double height_m) {
   return barrier;
 }
 
+TEST(RobotModelTest, TheFootprintHoldsTheWheelsAndIsThePlannersDefault) {
+  const Simulation sim(SmallFlatWorld(), common::Pose2{}, Options());
+  const common::Footprint& footprint = sim.RobotFootprint();
+  // wheel centres 0.2255 m ahead and behind, radius 0.0875; 0.245 m to the side, half-width 0.04
+  EXPECT_NEAR(footprint.half_length_m, 0.2255 + 0.0875, 2e-3);
+  EXPECT_NEAR(footprint.half_width_m, 0.245 + 0.04, 2e-3);
+  // the planners' default is this robot's footprint, so that they cannot drift apart
+  EXPECT_NEAR(common::Footprint{}.half_length_m, footprint.half_length_m, 2e-3);
+  EXPECT_NEAR(common::Footprint{}.half_width_m, footprint.half_width_m, 2e-3);
+}
+
 TEST(SimulationContactTest, ARestingRobotTouchesTheGroundWithItsFourWheelsOnly) {
   Simulation dut(SmallFlatWorld(), common::Pose2{}, Options());
   StepFor(&dut, 1.0);

@@ -1,0 +1,79 @@
+#include "planner/manoeuvres.h"
+
+#include <cmath>
+
+#include "planner_test_util.h"
+#include <gtest/gtest.h>
+
+#include "common/footprint.h"
+
+namespace trav::planner {
+namespace {
+
+common::TrajectoryPoint StartAt(double x, double y, double yaw) {
+  common::TrajectoryPoint start;
+  start.t_s = 2.0;
+  start.position_W = Eigen::Vector2d(x, y);
+  start.yaw = yaw;
+  start.v = 0.7;  // a creep starts from rest whatever the robot did
+  return start;
+}
+
+TEST(ManoeuvresTest, CreepAlongTurnsInPlaceAtEachVertexThenDrivesStraight) {
+  FallbackConfig config;  // 0.3 m/s, 0.6 rad/s
+  const common::Trajectory t =
+      CreepAlong(StartAt(0, 0, 0), {{0, 0}, {1.5, 0}, {1.5, 0.9}}, false, config);
+  // 1.5 m at 0.3 m/s, a quarter turn at 0.6 rad/s, 0.9 m at 0.3 m/s
+  const double turn_s = 0.5 * M_PI / 0.6;
+  EXPECT_NEAR(t.end_time() - t.start_time(), 5.0 + turn_s + 3.0, 1e-9);
+  EXPECT_EQ(t.points().front().v, 0.0);
+  const common::TrajectoryPoint straight = t.Sample(2.0 + 2.5);
+  EXPECT_NEAR(straight.position_W.x(), 0.75, 1e-9);
+  EXPECT_EQ(straight.v, 0.3);
+  const common::TrajectoryPoint turning = t.Sample(2.0 + 5.0 + 0.5 * turn_s);
+  EXPECT_NEAR((turning.position_W - Eigen::Vector2d(1.5, 0)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(turning.yaw, 0.25 * M_PI, 1e-9);
+  EXPECT_EQ(turning.omega, 0.6);
+  const common::TrajectoryPoint end = t.points().back();
+  EXPECT_NEAR((end.position_W - Eigen::Vector2d(1.5, 0.9)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(end.yaw, 0.5 * M_PI, 1e-9);
+  EXPECT_EQ(end.v, 0.0);
+}
+
+TEST(ManoeuvresTest, ReverseDrivesBackwardFacingAwayFromTheSegment) {
+  const common::Trajectory t = CreepAlong(
+      StartAt(1, 1, 0.3), {{1, 1}, {1 - std::cos(0.3), 1 - std::sin(0.3)}}, true, FallbackConfig{});
+  // already facing away: no turn, 1 m backward at 0.3 m/s
+  EXPECT_NEAR(t.end_time() - t.start_time(), 1.0 / 0.3, 1e-9);
+  EXPECT_EQ(t.Sample(3.0).v, -0.3);
+  EXPECT_NEAR(t.Sample(3.0).yaw, 0.3, 1e-12);
+}
+
+TEST(ManoeuvresTest, TurnInPlaceTakesTheShorterWayRound) {
+  const common::Trajectory t = TurnInPlace(StartAt(0, 0, 3.0), -3.0, FallbackConfig{});
+  const double turn = 2.0 * M_PI - 6.0;  // +0.283 rad through pi
+  EXPECT_NEAR(t.end_time() - t.start_time(), turn / 0.6, 1e-9);
+  EXPECT_NEAR(t.points().back().yaw, 3.0 + turn, 1e-9);
+  EXPECT_EQ(t.points().back().position_W, Eigen::Vector2d(0, 0));
+}
+
+TEST(ManoeuvresTest, KeepsClearRejectsGettingCloserButNotStartingClose) {
+  // a wall whose cells (0.1 m) begin at x = 2
+  common::GridLayers map(
+      common::GridGeometry::Centered(Eigen::Vector2d(5, 0), Eigen::Vector2d(16, 10), 0.1),
+      {"traversability"});
+  map.Layer("traversability").setConstant(0.1f);
+  test_util::Paint(&map, 1.0f, [](const Eigen::Vector2d& p) { return p.x() >= 2.0; });
+  const CostField field(map, CostMapConfig{});
+  const std::vector<Eigen::Vector2d> body = common::Footprint{}.BoundaryPoints_B(0.1);
+  // the front is 0.313 m ahead of the base: at x = 1.5 it is 0.187 m from the wall
+  const common::Trajectory away = CreepAlong(StartAt(1.5, 0, 0), {{1.5, 0}, {1.0, 0}}, true, {});
+  EXPECT_TRUE(KeepsClear(field, away, body, 0.3));  // starts closer than 0.3 m, never gets closer
+  const common::Trajectory toward = CreepAlong(StartAt(1.5, 0, 0), {{1.5, 0}, {1.6, 0}}, false, {});
+  EXPECT_FALSE(KeepsClear(field, toward, body, 0.3));
+  EXPECT_TRUE(KeepsClear(field, CreepAlong(StartAt(0, 0, 0), {{0, 0}, {1.0, 0}}, false, {}), body,
+                         0.3));  // ends 0.687 m from it
+}
+
+}  // namespace
+}  // namespace trav::planner
