@@ -193,8 +193,11 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
     take(std::move(creep), Fallback::kFollowPath);
     return;
   }
-  // 3. a turn toward the path, then 4. a reverse drive, that only free the robot
+  // 3. a turn toward the path, then 4. a reverse drive, that only free the robot: optional moves,
+  // so they keep the desired clearance (the map may show less of an obstacle than there is, and a
+  // turn sweeps the corners)
   plan->status = NavigationStatus::kOptimizerFailed;
+  const double free_clearance_m = config_.optimizer.clearance_m;
   const Eigen::Vector2d towards = plan->waypoints_W.size() < 2
                                       ? Eigen::Vector2d(Eigen::Vector2d::Zero())
                                       : Eigen::Vector2d(plan->waypoints_W[1] - start.position_W);
@@ -202,7 +205,7 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
   if (towards.norm() > 0.0 &&
       std::abs(std::remainder(heading - start.yaw, 2.0 * M_PI)) > kAlignedYaw_rad) {
     common::Trajectory turn = TurnInPlace(start, heading, config_.fallback);
-    if (KeepsClear(field, turn, body_B, min_clearance_m)) {
+    if (KeepsClear(field, turn, body_B, free_clearance_m)) {
       take(std::move(turn), Fallback::kTurnInPlace);
       return;
     }
@@ -211,7 +214,7 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
   for (double d = config_.fallback.back_out_distance_m; d >= resolution_m; d -= resolution_m) {
     common::Trajectory back = CreepAlong(
         start, {start.position_W, start.position_W + d * backwards}, true, config_.fallback);
-    if (KeepsClear(field, back, body_B, min_clearance_m)) {
+    if (KeepsClear(field, back, body_B, free_clearance_m)) {
       take(std::move(back), Fallback::kBackOut);
       return;
     }

@@ -1,0 +1,76 @@
+// The worlds that defeated the navigation stack before it had one footprint model and fallbacks
+// (scenarios/hard/, docs/navigation.md): starting in a U facing its closed end, doorways of 1.2 and
+// 1.5 m, 1.0 m gaps, rooms with 1.2 m doors; and a sample of BARN (scenarios/barn/, docs/barn.md).
+// Each reaches its goal, or ends as a planning failure where the world has no route for the robot
+// (A* on the ground truth, summary's optimal_path_length_m 0): a furnished room can close a
+// narrow door for good. (The ground truth's score grows walls by its 0.3 m neighbourhood, so a
+// world can have a route the truth does not show: success is always right.) Built twice: once per scenario with its own seed (label
+// `scenario`, in CI) and over seeds 1 to 5 (label `seeds`).
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+#include <tuple>
+
+#include <gtest/gtest.h>
+
+#include "common/enum_names.h"
+#include "common/yaml_reader.h"
+#include "scenarios/run/scenario.h"
+#include "scenarios/run/scenario_run.h"
+
+namespace trav::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+
+// (scenario file under scenarios/, seed: 0 keeps the file's)
+class HardScenarioTest : public testing::TestWithParam<std::tuple<std::string, int>> {};
+
+TEST_P(HardScenarioTest, ReachesTheGoalUnlessTheWorldHasNoRoute) {
+  const auto& [file, seed] = GetParam();
+  Scenario scenario =
+      LoadScenario(common::YamlDocument::Load(std::string(TRAV_SOURCE_DIR) + "/scenarios/" + file));
+  if (seed > 0) scenario.terrain.seed = static_cast<std::uint64_t>(seed);
+  const fs::path out = fs::temp_directory_path() / ("trav_hard_" + std::to_string(getpid()) + "_" +
+                                                    scenario.name + "_" + std::to_string(seed));
+  fs::create_directories(out);
+  const RunSummary summary =
+      RunScenario(scenario, RobotModelPath(scenario, TRAV_MODELS_DIR), out.string());
+  fs::remove_all(out);
+  ASSERT_TRUE(summary.navigation.has_value());
+  const bool routable = summary.navigation->optimal_path_length_m > 0.0;
+  EXPECT_TRUE(summary.outcome == Outcome::kSuccess ||
+              (!routable && summary.outcome == Outcome::kPlanningFailure))
+      << file << " seed " << seed << ": " << common::NameOf(summary.outcome) << ", planner "
+      << summary.navigation->last_planner_status
+      << (summary.collision ? ", hit " + summary.collision->target : std::string());
+}
+
+std::string TestName(const testing::TestParamInfo<std::tuple<std::string, int>>& param_info) {
+  std::string name = fs::path(std::get<0>(param_info.param)).parent_path().string() + "_" +
+                     fs::path(std::get<0>(param_info.param)).stem().string();
+  if (std::get<1>(param_info.param) > 0)
+    name += "_" + std::to_string(std::get<1>(param_info.param));
+  return name;
+}
+
+#ifdef TRAV_HARD_SEEDS
+INSTANTIATE_TEST_SUITE_P(
+    Seeds, HardScenarioTest,
+    testing::Combine(testing::Values("hard/u_enclosure.yaml", "hard/doorways.yaml",
+                                     "hard/tight_gaps.yaml", "hard/indoor_doors.yaml"),
+                     testing::Range(1, 6)),
+    TestName);
+#else
+INSTANTIATE_TEST_SUITE_P(
+    Files, HardScenarioTest,
+    testing::Combine(testing::Values("hard/u_enclosure.yaml", "hard/doorways.yaml",
+                                     "hard/tight_gaps.yaml", "hard/indoor_doors.yaml",
+                                     "barn/world_000.yaml", "barn/world_150.yaml"),
+                     testing::Values(0)),
+    TestName);
+#endif
+
+}  // namespace
+}  // namespace trav::scenarios
