@@ -117,7 +117,7 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
   ScoreCells(cells);
   if (config_.area.obstacle_layer) {
     obstacles_.Mark(crop_.below_robot(), low, high, config_.area.max_height_above_ground_m,
-                    kObstacleMargin, &map_);
+                    config_.area.max_step_m, kObstacleMargin, &map_);
   }
   result.observed_cells = static_cast<int>(cells.size());
   result.times.fusion = stage.ElapsedMilliseconds();
@@ -252,7 +252,7 @@ MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
   }
   if (config_.area.obstacle_layer) {
     obstacles_.Mark(crop_.below_robot(), low, high, config_.area.max_height_above_ground_m,
-                    kObstacleMargin, &map_);
+                    config_.area.max_step_m, kObstacleMargin, &map_);
   }
   result.times.smoothing = stage.ElapsedMilliseconds();
   return result;

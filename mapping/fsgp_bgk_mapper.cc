@@ -187,7 +187,7 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   if (config_.area.obstacle_layer) {
     // the smoothed cost changed in the window and its margin: the closing must be redone there
     obstacles_.Mark(crop_.below_robot(), low, high, config_.area.max_height_above_ground_m,
-                    std::max(SmoothingRadiusCells(), 2), &map_);
+                    config_.area.max_step_m, std::max(SmoothingRadiusCells(), 2), &map_);
   }
   result.times.smoothing = stage.ElapsedMilliseconds();
   return result;

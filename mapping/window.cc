@@ -1,6 +1,7 @@
 #include "mapping/window.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -58,7 +59,7 @@ void WindowCrop::Crop(const common::PointCloud& points_W, const Eigen::Vector3d&
 
 common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
     const Eigen::Ref<const Eigen::Matrix3Xf>& points_W, const common::GridGeometry& g,
-    const Eigen::Vector2i& low, const Eigen::Vector2i& high, double min_span_m) {
+    const Eigen::Vector2i& low, const Eigen::Vector2i& high, double min_span_m, double max_step_m) {
   const Eigen::Vector2i size = high - low + Eigen::Vector2i::Ones();
   auto lowest = lowest_.Resize(size.x(), size.y());
   auto highest = highest_.Resize(size.x(), size.y());
@@ -86,7 +87,17 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
           ground = std::min(ground, lowest(jx, jy));
         }
       }
-      cells(ix, iy) = highest(ix, iy) - ground > min_span_m ? 1.0f : 0.0f;
+      bool face = highest(ix, iy) - ground > min_span_m;
+      // a step above a side neighbour's top (cells without points have -infinity: skipped)
+      const std::array<Eigen::Vector2i, 4> sides{
+          {{ix - 1, iy}, {ix + 1, iy}, {ix, iy - 1}, {ix, iy + 1}}};
+      for (const Eigen::Vector2i& n : sides) {
+        if (max_step_m <= 0.0 || face || (n.array() < 0).any() || n.x() >= size.x() ||
+            n.y() >= size.y() || std::isinf(highest(n.x(), n.y())))
+          continue;
+        face = highest(ix, iy) - highest(n.x(), n.y()) > max_step_m;
+      }
+      cells(ix, iy) = face ? 1.0f : 0.0f;
     }
   }
   return cells_.const_view();
@@ -124,10 +135,11 @@ void ObstacleMarker::CloseMask() {
 
 void ObstacleMarker::Mark(const Eigen::Ref<const Eigen::Matrix3Xf>& below_robot,
                           const Eigen::Vector2i& low, const Eigen::Vector2i& high,
-                          double min_span_m, int margin_cells, common::GridLayers* map) {
+                          double min_span_m, double max_step_m, int margin_cells,
+                          common::GridLayers* map) {
   // the faces the height regression cannot see (their points were cropped as not terrain): the
   // latest observation of each cell decides, so a cell seen free again clears
-  const auto seen = Cells(below_robot, map->geometry(), low, high, min_span_m);
+  const auto seen = Cells(below_robot, map->geometry(), low, high, min_span_m, max_step_m);
   Eigen::MatrixXf& obstacle = map->Layer(layers::kObstacle);
   Eigen::MatrixXf& out = map->Layer(layers::kTraversability);
   for (int ix = low.x(); ix <= high.x(); ++ix) {

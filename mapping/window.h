@@ -44,22 +44,26 @@ class ObstacleMarker {
   /// Per cell of `g` between `low` and `high` (inclusive), indexed from `low`: 1 where the highest
   /// point of the cell lies more than `min_span_m` above the lowest point of its 3 x 3 cell
   /// neighbourhood (a vertical face: wall, trunk, box side, even where the face's points are
-  /// sparse), 0 where it does not, NaN where the cell has no point. Ground of slope a rises at most
-  /// 2 sqrt(2) resolution tan(a) across the neighbourhood: 0.3 m at 0.2 m cells means slopes
-  /// steeper than about 28 deg read as faces. Valid until the next call.
+  /// sparse), or more than `max_step_m` (> 0; 0 disables the test) above the highest point of a
+  /// side neighbour with points (a step the robot cannot climb, however low: a platform, a curb),
+  /// 0 where neither holds, NaN where the cell has no point. Ground of slope a rises at most
+  /// 2 sqrt(2) resolution tan(a) across the neighbourhood and resolution tan(a) from a side
+  /// neighbour: 0.3 m and 0.15 m at 0.2 m cells mean slopes steeper than about 28 and 37 deg read
+  /// as faces. Valid until the next call.
   common::ScratchMatrix<float>::ConstView Cells(const Eigen::Ref<const Eigen::Matrix3Xf>& points_W,
                                                 const common::GridGeometry& g,
                                                 const Eigen::Vector2i& low,
-                                                const Eigen::Vector2i& high, double min_span_m);
+                                                const Eigen::Vector2i& high, double min_span_m,
+                                                double max_step_m);
 
-  /// Marks the faces the ground crop removed (Cells of `below_robot`, the window before the crop,
-  /// with `min_span_m` the crop height) in layer `obstacle` of `map` between `low` and `high` (the
-  /// latest observation of a cell decides, so a cell seen free again clears), then sets layer
-  /// `traversability` to 1 on the obstacle mask closed by one cell, within `margin_cells` of the
-  /// window (at least the cells whose cost the mapper rewrote). The obstacle layer FSGP-BGK and
-  /// the baselines share.
+  /// Marks the faces the ground crop removed and the steps (Cells of `below_robot`, the window
+  /// before the crop, with `min_span_m` the crop height) in layer `obstacle` of `map` between `low`
+  /// and `high` (the latest observation of a cell decides, so a cell seen free again clears), then
+  /// sets layer `traversability` to 1 on the obstacle mask closed by one cell, within
+  /// `margin_cells` of the window (at least the cells whose cost the mapper rewrote). The obstacle
+  /// layer FSGP-BGK and the baselines share.
   void Mark(const Eigen::Ref<const Eigen::Matrix3Xf>& below_robot, const Eigen::Vector2i& low,
-            const Eigen::Vector2i& high, double min_span_m, int margin_cells,
+            const Eigen::Vector2i& high, double min_span_m, double max_step_m, int margin_cells,
             common::GridLayers* map);
 
  private:

@@ -157,7 +157,10 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
   const CostField& field = costs.field();
   const double resolution_m = field.geometry().resolution_m;
   const std::vector<Eigen::Vector2d> body_B = config_.footprint.BoundaryPoints_B(resolution_m);
-  const double min_clearance_m = config_.optimizer.min_clearance_m;
+  // the manoeuvres keep the desired clearance, not the smallest: they are slow and taken without
+  // optimisation, the map may show less of an obstacle than there is, and a turn sweeps the
+  // corners
+  const double clearance_m = config_.optimizer.clearance_m;
   const OptimizationDiagnostics failed = plan->optimized.diagnostics;
   auto take = [&](common::Trajectory trajectory, Fallback fallback) {
     plan->optimized = OptimizedTrajectory{};
@@ -189,15 +192,12 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
   }
   // 2. the search path itself, slowly
   common::Trajectory creep = CreepAlong(start, plan->waypoints_W, false, config_.fallback);
-  if (KeepsClear(field, creep, body_B, min_clearance_m)) {
+  if (KeepsClear(field, creep, body_B, clearance_m)) {
     take(std::move(creep), Fallback::kFollowPath);
     return;
   }
-  // 3. a turn toward the path, then 4. a reverse drive, that only free the robot: optional moves,
-  // so they keep the desired clearance (the map may show less of an obstacle than there is, and a
-  // turn sweeps the corners)
+  // 3. a turn toward the path, then 4. a reverse drive, that only free the robot
   plan->status = NavigationStatus::kOptimizerFailed;
-  const double free_clearance_m = config_.optimizer.clearance_m;
   const Eigen::Vector2d towards = plan->waypoints_W.size() < 2
                                       ? Eigen::Vector2d(Eigen::Vector2d::Zero())
                                       : Eigen::Vector2d(plan->waypoints_W[1] - start.position_W);
@@ -205,7 +205,7 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
   if (towards.norm() > 0.0 &&
       std::abs(std::remainder(heading - start.yaw, 2.0 * M_PI)) > kAlignedYaw_rad) {
     common::Trajectory turn = TurnInPlace(start, heading, config_.fallback);
-    if (KeepsClear(field, turn, body_B, free_clearance_m)) {
+    if (KeepsClear(field, turn, body_B, clearance_m)) {
       take(std::move(turn), Fallback::kTurnInPlace);
       return;
     }
@@ -214,7 +214,7 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
   for (double d = config_.fallback.back_out_distance_m; d >= resolution_m; d -= resolution_m) {
     common::Trajectory back = CreepAlong(
         start, {start.position_W, start.position_W + d * backwards}, true, config_.fallback);
-    if (KeepsClear(field, back, body_B, free_clearance_m)) {
+    if (KeepsClear(field, back, body_B, clearance_m)) {
       take(std::move(back), Fallback::kBackOut);
       return;
     }

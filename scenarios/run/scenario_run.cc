@@ -301,34 +301,46 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   return summary;
 }
 
+namespace {
+
+// {"wider_margin": n, "follow_path": n, ...}: every planner::Fallback but kNone, by its name with
+// '_' for '-'.
+nlohmann::json FallbackCounts(const std::array<int, planner::kFallbackNames.size()>& counts) {
+  nlohmann::json json = nlohmann::json::object();
+  for (const auto& [fallback, name] : planner::kFallbackNames) {
+    if (fallback == planner::Fallback::kNone) continue;
+    std::string key(name);
+    std::replace(key.begin(), key.end(), '-', '_');
+    json[key] = counts[static_cast<std::size_t>(fallback)];
+  }
+  return json;
+}
+
+}  // namespace
+
 void to_json(nlohmann::json& json, const NavigationMetrics& n) {
-  json = {
-      {"goal_reached", n.goal_reached},
-      {"time_to_goal_s", n.time_to_goal_s},
-      {"final_goal_distance_m", n.final_goal_distance_m},
-      {"optimal_path_length_m", n.optimal_path_length_m},
-      {"path_length_ratio", n.path_length_ratio},
-      {"barn_score", n.barn_score},
-      {"rms_vertical_acceleration_m_s2", n.rms_vertical_acceleration_m_s2},
-      {"plans", n.plans},
-      {"failed_plans", n.failed_plans},
-      {"replans_on_events", n.replans_on_events},
-      {"safety_stops", n.safety_stops},
-      {"fallbacks",
-       {{"wider_margin", n.fallbacks[static_cast<std::size_t>(planner::Fallback::kWiderMargin)]},
-        {"follow_path", n.fallbacks[static_cast<std::size_t>(planner::Fallback::kFollowPath)]},
-        {"turn_in_place", n.fallbacks[static_cast<std::size_t>(planner::Fallback::kTurnInPlace)]},
-        {"back_out", n.fallbacks[static_cast<std::size_t>(planner::Fallback::kBackOut)]}}},
-      {"last_planner_status", n.last_planner_status},
-      {"mover_tracking_error_m", n.mover_tracking_error_m},
-      {"perceived_mover_samples", n.perceived_mover_samples},
-      {"false_mover_samples", n.false_mover_samples},
-      {"near_misses", n.near_misses},
-      {"min_mover_clearance_m", std::isfinite(n.min_mover_clearance_m)
-                                    ? nlohmann::json(n.min_mover_clearance_m)
-                                    : nlohmann::json(nullptr)},
-      {"goal", {n.goal_W.x(), n.goal_W.y()}},
-      {"path_length_m", n.path_length_m}};
+  json = {{"goal_reached", n.goal_reached},
+          {"time_to_goal_s", n.time_to_goal_s},
+          {"final_goal_distance_m", n.final_goal_distance_m},
+          {"optimal_path_length_m", n.optimal_path_length_m},
+          {"path_length_ratio", n.path_length_ratio},
+          {"barn_score", n.barn_score},
+          {"rms_vertical_acceleration_m_s2", n.rms_vertical_acceleration_m_s2},
+          {"plans", n.plans},
+          {"failed_plans", n.failed_plans},
+          {"replans_on_events", n.replans_on_events},
+          {"safety_stops", n.safety_stops},
+          {"fallbacks", FallbackCounts(n.fallbacks)},
+          {"last_planner_status", n.last_planner_status},
+          {"mover_tracking_error_m", n.mover_tracking_error_m},
+          {"perceived_mover_samples", n.perceived_mover_samples},
+          {"false_mover_samples", n.false_mover_samples},
+          {"near_misses", n.near_misses},
+          {"min_mover_clearance_m", std::isfinite(n.min_mover_clearance_m)
+                                        ? nlohmann::json(n.min_mover_clearance_m)
+                                        : nlohmann::json(nullptr)},
+          {"goal", {n.goal_W.x(), n.goal_W.y()}},
+          {"path_length_m", n.path_length_m}};
 }
 
 void to_json(nlohmann::json& json, const MappingMetrics& m) {

@@ -132,7 +132,7 @@ TEST(ObstacleCellsTest, AFaceAboveItsNeighbourhoodIsAnObstacleAndASlopeIsNot) {
   const Eigen::Matrix3Xf cloud = common::MakePointCloud(points).points;
   const Eigen::Vector2i low(0, 0), high(g.num_x - 1, g.num_y - 1);
   ObstacleMarker marker;
-  const Eigen::MatrixXf dut = marker.Cells(cloud, g, low, high, 0.3);
+  const Eigen::MatrixXf dut = marker.Cells(cloud, g, low, high, 0.3, 0.15);
   const Eigen::Vector2i wall = *g.CellIndex({0.4, 0.4});
   for (int ix = 0; ix < g.num_x; ++ix) {
     for (int iy = 0; iy < g.num_y; ++iy) {
@@ -140,7 +140,38 @@ TEST(ObstacleCellsTest, AFaceAboveItsNeighbourhoodIsAnObstacleAndASlopeIsNot) {
     }
   }
   // no points: unknown
-  EXPECT_TRUE(std::isnan(marker.Cells(Eigen::Matrix3Xf(3, 0), g, low, high, 0.3)(3, 3)));
+  EXPECT_TRUE(std::isnan(marker.Cells(Eigen::Matrix3Xf(3, 0), g, low, high, 0.3, 0.15)(3, 3)));
+}
+
+// A platform whose edge stands at x = 0.12 (in the cell of centre 0.2), sampled every 5 cm.
+Eigen::Matrix3Xf PlatformCloud(double height_m) {
+  std::vector<Eigen::Vector3f> points;
+  for (double x = -1.0; x <= 1.0; x += 0.05) {
+    for (double y = -1.0; y <= 1.0; y += 0.05) {
+      points.emplace_back(static_cast<float>(x), static_cast<float>(y),
+                          x >= 0.12 ? static_cast<float>(height_m) : 0.0f);
+    }
+  }
+  return common::MakePointCloud(points).points;
+}
+
+TEST(ObstacleCellsTest, AStepHigherThanTheClimbableOneIsAnObstacleHoweverLow) {
+  const common::GridGeometry g =
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(2, 2), 0.2);
+  const Eigen::Vector2i low(0, 0), high(g.num_x - 1, g.num_y - 1);
+  ObstacleMarker marker;
+  // a 0.25 m platform, lower than the 0.3 m face test: the step test marks its edge cells (its
+  // top 0.25 m above the cell before the edge), nothing else
+  const Eigen::MatrixXf platform = marker.Cells(PlatformCloud(0.25), g, low, high, 0.3, 0.15);
+  const int edge = g.CellIndex({0.2, 0.0})->x();
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      EXPECT_EQ(platform(ix, iy), ix == edge ? 1.0f : 0.0f) << ix << "," << iy;
+    }
+  }
+  // without the step test, or for a 0.10 m curb, nothing
+  EXPECT_EQ(marker.Cells(PlatformCloud(0.25), g, low, high, 0.3, 0.0).maxCoeff(), 0.0f);
+  EXPECT_EQ(marker.Cells(PlatformCloud(0.10), g, low, high, 0.3, 0.15).maxCoeff(), 0.0f);
 }
 
 TEST(FsgpBgkMapperTest, AWallIsUntraversableAndItsCellsClearWhenSeenFree) {

@@ -4,8 +4,8 @@
 // Each reaches its goal, or ends as a planning failure where the world has no route for the robot
 // (A* on the ground truth, summary's optimal_path_length_m 0): a furnished room can close a
 // narrow door for good. (The ground truth's score grows walls by its 0.3 m neighbourhood, so a
-// world can have a route the truth does not show: success is always right.) Built twice: once per scenario with its own seed (label
-// `scenario`, in CI) and over seeds 1 to 5 (label `seeds`).
+// world can have a route the truth does not show: success is always right.) Built twice: once per
+// scenario with its own seed (label `scenario`, in CI) and over seeds 1 to 5 (label `seeds`).
 #include <unistd.h>
 
 #include <filesystem>
