@@ -98,7 +98,11 @@ FieldTerms FieldPenalties(const CostField& field, const TrajectoryCostSetup& s,
   // every point of the body's boundary keeps the clearance: q = position + R(theta) b
   const double cos_t = std::cos(theta), sin_t = std::sin(theta);
   double clearance = 0.0;
-  for (const Eigen::Vector2d& b : s.body_points_B) {
+  const bool all_clear =
+      s.body_reach_m > 0.0 &&
+      field.Distance(position).value - std::sqrt(2.0) * s.body_reach_m >= s.clearance_m;
+  for (std::size_t k = 0; !all_clear && k < s.body_points_B.size(); ++k) {
+    const Eigen::Vector2d& b = s.body_points_B[k];
     const Eigen::Vector2d rotated(cos_t * b.x() - sin_t * b.y(), sin_t * b.x() + cos_t * b.y());
     const FieldSample distance = field.Distance(position + rotated);
     if (distance.value >= s.clearance_m) continue;  // SmoothedL1 and its slope are 0 here

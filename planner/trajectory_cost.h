@@ -50,6 +50,11 @@ struct TrajectoryCostSetup {
   /// The points of the robot's body in its base frame B that keep the clearance (the boundary of
   /// its footprint, common::Footprint::BoundaryPoints_B) [m]; the default is the base's origin.
   std::vector<Eigen::Vector2d> body_points_B{Eigen::Vector2d::Zero()};
+  /// The largest distance of a body point from the base's origin [m] (0 for the default): where
+  /// the field's distance at the base exceeds the clearance by sqrt(2) times this, no body point
+  /// can be closer than the clearance (the bilinear distance field changes by at most sqrt(2) m per
+  /// metre), and the points are not evaluated.
+  double body_reach_m{0.0};
   double robot_radius_m{0.35};        ///< disc around the base for moving obstacles [m]
   double obstacle_clearance_m{0.3};   ///< gap kept between that disc and a mover's [m]
   double clearance_growth_m_s{0.05};  ///< the gap grows by this per second ahead (prediction error)

@@ -55,6 +55,7 @@ TrajectoryCostSetup CostSetup(const std::string& term) {
   // the footprint's boundary keeps the clearance: the yaw enters the term too
   if (term == "body_clearance") {
     s.body_points_B = common::Footprint{}.BoundaryPoints_B(0.2);
+    s.body_reach_m = common::Footprint{}.CircumscribedRadius();  // far nodes skip the points
     s.clearance_m = 0.3;
   }
   s.start_time_s = 3.0;
