@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 #include "common/enum_names.h"
 #include "common/input_error.h"
@@ -18,6 +20,15 @@ constexpr double kStallSpeed_m_s = 0.3;
 constexpr double kStallTime_s = 1.0;
 // Spacing of the samples of the safety and lethal-cell checks along the plan [s].
 constexpr double kCheckStep_s = 0.05;
+// Giving way: movers predicted this far ahead [s] that would come within this gap of the stopped
+// robot's disc [m] make it move; the drives are straight, forward or backward, of these lengths
+// [m] at this speed [m/s], and one is taken only if it keeps at least this much more room [m]
+// than standing still.
+constexpr double kGiveWayHorizon_s = 2.0;
+constexpr double kGiveWayGap_m = 0.3;
+constexpr double kGiveWayDistances_m[] = {0.4, 0.8, 1.2};
+constexpr double kGiveWaySpeed_m_s = 0.6;
+constexpr double kGiveWayGain_m = 0.1;
 
 double YawOf(const common::RobotState& state) {
   const Eigen::Vector3d forward = state.X_WB.linear().col(0);
@@ -75,19 +86,34 @@ NavigatorTick Navigator::Update(const common::RobotState& state, const common::G
   NavigatorTick tick;
   if (map_updated || map != cost_map_source_) cost_map_.reset();
   cost_map_source_ = map;
-  const ReplanReason reason = ReasonToReplan(state, map, map_updated);
+  // a give-way drive is followed to its end, then the robot replans
+  const bool giving_way = state.time_s < giving_way_until_s_;
+  const ReplanReason reason =
+      giving_way ? ReplanReason::kNone : ReasonToReplan(state, map, map_updated);
   if (reason != ReplanReason::kNone && map != nullptr) {
     Replan(state, *map, movers, reason);
     tick.replan = reason;
   }
-  // no plan, or the plan was found unsafe and no new one has replaced it: stand still rather than
-  // chase a stale reference
-  if (trajectory_.empty() || force_replan_) return tick;
-  if (!AheadIsSafe(state.time_s, map, movers)) {
-    ++statistics_.safety_stops;
-    force_replan_ = true;
-    tick.safety_stop = true;
-    return tick;
+  if (!giving_way) {
+    // no plan, or the plan was found unsafe and no new one has replaced it: stand still rather
+    // than chase a stale reference, unless a mover closes in
+    bool stopped = trajectory_.empty() || force_replan_;
+    if (!stopped && !AheadIsSafe(state.time_s, map, movers)) {
+      ++statistics_.safety_stops;
+      force_replan_ = true;
+      tick.safety_stop = true;
+      stopped = true;
+    }
+    if (stopped) {
+      std::optional<common::Trajectory> escape =
+          map != nullptr ? GiveWay(state, *map, movers) : std::nullopt;
+      if (!escape) return tick;
+      trajectory_ = std::move(*escape);
+      tracker_.SetReference(trajectory_);
+      giving_way_until_s_ = trajectory_.end_time();
+      force_replan_ = true;  // replan once the drive ends
+      ++statistics_.give_ways;
+    }
   }
   if (!tracker_.SolveDue(state.time_s)) {
     tick.command = tracker_.Command(state);
@@ -98,6 +124,62 @@ NavigatorTick Navigator::Update(const common::RobotState& state, const common::G
   tick.solved = true;
   statistics_.control_ms.push_back(control_start.ElapsedMilliseconds());
   return tick;
+}
+
+std::optional<common::Trajectory> Navigator::GiveWay(const common::RobotState& state,
+                                                     const common::GridLayers& map,
+                                                     const std::vector<MovingObstacle>& movers) {
+  const double now = state.time_s;
+  const double robot_radius = planner_.config().optimizer.robot_radius_m;
+  // the smallest gap between the robot's disc, where `trajectory` puts it, and the movers'
+  auto smallest_gap = [&](const common::Trajectory* trajectory, const Eigen::Vector2d& still_W) {
+    double smallest = std::numeric_limits<double>::infinity();
+    for (double t = now; t <= now + kGiveWayHorizon_s; t += 2.0 * kCheckStep_s) {
+      const Eigen::Vector2d p_W =
+          trajectory != nullptr ? trajectory->Sample(t).position_W : still_W;
+      for (const MovingObstacle& mover : movers) {
+        smallest =
+            std::min(smallest, (p_W - mover.PositionAt(t)).norm() - robot_radius - mover.radius_m);
+      }
+    }
+    return smallest;
+  };
+  const Eigen::Vector2d here_W = state.X_WB.translation().head<2>();
+  // only movers closing in: the gap standing still shrinks below kGiveWayGap_m (a mover standing
+  // beside the robot is waited for)
+  const double standing = smallest_gap(nullptr, here_W);
+  double now_gap = std::numeric_limits<double>::infinity();
+  for (const MovingObstacle& mover : movers) {
+    now_gap =
+        std::min(now_gap, (here_W - mover.PositionAt(now)).norm() - robot_radius - mover.radius_m);
+  }
+  if (standing >= kGiveWayGap_m || standing >= now_gap - kGiveWayGain_m) return std::nullopt;
+  common::TrajectoryPoint start;
+  start.t_s = now;
+  start.position_W = here_W;
+  start.yaw = YawOf(state);
+  FallbackConfig drive = planner_.config().fallback;
+  drive.creep_speed_m_s = kGiveWaySpeed_m_s;
+  const NavigationPlannerConfig& config = planner_.config();
+  const CostMap& costs = CostMapOf(map);
+  const std::vector<Eigen::Vector2d> body_B =
+      config.footprint.BoundaryPoints_B(costs.geometry().resolution_m);
+  const Eigen::Vector2d forward_W(std::cos(start.yaw), std::sin(start.yaw));
+  std::optional<common::Trajectory> best;
+  double best_gap = standing + kGiveWayGain_m;
+  for (const double sign : {-1.0, 1.0}) {
+    for (const double length : kGiveWayDistances_m) {
+      common::Trajectory candidate =
+          CreepAlong(start, {here_W, here_W + sign * length * forward_W}, sign < 0.0, drive);
+      const double gap = smallest_gap(&candidate, here_W);
+      if (gap > best_gap &&
+          KeepsClear(costs.field(), candidate, body_B, config.optimizer.clearance_m)) {
+        best_gap = gap;
+        best = std::move(candidate);
+      }
+    }
+  }
+  return best;
 }
 
 ReplanReason Navigator::ReasonToReplan(const common::RobotState& state,

@@ -79,7 +79,10 @@ struct NavigatorTick {
 /// events (the plan crosses newly lethal cells, the robot strays from it, a safety stop), tracks
 /// the plan with the MPC at the control rate, and brakes when the plan ahead becomes unsafe (it
 /// enters lethal cells, or comes within the robot's radius of a predicted mover) or when there is
-/// no valid plan. Time is simulation time; planning is synchronous (the world waits for it).
+/// no valid plan. A stopped robot that a predicted mover would reach gives way: it drives a short
+/// straight stretch forward or backward, whichever keeps it furthest from the movers and clear
+/// of the map, and replans after it (docs/navigation.md). Time is simulation time; planning is
+/// synchronous (the world waits for it).
 class Navigator {
  public:
   /// @throws common::InputError for invalid planner or MPC settings.
@@ -113,6 +116,7 @@ class Navigator {
     /// Calls whose trajectory is a fallback, by Fallback (index kNone unused).
     std::array<int, kFallbackNames.size()> fallbacks{};
     int safety_stops{0};              ///< control ticks that braked for safety
+    int give_ways{0};                 ///< times the stopped robot moved out of a mover's way
     int replans_on_events{0};         ///< calls triggered by an event rather than the clock
     std::vector<double> planning_ms;  ///< wall time of each planning call
     std::vector<double> control_ms;   ///< wall time of each MPC solve
@@ -130,6 +134,11 @@ class Navigator {
               const std::vector<MovingObstacle>& movers, ReplanReason reason);
   bool AheadIsSafe(double now_s, const common::GridLayers* map,
                    const std::vector<MovingObstacle>& movers);
+  // A short straight drive forward or backward that keeps the stopped robot furthest from the
+  // movers closing in on it over the next seconds, if one keeps clear of the map and gains room.
+  std::optional<common::Trajectory> GiveWay(const common::RobotState& state,
+                                            const common::GridLayers& map,
+                                            const std::vector<MovingObstacle>& movers);
   // The costs of the map, built on first use after each map update.
   const CostMap& CostMapOf(const common::GridLayers& map);
 
@@ -142,8 +151,9 @@ class Navigator {
   double next_plan_s_{0.0};
   double last_valid_plan_s_{0.0};
   bool force_replan_{false};
-  bool map_check_pending_{false};  // a map update not yet checked against the plan
-  double last_moving_s_{0.0};      // last time the robot moved or was meant to stand still
+  bool map_check_pending_{false};    // a map update not yet checked against the plan
+  double last_moving_s_{0.0};        // last time the robot moved or was meant to stand still
+  double giving_way_until_s_{-1.0};  // end of the give-way drive being followed
   Statistics statistics_;
   std::optional<CostMap> cost_map_;                     // of the map last seen, once needed
   const common::GridLayers* cost_map_source_{nullptr};  // that map

@@ -85,6 +85,7 @@ NavigationMetrics SummarizeNavigation(const ClosedLoop& loop, const RunSummary& 
   navigation.replans_on_events = stats.replans_on_events;
   navigation.safety_stops = stats.safety_stops;
   navigation.fallbacks = stats.fallbacks;
+  navigation.give_ways = stats.give_ways;
   navigation.mover_tracking_error_m = movers.tracking_error_m();
   navigation.perceived_mover_samples = movers.perceived_samples();
   navigation.false_mover_samples = movers.false_mover_samples();
@@ -331,6 +332,7 @@ void to_json(nlohmann::json& json, const NavigationMetrics& n) {
           {"replans_on_events", n.replans_on_events},
           {"safety_stops", n.safety_stops},
           {"fallbacks", FallbackCounts(n.fallbacks)},
+          {"give_ways", n.give_ways},
           {"last_planner_status", n.last_planner_status},
           {"mover_tracking_error_m", n.mover_tracking_error_m},
           {"perceived_mover_samples", n.perceived_mover_samples},

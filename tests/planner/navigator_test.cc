@@ -93,6 +93,26 @@ TEST(NavigatorTest, LethalCellsAheadReplanAtOnceAndAMoverOnThePlanStopsTheRobot)
   EXPECT_EQ(stop.command.v, 0.0);
   EXPECT_EQ(stop.command.omega, 0.0);
   EXPECT_EQ(dut.statistics().safety_stops, 1);
+  EXPECT_EQ(dut.statistics().give_ways, 0);  // it stands still: no mover closes in
+}
+
+TEST(NavigatorTest, AStoppedRobotBacksAwayFromAMoverComingAtIt) {
+  planner::Navigator dut = MakeNavigator();
+  const common::GridLayers map = OpenMap();
+  dut.Update(At(0.0, 0.0), &map, true, {});
+  // a walker 1.5 m ahead coming straight at the robot at 1 m/s: the plan ahead is unsafe, the
+  // robot stops, and since standing still it would be hit within a second, it backs away
+  const planner::MovingObstacle walker{Eigen::Vector2d(1.5, 0.0), Eigen::Vector2d(-1.0, 0.0), 0.3,
+                                       0.02};
+  const planner::NavigatorTick tick = dut.Update(At(0.02, 0.0), &map, false, {walker});
+  EXPECT_TRUE(tick.safety_stop);
+  EXPECT_EQ(dut.statistics().give_ways, 1);
+  EXPECT_LT(tick.command.v, 0.0);
+  // the drive is straight back, and followed to its end without replanning
+  EXPECT_LT(dut.trajectory().points().back().position_W.x(), -0.3);
+  EXPECT_NEAR(dut.trajectory().points().back().position_W.y(), 0.0, 1e-9);
+  EXPECT_EQ(dut.Update(At(0.5, -0.2), &map, false, {walker}).replan, planner::ReplanReason::kNone);
+  EXPECT_EQ(dut.statistics().plans, 1);
 }
 
 }  // namespace
