@@ -88,14 +88,16 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
         }
       }
       bool face = highest(ix, iy) - ground > min_span_m;
-      // a step above a side neighbour's top (cells without points have -infinity: skipped)
-      const std::array<Eigen::Vector2i, 4> sides{
-          {{ix - 1, iy}, {ix + 1, iy}, {ix, iy - 1}, {ix, iy + 1}}};
-      for (const Eigen::Vector2i& n : sides) {
-        if (max_step_m <= 0.0 || face || (n.array() < 0).any() || n.x() >= size.x() ||
-            n.y() >= size.y() || std::isinf(highest(n.x(), n.y())))
-          continue;
-        face = highest(ix, iy) - highest(n.x(), n.y()) > max_step_m;
+      // a step above a side neighbour's top (a neighbour without points, at -infinity, is skipped)
+      if (max_step_m > 0.0) {
+        const std::array<Eigen::Vector2i, 4> sides{
+            {{ix - 1, iy}, {ix + 1, iy}, {ix, iy - 1}, {ix, iy + 1}}};
+        for (const Eigen::Vector2i& n : sides) {
+          if ((n.array() < 0).any() || n.x() >= size.x() || n.y() >= size.y() ||
+              std::isinf(highest(n.x(), n.y())))
+            continue;
+          face = face || highest(ix, iy) - highest(n.x(), n.y()) > max_step_m;
+        }
       }
       cells(ix, iy) = face ? 1.0f : 0.0f;
     }

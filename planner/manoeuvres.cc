@@ -12,8 +12,7 @@ namespace {
 double TurnAngle(double from, double to) { return std::remainder(to - from, 2.0 * M_PI); }
 
 // Appends samples of a constant-rate motion from `from` (a copy: it may be an element of `points`)
-// over `duration_s`: `v` forward and `omega`
-// about z, after `from` (the end is included, the beginning is not).
+// over `duration_s`, `v` forward and `omega` about z: the end is included, `from` is not.
 void AppendMotion(common::TrajectoryPoint from, double duration_s, double v, double omega,
                   double step_s, std::vector<common::TrajectoryPoint>* points) {
   if (duration_s < 1e-6) return;  // shorter motions would not advance the time stamps
@@ -31,6 +30,21 @@ void AppendMotion(common::TrajectoryPoint from, double duration_s, double v, dou
   }
 }
 
+// Appends a turn in place from the last point of `points` to `heading` (the shorter way round).
+void AppendTurn(double heading, const FallbackConfig& config,
+                std::vector<common::TrajectoryPoint>* points) {
+  const double turn = TurnAngle(points->back().yaw, heading);
+  AppendMotion(points->back(), std::abs(turn) / config.creep_yaw_rate_rad_s, 0.0,
+               std::copysign(config.creep_yaw_rate_rad_s, turn), config.output_step_s, points);
+}
+
+// The start at rest: the first point of every manoeuvre.
+std::vector<common::TrajectoryPoint> AtRest(const common::TrajectoryPoint& start) {
+  common::TrajectoryPoint at = start;
+  at.v = at.omega = at.acceleration = 0.0;
+  return {at};
+}
+
 }  // namespace
 
 void ValidateFallbackConfig(const FallbackConfig& c) {
@@ -46,19 +60,13 @@ void ValidateFallbackConfig(const FallbackConfig& c) {
 common::Trajectory CreepAlong(const common::TrajectoryPoint& start,
                               const std::vector<Eigen::Vector2d>& waypoints_W, bool reverse,
                               const FallbackConfig& config) {
-  common::TrajectoryPoint at = start;
-  at.v = at.omega = at.acceleration = 0.0;
-  std::vector<common::TrajectoryPoint> points{at};
+  std::vector<common::TrajectoryPoint> points = AtRest(start);
   const double direction = reverse ? -1.0 : 1.0;
   for (std::size_t i = 1; i < waypoints_W.size(); ++i) {
     const Eigen::Vector2d segment = waypoints_W[i] - points.back().position_W;
     const double length = segment.norm();
     if (length < 1e-6) continue;
-    const double heading = std::atan2(direction * segment.y(), direction * segment.x());
-    const double turn = TurnAngle(points.back().yaw, heading);
-    const double omega = std::copysign(config.creep_yaw_rate_rad_s, turn);
-    AppendMotion(points.back(), std::abs(turn) / config.creep_yaw_rate_rad_s, 0.0, omega,
-                 config.output_step_s, &points);
+    AppendTurn(std::atan2(direction * segment.y(), direction * segment.x()), config, &points);
     AppendMotion(points.back(), length / config.creep_speed_m_s, direction * config.creep_speed_m_s,
                  0.0, config.output_step_s, &points);
   }
@@ -67,12 +75,8 @@ common::Trajectory CreepAlong(const common::TrajectoryPoint& start,
 
 common::Trajectory TurnInPlace(const common::TrajectoryPoint& start, double yaw,
                                const FallbackConfig& config) {
-  common::TrajectoryPoint at = start;
-  at.v = at.omega = at.acceleration = 0.0;
-  std::vector<common::TrajectoryPoint> points{at};
-  const double turn = TurnAngle(start.yaw, yaw);
-  AppendMotion(at, std::abs(turn) / config.creep_yaw_rate_rad_s, 0.0,
-               std::copysign(config.creep_yaw_rate_rad_s, turn), config.output_step_s, &points);
+  std::vector<common::TrajectoryPoint> points = AtRest(start);
+  AppendTurn(yaw, config, &points);
   return common::Trajectory(std::move(points));
 }
 

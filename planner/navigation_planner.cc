@@ -39,6 +39,18 @@ std::optional<Eigen::Vector2d> NearestFreeCell(const SearchCostMap& costs,
   return best;
 }
 
+// The optimiser's request from `start` along `guide_W` to its last point, among `obstacles`.
+TrajectoryRequest RequestAlong(const common::TrajectoryPoint& start,
+                               const std::vector<Eigen::Vector2d>& guide_W,
+                               const std::vector<MovingObstacle>& obstacles) {
+  TrajectoryRequest request;
+  request.start = start;
+  request.goal_W = guide_W.back();
+  request.guide_W = guide_W;
+  request.obstacles = obstacles;
+  return request;
+}
+
 }  // namespace
 
 void ValidateNavigationPlannerConfig(const NavigationPlannerConfig& c) {
@@ -135,12 +147,8 @@ NavigationPlan NavigationPlanner::Plan(const CostMap& costs, const common::Traje
   if (plan.path.status == PlanStatus::kFound) plan.waypoints_W.back() = goal_W;
 
   const common::Stopwatch optimization_start;
-  TrajectoryRequest request;
-  request.start = start;
-  request.goal_W = plan.waypoints_W.back();
-  request.guide_W = plan.waypoints_W;
-  request.obstacles = obstacles;
-  plan.optimized = optimizer_.Optimize(costs.field(), request);
+  plan.optimized =
+      optimizer_.Optimize(costs.field(), RequestAlong(start, plan.waypoints_W, obstacles));
   plan.status = plan.path.status == PlanStatus::kFound ? NavigationStatus::kPlanned
                                                        : NavigationStatus::kPlannedToNearest;
   if (plan.optimized.status == OptimizationStatus::kInfeasible) {
@@ -177,12 +185,8 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
         wide.Simplify(wide_path.points_W, config_.simplify_tolerance);
     guide_W.front() = start.position_W;
     guide_W.back() = plan->waypoints_W.back();
-    TrajectoryRequest request;
-    request.start = start;
-    request.goal_W = guide_W.back();
-    request.guide_W = guide_W;
-    request.obstacles = obstacles;
-    OptimizedTrajectory widened = optimizer_.Optimize(field, request);
+    OptimizedTrajectory widened =
+        optimizer_.Optimize(field, RequestAlong(start, guide_W, obstacles));
     if (widened.status != OptimizationStatus::kInfeasible) {
       plan->optimized = std::move(widened);
       plan->waypoints_W = std::move(guide_W);

@@ -131,10 +131,12 @@ std::optional<common::Trajectory> Navigator::GiveWay(const common::RobotState& s
                                                      const std::vector<MovingObstacle>& movers) {
   const double now = state.time_s;
   const double robot_radius = planner_.config().optimizer.robot_radius_m;
-  // the smallest gap between the robot's disc, where `trajectory` puts it, and the movers'
-  auto smallest_gap = [&](const common::Trajectory* trajectory, const Eigen::Vector2d& still_W) {
+  // the smallest gap between the robot's disc, where `trajectory` puts it (still at `still_W`
+  // without one), and the movers' over [from_s, to_s]
+  auto smallest_gap = [&](const common::Trajectory* trajectory, const Eigen::Vector2d& still_W,
+                          double from_s, double to_s) {
     double smallest = std::numeric_limits<double>::infinity();
-    for (double t = now; t <= now + kGiveWayHorizon_s; t += 2.0 * kCheckStep_s) {
+    for (double t = from_s; t <= to_s; t += 2.0 * kCheckStep_s) {
       const Eigen::Vector2d p_W =
           trajectory != nullptr ? trajectory->Sample(t).position_W : still_W;
       for (const MovingObstacle& mover : movers) {
@@ -147,13 +149,11 @@ std::optional<common::Trajectory> Navigator::GiveWay(const common::RobotState& s
   const Eigen::Vector2d here_W = state.X_WB.translation().head<2>();
   // only movers closing in: the gap standing still shrinks below kGiveWayGap_m (a mover standing
   // beside the robot is waited for)
-  const double standing = smallest_gap(nullptr, here_W);
-  double now_gap = std::numeric_limits<double>::infinity();
-  for (const MovingObstacle& mover : movers) {
-    now_gap =
-        std::min(now_gap, (here_W - mover.PositionAt(now)).norm() - robot_radius - mover.radius_m);
+  const double standing = smallest_gap(nullptr, here_W, now, now + kGiveWayHorizon_s);
+  if (standing >= kGiveWayGap_m ||
+      standing >= smallest_gap(nullptr, here_W, now, now) - kGiveWayGain_m) {
+    return std::nullopt;
   }
-  if (standing >= kGiveWayGap_m || standing >= now_gap - kGiveWayGain_m) return std::nullopt;
   common::TrajectoryPoint start;
   start.t_s = now;
   start.position_W = here_W;
@@ -171,7 +171,7 @@ std::optional<common::Trajectory> Navigator::GiveWay(const common::RobotState& s
     for (const double length : kGiveWayDistances_m) {
       common::Trajectory candidate =
           CreepAlong(start, {here_W, here_W + sign * length * forward_W}, sign < 0.0, drive);
-      const double gap = smallest_gap(&candidate, here_W);
+      const double gap = smallest_gap(&candidate, here_W, now, now + kGiveWayHorizon_s);
       if (gap > best_gap &&
           KeepsClear(costs.field(), candidate, body_B, config.optimizer.clearance_m)) {
         best_gap = gap;

@@ -1,11 +1,12 @@
 // The worlds that defeated the navigation stack before it had one footprint model and fallbacks
 // (scenarios/hard/, docs/navigation.md): starting in a U facing its closed end, doorways of 1.2 and
 // 1.5 m, 1.0 m gaps, rooms with 1.2 m doors; and a sample of BARN (scenarios/barn/, docs/barn.md).
-// Each reaches its goal, or ends as a planning failure where the world has no route for the robot
-// (A* on the ground truth, summary's optimal_path_length_m 0): a furnished room can close a
-// narrow door for good. (The ground truth's score grows walls by its 0.3 m neighbourhood, so a
-// world can have a route the truth does not show: success is always right.) Built twice: once per
-// scenario with its own seed (label `scenario`, in CI) and over seeds 1 to 5 (label `seeds`).
+// Each reaches its goal; a generated world may instead end as a planning failure where it has no
+// route for the robot (A* on the ground truth, summary's optimal_path_length_m 0): a furnished
+// room can close a narrow door for good. (The ground truth's score grows walls by its 0.3 m
+// neighbourhood, so a world can have a route the truth does not show: success is always right.)
+// Built twice: once per scenario with its own seed (label `scenario`, in CI) and over seeds 1 to 5
+// (label `seeds`).
 #include <unistd.h>
 
 #include <filesystem>
@@ -39,9 +40,12 @@ TEST_P(HardScenarioTest, ReachesTheGoalUnlessTheWorldHasNoRoute) {
       RunScenario(scenario, RobotModelPath(scenario, TRAV_MODELS_DIR), out.string());
   fs::remove_all(out);
   ASSERT_TRUE(summary.navigation.has_value());
+  // the hand-written worlds (boxes on flat ground) have a route by construction; a generated
+  // building may have none
+  const bool generated = scenario.terrain.type != sim::TerrainType::kFlat;
   const bool routable = summary.navigation->optimal_path_length_m > 0.0;
   EXPECT_TRUE(summary.outcome == Outcome::kSuccess ||
-              (!routable && summary.outcome == Outcome::kPlanningFailure))
+              (generated && !routable && summary.outcome == Outcome::kPlanningFailure))
       << file << " seed " << seed << ": " << common::NameOf(summary.outcome) << ", planner "
       << summary.navigation->last_planner_status
       << (summary.collision ? ", hit " + summary.collision->target : std::string());
