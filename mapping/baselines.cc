@@ -22,9 +22,7 @@ common::GridLayers MakeMap(const MapArea& area) {
   return common::GridLayers(
       common::GridGeometry::Centered(Eigen::Vector2d::Zero(),
                                      Eigen::Vector2d::Constant(area.map_size_m), area.resolution_m),
-      {layers::kElevation, layers::kElevationVariance, layers::kSlope, layers::kCurvature,
-       layers::kGradient, layers::kTraversability, layers::kTraversabilityVariance,
-       layers::kLastObserved, layers::kObstacle});
+      layers::All());
 }
 
 // The window's points into `crop` (ground-cropped as `area` says), timed; a status of
@@ -116,8 +114,8 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
   stage.Restart();
   ScoreCells(cells);
   if (config_.area.obstacle_layer) {
-    obstacles_.Mark(crop_.below_robot(), low, high, config_.area.max_height_above_ground_m,
-                    config_.area.max_step_m, kObstacleMargin, &map_);
+    obstacles_.Mark(crop_.below_robot(), low, high, config_.area, p_WB, t_s, kObstacleMargin,
+                    &map_);
   }
   result.observed_cells = static_cast<int>(cells.size());
   result.times.fusion = stage.ElapsedMilliseconds();
@@ -251,8 +249,8 @@ MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
     }
   }
   if (config_.area.obstacle_layer) {
-    obstacles_.Mark(crop_.below_robot(), low, high, config_.area.max_height_above_ground_m,
-                    config_.area.max_step_m, kObstacleMargin, &map_);
+    obstacles_.Mark(crop_.below_robot(), low, high, config_.area, p_WB, t_s, kObstacleMargin,
+                    &map_);
   }
   result.times.smoothing = stage.ElapsedMilliseconds();
   return result;

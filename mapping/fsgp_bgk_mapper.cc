@@ -93,10 +93,7 @@ FsgpBgkMapper::FsgpBgkMapper(const FsgpConfig& config)
   const common::GridGeometry geometry = common::GridGeometry::Centered(
       Eigen::Vector2d::Zero(), Eigen::Vector2d::Constant(config_.area.map_size_m),
       config_.area.resolution_m);
-  map_ = common::GridLayers(
-      geometry, {layers::kElevation, layers::kElevationVariance, layers::kSlope, layers::kCurvature,
-                 layers::kGradient, layers::kTraversability, layers::kTraversabilityVariance,
-                 layers::kLastObserved, layers::kObstacle});
+  map_ = common::GridLayers(geometry, layers::All());
   fused_ = common::GridLayers(geometry, {kFused});
   if (config_.accumulate_frames > 1)
     history_.resize(static_cast<std::size_t>(config_.accumulate_frames));
@@ -186,8 +183,8 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   Smooth(low, high);
   if (config_.area.obstacle_layer) {
     // the smoothed cost changed in the window and its margin: the closing must be redone there
-    obstacles_.Mark(crop_.below_robot(), low, high, config_.area.max_height_above_ground_m,
-                    config_.area.max_step_m, std::max(SmoothingRadiusCells(), 2), &map_);
+    obstacles_.Mark(crop_.below_robot(), low, high, config_.area, p_WB, t_s,
+                    std::max(SmoothingRadiusCells(), 2), &map_);
   }
   result.times.smoothing = stage.ElapsedMilliseconds();
   return result;

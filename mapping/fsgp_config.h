@@ -68,6 +68,14 @@ struct MapArea {
   /// step test, the default). The Scout Mini climbs 0.16 m at 1 m/s and not 0.17 m, so 0.15 is
   /// its value; it is off by default until the closed loop holds with it (docs/navigation.md).
   double max_step_m{0.0};
+  /// Cells closer than this to the base lie in the sensor's ground blind zone [m]: the MID-360's
+  /// lowest beam (7 deg down) meets flat ground about 2.4 m out from the Scout Mini's mount, and
+  /// the body hides more. A face there that no point shows for `obstacle_memory_s` is forgotten.
+  double blind_radius_m{2.5};
+  /// A face cell in the blind zone that no point has shown for longer than this is forgotten (its
+  /// obstacle unknown again) [s]: the points of a walker the tracker missed would otherwise stay
+  /// lethal where the ground is never seen free again. 0: faces are never forgotten.
+  double obstacle_memory_s{2.0};
   bool ground_crop{true};     ///< crop at max_height_above_ground_m (false: keep every height)
   bool obstacle_layer{true};  ///< mark the faces the crop removes as untraversable
 
@@ -127,6 +135,8 @@ struct FsgpConfig {
     a->Field("max_height_above_robot", &area.max_height_above_robot_m, {0, 100});
     a->Field("max_height_above_ground", &area.max_height_above_ground_m, {0, 100});
     a->Field("max_step", &area.max_step_m, {0, 10});
+    a->Field("blind_radius", &area.blind_radius_m, {0, 100});
+    a->Field("obstacle_memory", &area.obstacle_memory_s, {0, 100000});
     a->Field("ground_crop", &area.ground_crop);
     a->Field("obstacle_layer", &area.obstacle_layer);
     a->Field("pre_voxel", &pre_voxel_m, {0, 1});

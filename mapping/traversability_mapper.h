@@ -2,6 +2,7 @@
 
 #include <limits>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -22,6 +23,14 @@ inline const std::string kTraversabilityVariance = "traversability_variance";
 inline const std::string kLastObserved = "last_observed";  ///< time of the last update [s]
 /// 1 where the latest points of a cell showed a vertical face (FSGP-BGK), 0 where they did not.
 inline const std::string kObstacle = "obstacle";
+/// Time of the latest points that showed the cell's face [s] (NaN: never).
+inline const std::string kObstacleSeen = "obstacle_seen";
+
+/// Every layer above, in the order the mappers create them.
+inline std::vector<std::string> All() {
+  return {kElevation,      kElevationVariance,      kSlope,        kCurvature, kGradient,
+          kTraversability, kTraversabilityVariance, kLastObserved, kObstacle,  kObstacleSeen};
+}
 }  // namespace layers
 
 /// Outcome of one map update.

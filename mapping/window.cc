@@ -137,17 +137,31 @@ void ObstacleMarker::CloseMask() {
 
 void ObstacleMarker::Mark(const Eigen::Ref<const Eigen::Matrix3Xf>& below_robot,
                           const Eigen::Vector2i& low, const Eigen::Vector2i& high,
-                          double min_span_m, double max_step_m, int margin_cells,
-                          common::GridLayers* map) {
+                          const MapArea& area, const Eigen::Vector3d& p_WB, double t_s,
+                          int margin_cells, common::GridLayers* map) {
   // the faces the height regression cannot see (their points were cropped as not terrain): the
   // latest observation of each cell decides, so a cell seen free again clears
-  const auto seen = Cells(below_robot, map->geometry(), low, high, min_span_m, max_step_m);
+  const common::GridGeometry& g = map->geometry();
+  const auto seen =
+      Cells(below_robot, g, low, high, area.max_height_above_ground_m, area.max_step_m);
   Eigen::MatrixXf& obstacle = map->Layer(layers::kObstacle);
+  Eigen::MatrixXf& seen_s = map->Layer(layers::kObstacleSeen);
   Eigen::MatrixXf& out = map->Layer(layers::kTraversability);
+  const Eigen::MatrixXf& scored_s = map->Layer(layers::kLastObserved);
+  const double blind_radius2 = area.blind_radius_m * area.blind_radius_m;
   for (int ix = low.x(); ix <= high.x(); ++ix) {
     for (int iy = low.y(); iy <= high.y(); ++iy) {
       const float value = seen(ix - low.x(), iy - low.y());
-      if (!std::isnan(value)) obstacle(ix, iy) = value;
+      if (!std::isnan(value)) {
+        obstacle(ix, iy) = value;
+        if (value == 1.0f) seen_s(ix, iy) = static_cast<float>(t_s);
+      } else if (obstacle(ix, iy) == 1.0f && area.obstacle_memory_s > 0.0 &&
+                 t_s - seen_s(ix, iy) > area.obstacle_memory_s &&
+                 (g.CellCenter(ix, iy) - p_WB.head<2>()).squaredNorm() < blind_radius2) {
+        // in the ground blind zone the cell is never seen free again: forget the face
+        obstacle(ix, iy) = std::numeric_limits<float>::quiet_NaN();
+        if (std::isnan(scored_s(ix, iy))) out(ix, iy) = std::numeric_limits<float>::quiet_NaN();
+      }
     }
   }
   // closed by one cell: faces seen edge-on or occluded leave gaps of a cell or two in a wall,
@@ -157,7 +171,6 @@ void ObstacleMarker::Mark(const Eigen::Ref<const Eigen::Matrix3Xf>& below_robot,
   // in the window only) and the cost the mapper rewrote in the window and its margin; everywhere
   // else the previous frames already wrote the closed mask, so the result equals closing the whole
   // map.
-  const common::GridGeometry& g = map->geometry();
   const int margin = margin_cells;
   const Eigen::Vector2i out_low = (low.array() - margin).max(0);
   const Eigen::Vector2i out_high =

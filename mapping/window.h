@@ -10,6 +10,7 @@
 #include "common/grid.h"
 #include "common/point_cloud.h"
 #include "common/scratch.h"
+#include "mapping/fsgp_config.h"
 #include "mapping/traversability_mapper.h"
 
 namespace trav::mapping {
@@ -57,14 +58,18 @@ class ObstacleMarker {
                                                 double max_step_m);
 
   /// Marks the faces the ground crop removed and the steps (Cells of `below_robot`, the window
-  /// before the crop, with `min_span_m` the crop height) in layer `obstacle` of `map` between `low`
-  /// and `high` (the latest observation of a cell decides, so a cell seen free again clears), then
-  /// sets layer `traversability` to 1 on the obstacle mask closed by one cell, within
-  /// `margin_cells` of the window (at least the cells whose cost the mapper rewrote). The obstacle
-  /// layer FSGP-BGK and the baselines share.
+  /// before the crop, with the crop height `area.max_height_above_ground_m` and the step
+  /// `area.max_step_m`) in layer `obstacle` of `map` between `low` and `high`: the latest
+  /// observation of a cell decides, so a cell seen free again clears, and a face cell stamps
+  /// layer `obstacle_seen` with `t_s`. A face cell within `area.blind_radius_m` of the base at
+  /// p_WB that no point has shown for longer than `area.obstacle_memory_s` (> 0) is forgotten:
+  /// its obstacle becomes unknown, and its cost too if the mapper has never scored it. Then sets
+  /// layer `traversability` to 1 on the obstacle mask closed by one cell, within `margin_cells` of
+  /// the window (at least the cells whose cost the mapper rewrote). The obstacle layer FSGP-BGK
+  /// and the baselines share.
   void Mark(const Eigen::Ref<const Eigen::Matrix3Xf>& below_robot, const Eigen::Vector2i& low,
-            const Eigen::Vector2i& high, double min_span_m, double max_step_m, int margin_cells,
-            common::GridLayers* map);
+            const Eigen::Vector2i& high, const MapArea& area, const Eigen::Vector3d& p_WB,
+            double t_s, int margin_cells, common::GridLayers* map);
 
  private:
   // The closing (dilation, then erosion) of mask_ by the 3 x 3 cell square, into closed_.

@@ -237,6 +237,69 @@ TEST(FsgpBgkMapperTest, APedestrianWalkingAcrossTheViewLeavesNoLastingObstacle) 
   EXPECT_LT(worst_after_half_a_second, 0.5);
 }
 
+// Flat ground seen only beyond `blind_m` from the origin (as from a robot whose sensor cannot see
+// the ground close round it) and not within 0.8 m of `hidden`, and a 1.7 m column of radius
+// 0.25 m at each of `columns`.
+common::PointCloud GroundAndColumns(double blind_m, const std::vector<Eigen::Vector2d>& columns,
+                                    const Eigen::Vector2d& hidden = {100, 100}) {
+  const common::PointCloud ground = Surface([](double, double) { return 0.0; }, {0, 0});
+  std::vector<Eigen::Vector3f> points;
+  for (Eigen::Index i = 0; i < ground.size(); ++i) {
+    const Eigen::Vector3f p = ground.points.col(i);
+    const bool under_column = std::any_of(columns.begin(), columns.end(), [&](const auto& c) {
+      return std::hypot(p.x() - c.x(), p.y() - c.y()) < 0.25;
+    });
+    const bool seen = std::hypot(p.x(), p.y()) >= blind_m &&
+                      std::hypot(p.x() - hidden.x(), p.y() - hidden.y()) >= 0.8;
+    if (seen && !under_column) points.emplace_back(p);
+  }
+  for (const Eigen::Vector2d& c : columns) {
+    for (double a = 0.0; a < 2.0 * M_PI; a += 0.2) {
+      for (double z = 0.0; z <= 1.7; z += 0.05) {
+        points.emplace_back(static_cast<float>(c.x() + 0.25 * std::cos(a)),
+                            static_cast<float>(c.y() + 0.25 * std::sin(a)), static_cast<float>(z));
+      }
+    }
+  }
+  return common::MakePointCloud(points);
+}
+
+TEST(FsgpBgkMapperTest, AFaceInTheBlindZoneThatNoPointShowsAgainIsForgotten) {
+  // a walker stands 1 m ahead of the robot, then leaves while the robot's sensor sees the ground
+  // only beyond 2.6 m: its face in the blind zone (2.5 m) is forgotten once no point has shown it
+  // for 2 s; a face 4 m away that no point shows either is kept
+  FsgpBgkMapper dut(FsgpConfig{});
+  const Eigen::Vector2d walker_W(1.1, 0.1), far_W(4.1, 0.1);  // cell centres
+  ASSERT_EQ(dut.Update(GroundAndColumns(0.0, {walker_W, far_W}), RobotAt(0, 0), 0.0).status,
+            MapUpdateStatus::kUpdated);
+  EXPECT_EQ(*dut.map().At(layers::kObstacle, walker_W), 1.0f);
+  EXPECT_EQ(*dut.map().At(layers::kObstacleSeen, walker_W), 0.0f);
+  const common::PointCloud blind = GroundAndColumns(2.6, {}, far_W);
+  for (const double t : {0.5, 1.0, 1.5, 2.0}) {
+    ASSERT_EQ(dut.Update(blind, RobotAt(0, 0), t).status, MapUpdateStatus::kUpdated);
+    EXPECT_EQ(*dut.map().At(layers::kObstacle, walker_W), 1.0f) << "t = " << t;
+    EXPECT_EQ(*dut.map().At(layers::kTraversability, walker_W), 1.0f) << "t = " << t;
+  }
+  ASSERT_EQ(dut.Update(blind, RobotAt(0, 0), 2.1).status, MapUpdateStatus::kUpdated);
+  EXPECT_FALSE(dut.map().At(layers::kObstacle, walker_W).has_value());
+  EXPECT_LT(*dut.map().At(layers::kTraversability, walker_W), 0.8f);
+  EXPECT_EQ(*dut.map().At(layers::kObstacle, far_W), 1.0f);
+  EXPECT_EQ(*dut.map().At(layers::kTraversability, far_W), 1.0f);
+}
+
+TEST(FsgpBgkMapperTest, WithoutObstacleMemoryAFaceInTheBlindZoneStays) {
+  FsgpConfig config;
+  config.area.obstacle_memory_s = 0.0;
+  FsgpBgkMapper dut(config);
+  const Eigen::Vector2d walker_W(1.1, 0.1);
+  ASSERT_EQ(dut.Update(GroundAndColumns(0.0, {walker_W}), RobotAt(0, 0), 0.0).status,
+            MapUpdateStatus::kUpdated);
+  ASSERT_EQ(dut.Update(GroundAndColumns(2.6, {}), RobotAt(0, 0), 10.0).status,
+            MapUpdateStatus::kUpdated);
+  EXPECT_EQ(*dut.map().At(layers::kObstacle, walker_W), 1.0f);
+  EXPECT_EQ(*dut.map().At(layers::kTraversability, walker_W), 1.0f);
+}
+
 // Flat ground with a 1.5 m high wall along y at x = 2 from y = -2 to 2, but for a gap of `gap` m
 // centred on y = 0 where the LiDAR saw nothing at all (no wall and no ground).
 common::PointCloud WallWithGap(double gap) {
