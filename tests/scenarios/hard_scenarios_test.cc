@@ -1,12 +1,13 @@
 // The worlds that defeated the navigation stack before it had one footprint model and fallbacks
 // (scenarios/hard/, docs/navigation.md): starting in a U facing its closed end, doorways of 1.2 and
-// 1.5 m, 1.0 m gaps, rooms with 1.2 m doors; and a sample of BARN (scenarios/barn/, docs/barn.md).
+// 1.5 m, 1.0 m gaps, rooms with 1.2 m doors, pedestrians crossing the route (perceived from the
+// scans); and a sample of BARN (scenarios/barn/, docs/barn.md).
 // Each reaches its goal; a generated world may instead end as a planning failure where it has no
 // route for the robot (A* on the ground truth, summary's optimal_path_length_m 0): a furnished
 // room can close a narrow door for good. (The ground truth's score grows walls by its 0.3 m
 // neighbourhood, so a world can have a route the truth does not show: success is always right.)
 // Built twice: once per scenario with its own seed (label `scenario`, in CI) and over seeds 1 to 5
-// (label `seeds`).
+// (label `seeds`; a seed sets the terrain's and the traffic's).
 #include <unistd.h>
 
 #include <filesystem>
@@ -32,7 +33,10 @@ TEST_P(HardScenarioTest, ReachesTheGoalUnlessTheWorldHasNoRoute) {
   const auto& [file, seed] = GetParam();
   Scenario scenario =
       LoadScenario(common::YamlDocument::Load(std::string(TRAV_SOURCE_DIR) + "/scenarios/" + file));
-  if (seed > 0) scenario.terrain.seed = static_cast<std::uint64_t>(seed);
+  if (seed > 0) {
+    scenario.terrain.seed = static_cast<std::uint64_t>(seed);
+    scenario.traffic.seed = static_cast<std::uint64_t>(seed);
+  }
   const fs::path out = fs::temp_directory_path() / ("trav_hard_" + std::to_string(getpid()) + "_" +
                                                     scenario.name + "_" + std::to_string(seed));
   fs::create_directories(out);
@@ -63,7 +67,8 @@ std::string TestName(const testing::TestParamInfo<std::tuple<std::string, int>>&
 INSTANTIATE_TEST_SUITE_P(
     Seeds, HardScenarioTest,
     testing::Combine(testing::Values("hard/u_enclosure.yaml", "hard/doorways.yaml",
-                                     "hard/tight_gaps.yaml", "hard/indoor_doors.yaml"),
+                                     "hard/tight_gaps.yaml", "hard/indoor_doors.yaml",
+                                     "hard/crossing_pedestrians.yaml"),
                      testing::Range(1, 6)),
     TestName);
 #else
@@ -71,7 +76,8 @@ INSTANTIATE_TEST_SUITE_P(
     Files, HardScenarioTest,
     testing::Combine(testing::Values("hard/u_enclosure.yaml", "hard/doorways.yaml",
                                      "hard/tight_gaps.yaml", "hard/indoor_doors.yaml",
-                                     "barn/world_000.yaml", "barn/world_150.yaml"),
+                                     "hard/crossing_pedestrians.yaml", "barn/world_000.yaml",
+                                     "barn/world_150.yaml"),
                      testing::Values(0)),
     TestName);
 #endif
