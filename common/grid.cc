@@ -41,6 +41,20 @@ float InterpolateBilinear(const GridGeometry& geometry, const Eigen::MatrixXf& l
   return static_cast<float>((1 - ty) * bottom + ty * top);
 }
 
+double Roughness(const Eigen::Ref<const Eigen::MatrixXf>& heights_m, int ix, int iy) {
+  constexpr int kDirections[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+  const auto nx = static_cast<int>(heights_m.rows()), ny = static_cast<int>(heights_m.cols());
+  const double z = heights_m(ix, iy);
+  double roughness = 0.0;
+  for (const auto& d : kDirections) {
+    const int ax = ix + d[0], ay = iy + d[1], bx = ix - d[0], by = iy - d[1];
+    if (bx < 0 || ax >= nx || std::min(ay, by) < 0 || std::max(ay, by) >= ny) continue;
+    const double second = z - 0.5 * (heights_m(ax, ay) + heights_m(bx, by));
+    if (std::isfinite(second)) roughness = std::max(roughness, std::abs(second));
+  }
+  return roughness;
+}
+
 GridLayers::GridLayers(const GridGeometry& geometry, const std::vector<std::string>& layer_names)
     : geometry_(geometry) {
   for (const std::string& name : layer_names) AddLayer(name);

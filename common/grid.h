@@ -48,6 +48,12 @@ struct GridGeometry {
 float InterpolateBilinear(const GridGeometry& geometry, const Eigen::MatrixXf& layer,
                           const Eigen::Vector2d& p_W);
 
+/// The roughness of cell (ix, iy) of a grid of heights [m]: the largest second difference
+/// |z - (z_a + z_b) / 2| over its opposite neighbours a, b along x, y and both diagonals whose
+/// three heights are finite (0 if none): 0 on any plane whatever its slope, about half the height
+/// at the edge of a step, a stair or a curb, and res tan(change of slope) / 2 at a crest.
+double Roughness(const Eigen::Ref<const Eigen::MatrixXf>& heights_m, int ix, int iy);
+
 /// Named layers on one grid geometry: traversability maps, elevation maps and ground truth are all
 /// GridLayers. Every layer is an `Eigen::MatrixXf` of size (num_x, num_y) indexed (ix, iy); NaN
 /// marks an unknown cell. A copyable value.

@@ -65,9 +65,8 @@ struct MapArea {
   double max_height_above_ground_m{0.3};
   /// A cell whose highest point stands more than this above the highest point of a side
   /// neighbour is a step the robot cannot climb, marked untraversable with the faces [m] (0: no
-  /// step test, the default). The Scout Mini climbs 0.16 m at 1 m/s and not 0.17 m, so 0.15 is
-  /// its value; it is off by default until the closed loop holds with it (docs/navigation.md).
-  double max_step_m{0.0};
+  /// step test). The Scout Mini climbs 0.16 m at 1 m/s and not 0.17 m (docs/navigation.md).
+  double max_step_m{0.15};
   /// Cells closer than this to the base lie in the sensor's ground blind zone [m]: the MID-360's
   /// lowest beam (7 deg down) meets flat ground about 2.4 m out from the Scout Mini's mount, and
   /// the body hides more. A face there that no point shows for `obstacle_memory_s` is forgotten.

@@ -19,7 +19,7 @@ common::GridLayers ComputeGroundTruth(const common::GridGeometry& map_geometry,
                                       const GroundTruthConfig& config) {
   common::GridLayers truth(
       map_geometry, {layers::kTraversability, layers::kSlope, layers::kCurvature, layers::kGradient,
-                     layers::kElevation});
+                     layers::kElevation, layers::kRoughness});
   const double step = world_geometry.resolution_m;
   const double half_cell_m = 0.5 * map_geometry.resolution_m;
   const int reach = static_cast<int>(std::ceil(
@@ -81,6 +81,14 @@ common::GridLayers ComputeGroundTruth(const common::GridGeometry& map_geometry,
       truth.Layer(layers::kElevation)(mx, my) = static_cast<float>(centre_z);
       truth.Layer(layers::kTraversability)(mx, my) =
           blocked ? 1.0f : static_cast<float>(PreliminaryScore(score, curvature, gradient, slope));
+    }
+  }
+  const Eigen::MatrixXf& elevation = truth.Layer(layers::kElevation);
+  Eigen::MatrixXf& roughness = truth.Layer(layers::kRoughness);
+  for (int mx = 0; mx < map_geometry.num_x; ++mx) {
+    for (int my = 0; my < map_geometry.num_y; ++my) {
+      if (std::isnan(elevation(mx, my))) continue;
+      roughness(mx, my) = static_cast<float>(common::Roughness(elevation, mx, my));
     }
   }
   return truth;

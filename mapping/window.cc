@@ -78,6 +78,8 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
   // face: sparse points high on a wall still read as a wall)
   auto cells = cells_.Resize(size.x(), size.y());
   cells.setConstant(std::numeric_limits<float>::quiet_NaN());
+  auto roughness = roughness_.Resize(size.x(), size.y());
+  roughness.setConstant(std::numeric_limits<float>::quiet_NaN());
   for (int ix = 0; ix < size.x(); ++ix) {
     for (int iy = 0; iy < size.y(); ++iy) {
       if (std::isinf(lowest(ix, iy))) continue;
@@ -100,6 +102,7 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
         }
       }
       cells(ix, iy) = face ? 1.0f : 0.0f;
+      roughness(ix, iy) = static_cast<float>(common::Roughness(highest, ix, iy));
     }
   }
   return cells_.const_view();
@@ -146,14 +149,30 @@ void ObstacleMarker::Mark(const Eigen::Ref<const Eigen::Matrix3Xf>& below_robot,
       Cells(below_robot, g, low, high, area.max_height_above_ground_m, area.max_step_m);
   Eigen::MatrixXf& obstacle = map->Layer(layers::kObstacle);
   Eigen::MatrixXf& seen_s = map->Layer(layers::kObstacleSeen);
+  Eigen::MatrixXf& rough = map->Layer(layers::kRoughness);
+  const auto roughness = roughness_.const_view();
   Eigen::MatrixXf& out = map->Layer(layers::kTraversability);
   const Eigen::MatrixXf& scored_s = map->Layer(layers::kLastObserved);
+  const Eigen::MatrixXf& ground = map->Layer(layers::kElevation);
+  const auto lowest = lowest_.const_view();
+  const auto highest = highest_.const_view();
   const double blind_radius2 = area.blind_radius_m * area.blind_radius_m;
   for (int ix = low.x(); ix <= high.x(); ++ix) {
     for (int iy = low.y(); iy <= high.y(); ++iy) {
-      const float value = seen(ix - low.x(), iy - low.y());
+      const Eigen::Vector2i local(ix - low.x(), iy - low.y());
+      float value = seen(local.x(), local.y());
+      // a cell whose lowest point stands more than half the crop height above the mapped ground
+      // shows no ground (the side of a box next to the robot, seen above the sensor's lowest beam):
+      // it is no evidence of free space, and a face if its top stands above the crop height
+      const float above_ground = lowest(local.x(), local.y()) - ground(ix, iy);
+      if (value == 0.0f && above_ground > 0.5 * area.max_height_above_ground_m) {
+        value = highest(local.x(), local.y()) - ground(ix, iy) > area.max_height_above_ground_m
+                    ? 1.0f
+                    : std::numeric_limits<float>::quiet_NaN();
+      }
       if (!std::isnan(value)) {
         obstacle(ix, iy) = value;
+        rough(ix, iy) = roughness(local.x(), local.y());
         if (value == 1.0f) seen_s(ix, iy) = static_cast<float>(t_s);
       } else if (obstacle(ix, iy) == 1.0f && area.obstacle_memory_s > 0.0 &&
                  t_s - seen_s(ix, iy) > area.obstacle_memory_s &&

@@ -50,18 +50,23 @@ class ObstacleMarker {
   /// 0 where neither holds, NaN where the cell has no point. Ground of slope a rises at most
   /// 2 sqrt(2) resolution tan(a) across the neighbourhood and resolution tan(a) from a side
   /// neighbour: 0.3 m and 0.15 m at 0.2 m cells mean slopes steeper than about 28 and 37 deg read
-  /// as faces. Valid until the next call.
+  /// as faces. Valid until the next call, as roughness().
   common::ScratchMatrix<float>::ConstView Cells(const Eigen::Ref<const Eigen::Matrix3Xf>& points_W,
                                                 const common::GridGeometry& g,
                                                 const Eigen::Vector2i& low,
                                                 const Eigen::Vector2i& high, double min_span_m,
                                                 double max_step_m);
 
+  /// Per cell of the last Cells call: common::Roughness of the highest points (NaN where the cell
+  /// has no point; a neighbour without points is left out) [m].
+  common::ScratchMatrix<float>::ConstView roughness() const { return roughness_.const_view(); }
+
   /// Marks the faces the ground crop removed and the steps (Cells of `below_robot`, the window
   /// before the crop, with the crop height `area.max_height_above_ground_m` and the step
   /// `area.max_step_m`) in layer `obstacle` of `map` between `low` and `high`: the latest
   /// observation of a cell decides, so a cell seen free again clears, and a face cell stamps
-  /// layer `obstacle_seen` with `t_s`. A face cell within `area.blind_radius_m` of the base at
+  /// layer `obstacle_seen` with `t_s`; layer `roughness` takes roughness() where a cell has
+  /// points. A face cell within `area.blind_radius_m` of the base at
   /// p_WB that no point has shown for longer than `area.obstacle_memory_s` (> 0) is forgotten:
   /// its obstacle becomes unknown, and its cost too if the mapper has never scored it. Then sets
   /// layer `traversability` to 1 on the obstacle mask closed by one cell, within `margin_cells` of
@@ -75,7 +80,7 @@ class ObstacleMarker {
   // The closing (dilation, then erosion) of mask_ by the 3 x 3 cell square, into closed_.
   void CloseMask();
 
-  common::ScratchMatrix<float> lowest_, highest_, cells_;
+  common::ScratchMatrix<float> lowest_, highest_, cells_, roughness_;
   common::ScratchMatrix<std::uint8_t> mask_, dilated_, closed_;
 };
 

@@ -45,6 +45,43 @@ void Transform1d(const std::vector<double>& f, std::vector<double>* d, std::vect
   }
 }
 
+// The smallest value of `values` within `radius` cells of each cell (a disc's erosion).
+Eigen::MatrixXd MinimumWithin(const Eigen::MatrixXd& values, int radius) {
+  if (radius <= 0) return values;
+  const int nx = static_cast<int>(values.rows()), ny = static_cast<int>(values.cols());
+  Eigen::MatrixXd eroded = values;
+  for (int iy = 0; iy < ny; ++iy) {
+    for (int ix = 0; ix < nx; ++ix) {
+      for (int dy = -radius; dy <= radius; ++dy) {
+        for (int dx = -radius; dx <= radius; ++dx) {
+          const int jx = ix + dx, jy = iy + dy;
+          if (dx * dx + dy * dy > radius * radius || jx < 0 || jy < 0 || jx >= nx || jy >= ny)
+            continue;
+          eroded(ix, iy) = std::min(eroded(ix, iy), values(jx, jy));
+        }
+      }
+    }
+  }
+  return eroded;
+}
+
+// The terrain's speed limit per cell (CostField::SpeedLimit).
+Eigen::MatrixXd SpeedLimits(const Eigen::MatrixXf& cost, const Eigen::MatrixXf* roughness_m,
+                            const TerrainSpeedConfig& config, double resolution_m) {
+  Eigen::MatrixXd limit(cost.rows(), cost.cols());
+  for (int iy = 0; iy < cost.cols(); ++iy) {
+    for (int ix = 0; ix < cost.rows(); ++ix) {
+      if (std::isnan(cost(ix, iy))) {
+        limit(ix, iy) = std::min(config.open_m_s, config.unknown_m_s);
+      } else {
+        const float roughness = roughness_m != nullptr ? (*roughness_m)(ix, iy) : 0.0f;
+        limit(ix, iy) = config.ForRoughness(std::isnan(roughness) ? 0.0 : roughness);
+      }
+    }
+  }
+  return MinimumWithin(limit, static_cast<int>(std::ceil(config.reach_m / resolution_m - 1e-9)));
+}
+
 }  // namespace
 
 Eigen::MatrixXd DistanceTransform(const Mask& mask) {
@@ -75,11 +112,13 @@ Eigen::MatrixXd DistanceTransform(const Mask& mask) {
 }
 
 CostField::CostField(const common::GridLayers& map, const CostMapConfig& config)
-    : CostField(map.geometry(), map.Layer(config.cost_layer), config) {}
+    : CostField(map.geometry(), map.Layer(config.cost_layer), config,
+                map.Has(config.speed.roughness_layer) ? &map.Layer(config.speed.roughness_layer)
+                                                      : nullptr) {}
 
 CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
-                     const CostMapConfig& config)
-    : geometry_(geometry) {
+                     const CostMapConfig& config, const Eigen::MatrixXf* roughness_m)
+    : geometry_(geometry), open_speed_m_s_(config.speed.open_m_s) {
   const int nx = geometry_.num_x, ny = geometry_.num_y;
   cost_.resize(nx, ny);
   Mask lethal(nx, ny);
@@ -110,6 +149,7 @@ CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf
       distance_(ix, iy) = d;
     }
   }
+  speed_limit_ = SpeedLimits(layer, roughness_m, config.speed, geometry_.resolution_m);
 }
 
 double FootprintDistance(const CostField& field, const Eigen::Vector2d& position_W, double yaw,

@@ -15,21 +15,22 @@ struct FieldSample {
   Eigen::Vector2d gradient_W{Eigen::Vector2d::Zero()};  ///< per metre
 };
 
-/// The traversability map as smooth fields for trajectory optimisation: the cost c in [0, 1] and
-/// the signed distance to the nearest lethal cell [m] (positive outside, negative inside), both
-/// interpolated bilinearly with their gradients, as uneven_planner and DDR-opt do (a nearest-cell
-/// lookup would have zero gradient almost everywhere). Cells are read as A* reads them: lethal by
-/// IsLethal, unknown cells of cost `unknown_cost` when not lethal; A*'s inflation does not apply
-/// (clearance is the optimiser's own term). Points outside the grid take the border's values with
-/// zero gradient.
+/// The traversability map as smooth fields for trajectory optimisation: the cost c in [0, 1], the
+/// signed distance to the nearest lethal cell [m] (positive outside, negative inside) and the
+/// terrain's speed limit [m/s], all interpolated bilinearly with their gradients, as uneven_planner
+/// and DDR-opt do (a nearest-cell lookup would have zero gradient almost everywhere). Cells are
+/// read as A* reads them: lethal by IsLethal, unknown cells of cost `unknown_cost` when not lethal;
+/// A*'s inflation does not apply (clearance is the optimiser's own term). Points outside the grid
+/// take the border's values with zero gradient.
 class CostField {
  public:
   /// @throws std::out_of_range if the map lacks `config.cost_layer`.
   CostField(const common::GridLayers& map, const CostMapConfig& config);
 
-  /// From the cost layer itself (`layer` on `geometry`).
+  /// From the cost layer itself (`layer` on `geometry`) and, unless null, the roughness of the
+  /// same cells (TerrainSpeedConfig; without it the speed limit knows no roughness).
   CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
-            const CostMapConfig& config);
+            const CostMapConfig& config, const Eigen::MatrixXf* roughness_m = nullptr);
 
   /// Cost at p_W.
   FieldSample Cost(const Eigen::Vector2d& p_W) const { return Interpolate(cost_, p_W); }
@@ -37,6 +38,16 @@ class CostField {
   /// Signed distance to the nearest lethal cell at p_W [m]; a map without lethal cells reads as
   /// `kFarDistance` everywhere.
   FieldSample Distance(const Eigen::Vector2d& p_W) const { return Interpolate(distance_, p_W); }
+
+  /// The terrain's speed limit at p_W [m/s] (TerrainSpeedConfig): `unknown_m_s` over unknown
+  /// cells, over known ones TerrainSpeedConfig::ForRoughness of the cell's roughness (NaN: 0),
+  /// never above `open_m_s`; each cell holds the smallest limit within `reach_m` of it.
+  FieldSample SpeedLimit(const Eigen::Vector2d& p_W) const {
+    return Interpolate(speed_limit_, p_W);
+  }
+
+  /// The speed where the terrain sets no limit [m/s] (TerrainSpeedConfig::open_m_s).
+  double open_speed_m_s() const { return open_speed_m_s_; }
 
   const common::GridGeometry& geometry() const { return geometry_; }
 
@@ -49,6 +60,8 @@ class CostField {
   common::GridGeometry geometry_;
   Eigen::MatrixXd cost_;
   Eigen::MatrixXd distance_;
+  Eigen::MatrixXd speed_limit_;
+  double open_speed_m_s_{0.0};
 };
 
 /// The smallest signed distance to lethal cells (CostField::Distance) of the robot's body points

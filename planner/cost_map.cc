@@ -99,8 +99,17 @@ double SearchCostMap::SegmentCost(const Eigen::Vector2d& a_W, const Eigen::Vecto
   return length * (1.0 + config_.cost_weight * sum / (intervals + 1));
 }
 
+double TerrainSpeedConfig::ForRoughness(double roughness_m) const {
+  if (!(roughness_m > smooth_m)) return open_m_s;
+  if (roughness_m >= rough_m) return std::min(open_m_s, rough_m_s);
+  const double fraction = (roughness_m - smooth_m) / (rough_m - smooth_m);
+  return std::min(open_m_s, open_m_s + fraction * (rough_m_s - open_m_s));
+}
+
 CostMap::CostMap(const common::GridLayers& map, const CostMapConfig& config)
-    : geometry_(map.geometry()), config_(config), layer_(map.Layer(config.cost_layer)) {}
+    : geometry_(map.geometry()), config_(config), layer_(map.Layer(config.cost_layer)) {
+  if (map.Has(config.speed.roughness_layer)) roughness_ = map.Layer(config.speed.roughness_layer);
+}
 
 CostMap::~CostMap() = default;
 CostMap::CostMap(CostMap&&) noexcept = default;
@@ -126,7 +135,10 @@ const SearchCostMap& CostMap::wide_search() const {
 }
 
 const CostField& CostMap::field() const {
-  if (!field_) field_ = std::make_unique<CostField>(geometry_, layer_, config_);
+  if (!field_) {
+    field_ = std::make_unique<CostField>(geometry_, layer_, config_,
+                                         roughness_.size() > 0 ? &roughness_ : nullptr);
+  }
   return *field_;
 }
 

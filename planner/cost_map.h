@@ -24,6 +24,37 @@ inline constexpr std::array<common::EnumName<UnknownPolicy>, 2> kUnknownPolicyNa
     {{UnknownPolicy::kCost, "cost"}, {UnknownPolicy::kBlocked, "blocked"}}};
 constexpr const auto& EnumNames(UnknownPolicy) { return kUnknownPolicyNames; }
 
+/// Speed limits that the terrain sets (scenario section `planner.speed`), kept by the trajectory
+/// optimiser through CostField::SpeedLimit. A cell's roughness is the map's layer of
+/// common::Roughness: about half the height at the edge of a step, a stair or a curb, 0 on any
+/// plane.
+struct TerrainSpeedConfig {
+  std::string roughness_layer{"roughness"};  ///< [m]; a map without it, or NaN: 0
+  double unknown_m_s{1.0};  ///< over unknown cells (the ground ahead not yet seen) [m/s]
+  double rough_m_s{1.1};    ///< over cells at least `rough_m` rough [m/s]
+  double smooth_m{0.01};    ///< cells at most this rough set no limit [m]; linear up to rough_m
+  double rough_m{0.03};     ///< [m], > smooth_m
+  /// The speed where the terrain sets no limit [m/s]. Not a scenario key: the planner sets it to
+  /// its own speed limit (NavigationPlannerConfig::SearchConfig).
+  double open_m_s{1.5};
+  /// A cell's limit holds for the base anywhere within this distance of it [m], so that it holds
+  /// for every wheel. Not a scenario key: the planner sets it to the footprint's circumscribed
+  /// radius.
+  double reach_m{0.0};
+
+  /// The keys of scenario section `planner.speed` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("unknown", &unknown_m_s, {0.05, 30});
+    a->Field("rough", &rough_m_s, {0.05, 30});
+    a->Field("smooth_roughness", &smooth_m, {0, 10});
+    a->Field("rough_roughness", &rough_m, {0.001, 10});
+  }
+
+  /// The limit over a known cell of roughness `roughness_m` [m/s].
+  double ForRoughness(double roughness_m) const;
+};
+
 /// How a traversability layer becomes search costs; the settings of A* (`AStarConfig`) and of the
 /// sampling planners.
 struct CostMapConfig {
@@ -40,7 +71,8 @@ struct CostMapConfig {
   /// distance [m] (the footprint's circumscribed radius plus the clearance): the search prefers
   /// the middle of passages, where the robot can turn. Not a scenario key; 0: no band.
   double band_radius_m{0.0};
-  double band_cost{0.5};  ///< extra cost next to the blocked cells, in [0, 1]
+  double band_cost{0.5};     ///< extra cost next to the blocked cells, in [0, 1]
+  TerrainSpeedConfig speed;  ///< the terrain's speed limits (CostField::SpeedLimit)
 
   /// The keys of scenario section `planner.search` that configure the costs (common/archive.h).
   template <typename Archive>
@@ -133,13 +165,14 @@ class CostMap {
   /// The search costs (lethal cells grown by the inflation radius, the band round them).
   const SearchCostMap& search() const;
 
-  /// The cost and signed-distance fields.
+  /// The cost, signed-distance and speed-limit fields.
   const CostField& field() const;
 
  private:
   common::GridGeometry geometry_;
   CostMapConfig config_;
   Eigen::MatrixXf layer_;
+  Eigen::MatrixXf roughness_;  // empty when the map has no `config.speed.roughness_layer`
   mutable std::unique_ptr<SearchCostMap> search_;
   mutable std::unique_ptr<SearchCostMap> wide_search_;
   mutable std::unique_ptr<CostField> field_;

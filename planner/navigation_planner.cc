@@ -67,6 +67,12 @@ void ValidateNavigationPlannerConfig(const NavigationPlannerConfig& c) {
                c.substitute_goal_reach_m, "must be > 0");
   RequireValue(c.simplify_tolerance >= 0.0, "search.simplify_tolerance", c.simplify_tolerance,
                "must be >= 0");
+  const TerrainSpeedConfig& v = s.speed;
+  RequireValue(v.unknown_m_s > 0.0, "speed.unknown", v.unknown_m_s, "must be > 0");
+  RequireValue(v.rough_m_s > 0.0, "speed.rough", v.rough_m_s, "must be > 0");
+  RequireValue(v.smooth_m >= 0.0, "speed.smooth_roughness", v.smooth_m, "must be >= 0");
+  RequireValue(v.rough_m > v.smooth_m, "speed.rough_roughness", v.rough_m,
+               "must be > speed.smooth_roughness");
   common::ValidateAt("optimizer", [&] { ValidateTrajectoryOptimizerConfig(c.OptimizerConfig()); });
   common::ValidateAt("fallback", [&] { ValidateFallbackConfig(c.fallback); });
 }
@@ -75,6 +81,8 @@ CostMapConfig NavigationPlannerConfig::SearchConfig() const {
   CostMapConfig resolved = search;
   resolved.inflation_radius_m = footprint.InscribedRadius() + optimizer.min_clearance_m;
   resolved.band_radius_m = footprint.CircumscribedRadius() + optimizer.clearance_m;
+  resolved.speed.open_m_s = optimizer.limits.max_speed_m_s;
+  resolved.speed.reach_m = footprint.CircumscribedRadius();
   return resolved;
 }
 

@@ -35,7 +35,8 @@ struct NavigationPlannerConfig {
   /// the inscribed disc plus `optimizer.min_clearance` round its centre reaches a lethal cell (the
   /// optimiser's smallest clearance for a robot broadside to the obstacle), and pays
   /// `search.band_cost` more, less with the distance, while the circumscribed disc plus
-  /// `optimizer.clearance` does (where the robot cannot turn freely). docs/navigation.md.
+  /// `optimizer.clearance` does (where the robot cannot turn freely); the terrain sets no speed
+  /// limit above `optimizer.max_speed`. docs/navigation.md.
   CostMapConfig SearchConfig() const;
 
   /// The optimiser settings the planner applies: `optimizer` with `footprint`.
@@ -50,6 +51,7 @@ struct NavigationPlannerConfig {
       k.Field("substitute_goal_reach", &substitute_goal_reach_m, {0, 100});
     });
     a->Map("optimizer", &optimizer);
+    a->Map("speed", &search.speed);
     a->Map("fallback", &fallback);
   }
 };

@@ -86,6 +86,7 @@ double LimitsPenalty(const FlatState& state, const DynamicLimits& lim, double we
 struct FieldTerms {
   double clearance;       // the distance to lethal cells below the clearance
   double traversability;  // the cost integrated over the distance driven
+  double speed;           // the speed above the terrain's limit (a limits term)
 };
 
 FieldTerms FieldPenalties(const CostField& field, const TrajectoryCostSetup& s,
@@ -120,7 +121,16 @@ FieldTerms FieldPenalties(const CostField& field, const TrajectoryCostSetup& s,
   const double traversability = w.traversability * cost.value * (speed - kSpeedSmoothing);
   p.position += w.traversability * (speed - kSpeedSmoothing) * cost.gradient_W;
   p.ds += w.traversability * cost.value * v / speed;
-  return {clearance, traversability};
+
+  // v^2 <= limit(position)^2 where the terrain limits the speed below the open speed
+  double over_limit = 0.0;
+  const FieldSample limit = field.SpeedLimit(position);
+  if (limit.value < field.open_speed_m_s()) {
+    over_limit = w.limits * SmoothedL1(v * v - limit.value * limit.value, mu, &slope);
+    p.ds += w.limits * slope * 2.0 * v;
+    p.position -= w.limits * slope * 2.0 * limit.value * limit.gradient_W;
+  }
+  return {clearance, traversability, over_limit};
 }
 
 // The moving-obstacle penalty at one node (position_W at absolute time t_abs), with its partials
@@ -220,6 +230,7 @@ CostTerms NodePenalties(const CostField& field, const TrajectoryCostSetup& s,
   g.limits = LimitsPenalty(state, s.limits, s.weights.limits, s.smoothing, partials);
   const FieldTerms field_terms =
       FieldPenalties(field, s, position, state.theta, state.ds, partials);
+  g.limits += field_terms.speed;
   g.clearance = field_terms.clearance;
   g.traversability = field_terms.traversability;
   g.moving_obstacles = ObstaclesPenalty(s, position, t_abs, partials);

@@ -92,5 +92,30 @@ TEST(GridLayersTest, RecenteringKeepsCellsAnchoredInTheWorld) {
   EXPECT_TRUE(dut.Layer("v").array().isNaN().all());
 }
 
+TEST(RoughnessTest, IsZeroOnAPlaneAndHalfAStepAtItsEdge) {
+  Eigen::MatrixXf heights(5, 5);
+  for (int ix = 0; ix < 5; ++ix) {
+    for (int iy = 0; iy < 5; ++iy) heights(ix, iy) = 0.3f * static_cast<float>(ix - 2 * iy);
+  }
+  for (int ix = 0; ix < 5; ++ix) {
+    for (int iy = 0; iy < 5; ++iy) EXPECT_NEAR(Roughness(heights, ix, iy), 0.0, 1e-6);
+  }
+  // a 0.12 m step between ix = 2 and 3: 0.06 on either side of it, 0 elsewhere
+  for (int ix = 0; ix < 5; ++ix) heights.row(ix).setConstant(ix >= 3 ? 0.12f : 0.0f);
+  for (int iy = 0; iy < 5; ++iy) {
+    EXPECT_NEAR(Roughness(heights, 1, iy), 0.0, 1e-7);
+    EXPECT_NEAR(Roughness(heights, 2, iy), 0.06, 1e-7);
+    EXPECT_NEAR(Roughness(heights, 3, iy), 0.06, 1e-7);
+    EXPECT_NEAR(Roughness(heights, 4, iy), 0.0, 1e-7);
+  }
+  // directions with an unknown height are left out; none left: 0
+  heights(1, 2) = std::numeric_limits<float>::quiet_NaN();
+  heights(2, 1) = heights(1, 1) = heights(1, 3) = heights(2, 3) = heights(3, 1) = heights(3, 3) =
+      std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(Roughness(heights, 2, 2), 0.0);
+  heights(2, 3) = 0.0f;
+  EXPECT_NEAR(Roughness(heights, 2, 2), 0.0, 1e-7);
+}
+
 }  // namespace
 }  // namespace trav::common

@@ -172,6 +172,14 @@ TEST(ObstacleCellsTest, AStepHigherThanTheClimbableOneIsAnObstacleHoweverLow) {
   // without the step test, or for a 0.10 m curb, nothing
   EXPECT_EQ(marker.Cells(PlatformCloud(0.25), g, low, high, 0.3, 0.0).maxCoeff(), 0.0f);
   EXPECT_EQ(marker.Cells(PlatformCloud(0.10), g, low, high, 0.3, 0.15).maxCoeff(), 0.0f);
+  // but the curb's roughness: half its height on the cells either side of its edge, 0 elsewhere
+  const Eigen::MatrixXf roughness = marker.roughness();
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const bool beside = ix == edge || ix == edge - 1;
+      EXPECT_NEAR(roughness(ix, iy), beside ? 0.05f : 0.0f, 1e-6) << ix << "," << iy;
+    }
+  }
 }
 
 TEST(FsgpBgkMapperTest, AWallIsUntraversableAndItsCellsClearWhenSeenFree) {

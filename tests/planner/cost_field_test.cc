@@ -102,5 +102,43 @@ TEST(CostFieldTest, AMapWithoutLethalCellsIsFarEverywhere) {
   EXPECT_EQ(CostField(map, CostMapConfig{}).Distance({0.0, 0.0}).value, CostField::kFarDistance);
 }
 
+TEST(CostFieldTest, TheSpeedLimitFollowsUnknownCellsAndRoughnessWithinReach) {
+  // 4 x 4 m at 0.1 m: one unknown cell, one cell of roughness 0.03 and one of 0.02
+  common::GridLayers map = WallMap();
+  map.Layer("traversability").setConstant(0.1f);
+  map.AddLayer("roughness");
+  const common::GridGeometry& g = map.geometry();
+  map.Layer("traversability")(5, 5) = std::numeric_limits<float>::quiet_NaN();
+  map.Layer("roughness")(30, 30) = 0.03f;
+  map.Layer("roughness")(10, 30) = 0.02f;
+  CostMapConfig config;
+  config.speed.open_m_s = 1.5;
+  config.speed.unknown_m_s = 0.8;
+  config.speed.rough_m_s = 1.1;
+  const CostField dut(map, config);
+  EXPECT_NEAR(dut.open_speed_m_s(), 1.5, 1e-6);
+  EXPECT_NEAR(dut.SpeedLimit(g.CellCenter(5, 5)).value, 0.8, 1e-6);
+  EXPECT_NEAR(dut.SpeedLimit(g.CellCenter(30, 30)).value, 1.1, 1e-6);
+  // (cell centres read up to 1e-8 into the next cell) halfway between 0.01 and 0.03: halfway
+  // between the open and the rough speed
+  EXPECT_NEAR(dut.SpeedLimit(g.CellCenter(10, 30)).value, 1.3, 1e-6);
+  EXPECT_NEAR(dut.SpeedLimit(g.CellCenter(31, 30)).value, 1.5, 1e-6);
+  EXPECT_NEAR(dut.SpeedLimit(g.CellCenter(20, 20)).value, 1.5, 1e-6);
+  // bilinear between cells, with its gradient
+  const FieldSample between = dut.SpeedLimit(0.5 * (g.CellCenter(30, 30) + g.CellCenter(31, 30)));
+  EXPECT_NEAR(between.value, 1.3, 1e-6);
+  EXPECT_NEAR(between.gradient_W.x(), 0.4 / 0.1, 1e-5);
+  // with a reach of 0.2 m every cell within 2 cells (a disc) takes the rough cell's limit
+  config.speed.reach_m = 0.2;
+  const CostField wide(map, config);
+  EXPECT_NEAR(wide.SpeedLimit(g.CellCenter(32, 30)).value, 1.1, 1e-6);
+  EXPECT_NEAR(wide.SpeedLimit(g.CellCenter(31, 31)).value, 1.1, 1e-6);
+  EXPECT_NEAR(wide.SpeedLimit(g.CellCenter(32, 32)).value, 1.5, 1e-6);
+  EXPECT_NEAR(wide.SpeedLimit(g.CellCenter(33, 30)).value, 1.5, 1e-6);
+  // the terrain never raises the limit above the open speed
+  config.speed.unknown_m_s = 5.0;
+  EXPECT_NEAR(CostField(map, config).SpeedLimit(g.CellCenter(5, 5)).value, 1.5, 1e-6);
+}
+
 }  // namespace
 }  // namespace trav::planner

@@ -11,11 +11,11 @@
 namespace trav::planner {
 namespace {
 
-// 12 x 8 m at 0.1 m: smooth costs and a lethal disc of radius 0.6 m at (2, 0.9).
+// 12 x 8 m at 0.1 m: smooth costs and roughness, and a lethal disc of radius 0.6 m at (2, 0.9).
 common::GridLayers TestMap() {
   common::GridLayers map(
       common::GridGeometry::Centered(Eigen::Vector2d(2, 0), Eigen::Vector2d(12, 8), 0.1),
-      {"traversability"});
+      {"traversability", "roughness"});
   const common::GridGeometry& g = map.geometry();
   for (int ix = 0; ix < g.num_x; ++ix) {
     for (int iy = 0; iy < g.num_y; ++iy) {
@@ -24,6 +24,8 @@ common::GridLayers TestMap() {
       map.Layer("traversability")(ix, iy) =
           lethal ? 1.0f
                  : static_cast<float>(0.3 + 0.2 * std::sin(0.9 * p.x()) * std::cos(0.7 * p.y()));
+      map.Layer("roughness")(ix, iy) =
+          static_cast<float>(0.02 + 0.015 * std::sin(1.3 * p.x()) * std::cos(0.9 * p.y()));
     }
   }
   return map;
@@ -36,7 +38,7 @@ TrajectoryCostWeights Only(const std::string& term) {
   w.arc_length_jerk = term == "energy" ? 1.0 : 0.0;
   w.time = term == "time" ? 50.0 : 0.0;
   w.traversability = term == "traversability" ? 50.0 : 0.0;
-  w.limits = term == "limits" ? 1.0e3 : 0.0;
+  w.limits = term == "limits" || term == "terrain_speed" ? 1.0e3 : 0.0;
   w.clearance = term == "clearance" || term == "body_clearance" ? 1.0e3 : 0.0;
   w.moving_obstacles = term == "moving_obstacles" ? 1.0e3 : 0.0;
   return w;
@@ -52,6 +54,10 @@ TrajectoryCostSetup CostSetup(const std::string& term) {
   s.limits.max_yaw_acceleration_rad_s2 = 0.3;
   s.limits.max_centripetal_acceleration_m_s2 = 0.1;
   s.clearance_m = 0.8;
+  // the terrain's speed limit alone (between 0.5 and 1.3 m/s on the test map)
+  if (term == "terrain_speed") {
+    s.limits = DynamicLimits{10.0, 10.0, 10.0, 10.0, 100.0};
+  }
   // the footprint's boundary keeps the clearance: the yaw enters the term too
   if (term == "body_clearance") {
     s.body_points_B = common::Footprint{}.BoundaryPoints_B(0.2);
@@ -84,11 +90,22 @@ Eigen::VectorXd InitialZ(std::uint64_t seed) {
   return z;
 }
 
+// The fields' settings: for the terrain's speed limit, a rough speed below the test's speeds.
+CostMapConfig FieldConfig(const std::string& term) {
+  CostMapConfig config;
+  if (term == "terrain_speed") {
+    config.speed.smooth_m = 0.0;
+    config.speed.rough_m = 0.04;
+    config.speed.rough_m_s = 0.4;
+  }
+  return config;
+}
+
 class TrajectoryCostGradientTest : public testing::TestWithParam<std::string> {};
 
 TEST_P(TrajectoryCostGradientTest, MatchesCentralDifferences) {
   const common::GridLayers map = TestMap();
-  const CostField field(map, CostMapConfig{});
+  const CostField field(map, FieldConfig(GetParam()));
   TrajectoryCost dut(field, CostSetup(GetParam()), 5);
   if (GetParam() == "terminal")
     dut.SetTerminalMultiplier(Eigen::Vector2d(3.0, -2.0), 50.0);
@@ -104,6 +121,7 @@ TEST_P(TrajectoryCostGradientTest, MatchesCentralDifferences) {
                               : GetParam() == "time"             ? terms.time
                               : GetParam() == "traversability"   ? terms.traversability
                               : GetParam() == "limits"           ? terms.limits
+                              : GetParam() == "terrain_speed"    ? terms.limits
                               : GetParam() == "clearance"        ? terms.clearance
                               : GetParam() == "body_clearance"   ? terms.clearance
                               : GetParam() == "moving_obstacles" ? terms.moving_obstacles
@@ -125,8 +143,9 @@ TEST_P(TrajectoryCostGradientTest, MatchesCentralDifferences) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryTerm, TrajectoryCostGradientTest,
-                         testing::Values("energy", "time", "traversability", "limits", "clearance",
-                                         "body_clearance", "moving_obstacles", "terminal"),
+                         testing::Values("energy", "time", "traversability", "limits",
+                                         "terrain_speed", "clearance", "body_clearance",
+                                         "moving_obstacles", "terminal"),
                          [](const testing::TestParamInfo<std::string>& param_info) {
                            return param_info.param;
                          });

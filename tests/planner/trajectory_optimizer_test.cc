@@ -69,6 +69,45 @@ TEST(TrajectoryOptimizerTest, DrivesStraightToTheGoalWithinTheLimits) {
   EXPECT_GT(out.diagnostics.costs.time, 0.0);
 }
 
+TEST(TrajectoryOptimizerTest, SlowsToTheTerrainsLimitOverARoughBandAndOnlyThere) {
+  // a curb across the route: roughness 0.06 m on the cells at 4.9 <= x <= 5.1, no other roughness
+  common::GridLayers map = FlatMap();
+  map.AddLayer("roughness");
+  const common::GridGeometry& g = map.geometry();
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      map.Layer("roughness")(ix, iy) =
+          std::abs(g.CellCenter(ix, iy).x() - 5.0) < 0.15 ? 0.06f : 0.0f;
+    }
+  }
+  CostMapConfig fields;
+  fields.speed.reach_m = 0.4;  // the limit holds for the base within 0.4 m of the band
+  const CostField field(map, fields);
+  TrajectoryOptimizerConfig config;
+  TrajectoryOptimizer dut(config);
+  const OptimizedTrajectory out = dut.Optimize(field, StraightRequest());
+  ASSERT_EQ(out.status, OptimizationStatus::kConverged) << out.diagnostics.worst_constraint;
+  double fastest_on_band = 0.0, fastest_before = 0.0, fastest_after = 0.0;
+  for (const common::TrajectoryPoint& p : out.trajectory.points()) {
+    const double x = p.position_W.x();
+    if (std::abs(x - 5.0) <= 0.5) fastest_on_band = std::max(fastest_on_band, std::abs(p.v));
+    if (x < 3.0) fastest_before = std::max(fastest_before, std::abs(p.v));
+    if (x > 7.0) fastest_after = std::max(fastest_after, std::abs(p.v));
+  }
+  // within 5 % of the rough speed over the band and its reach; close to the open speed away
+  EXPECT_LE(fastest_on_band, 1.05 * fields.speed.rough_m_s);
+  EXPECT_GT(fastest_before, 1.3);
+  EXPECT_GT(fastest_after, 1.3);
+  // without the roughness layer the same request crosses at full speed
+  const OptimizedTrajectory open =
+      TrajectoryOptimizer(config).Optimize(CostField(FlatMap(), fields), StraightRequest());
+  double fastest_open = 0.0;
+  for (const common::TrajectoryPoint& p : open.trajectory.points()) {
+    if (std::abs(p.position_W.x() - 5.0) <= 0.5) fastest_open = std::max(fastest_open, p.v);
+  }
+  EXPECT_GT(fastest_open, 1.1 * fields.speed.rough_m_s);
+}
+
 TEST(TrajectoryOptimizerTest, KeepsClearOfLethalCellsAlongTheGuide) {
   // a wall from y = -5 to y = 1 at x in [4, 5]: the guide goes around its top end
   common::GridLayers map = FlatMap();

@@ -1,7 +1,8 @@
 // The worlds that defeated the navigation stack before it had one footprint model and fallbacks
 // (scenarios/hard/, docs/navigation.md): starting in a U facing its closed end, doorways of 1.2 and
 // 1.5 m, 1.0 m gaps, rooms with 1.2 m doors, pedestrians crossing the route (perceived from the
-// scans); and a sample of BARN (scenarios/barn/, docs/barn.md).
+// scans), a 0.12 m curb and 0.09 m stairs to climb, a 0.25 m platform to drive round; and a sample
+// of BARN (scenarios/barn/, docs/barn.md).
 // Each reaches its goal; a generated world may instead end as a planning failure where it has no
 // route for the robot (A* on the ground truth, summary's optimal_path_length_m 0): a furnished
 // room can close a narrow door for good. (The ground truth's score grows walls by its 0.3 m
@@ -25,6 +26,10 @@ namespace trav::scenarios {
 namespace {
 
 namespace fs = std::filesystem;
+
+// Largest pitch a hard scenario may reach [deg]: the Scout Mini rears to 52 deg and stops on a
+// 0.12 m curb at 1.5 m/s, to 38 deg at most at the rough speed (docs/navigation.md).
+constexpr double kMaxPitch_deg = 40.0;
 
 // (scenario file under scenarios/, seed: 0 keeps the file's)
 class HardScenarioTest : public testing::TestWithParam<std::tuple<std::string, int>> {};
@@ -53,6 +58,8 @@ TEST_P(HardScenarioTest, ReachesTheGoalUnlessTheWorldHasNoRoute) {
       << file << " seed " << seed << ": " << common::NameOf(summary.outcome) << ", planner "
       << summary.navigation->last_planner_status
       << (summary.collision ? ", hit " + summary.collision->target : std::string());
+  // the terrain's speed limit keeps the pitch on curbs and stairs well short of rearing up
+  EXPECT_LT(summary.max_pitch_deg, kMaxPitch_deg) << file << " seed " << seed;
 }
 
 std::string TestName(const testing::TestParamInfo<std::tuple<std::string, int>>& param_info) {
@@ -68,7 +75,8 @@ INSTANTIATE_TEST_SUITE_P(
     Seeds, HardScenarioTest,
     testing::Combine(testing::Values("hard/u_enclosure.yaml", "hard/doorways.yaml",
                                      "hard/tight_gaps.yaml", "hard/indoor_doors.yaml",
-                                     "hard/crossing_pedestrians.yaml"),
+                                     "hard/crossing_pedestrians.yaml", "hard/curb.yaml",
+                                     "hard/stairs.yaml", "hard/platform.yaml"),
                      testing::Range(1, 6)),
     TestName);
 #else
@@ -76,8 +84,9 @@ INSTANTIATE_TEST_SUITE_P(
     Files, HardScenarioTest,
     testing::Combine(testing::Values("hard/u_enclosure.yaml", "hard/doorways.yaml",
                                      "hard/tight_gaps.yaml", "hard/indoor_doors.yaml",
-                                     "hard/crossing_pedestrians.yaml", "barn/world_000.yaml",
-                                     "barn/world_150.yaml"),
+                                     "hard/crossing_pedestrians.yaml", "hard/curb.yaml",
+                                     "hard/stairs.yaml", "hard/platform.yaml",
+                                     "barn/world_000.yaml", "barn/world_150.yaml"),
                      testing::Values(0)),
     TestName);
 #endif
