@@ -114,11 +114,16 @@ Eigen::MatrixXd DistanceTransform(const Mask& mask) {
 CostField::CostField(const common::GridLayers& map, const CostMapConfig& config)
     : CostField(map.geometry(), map.Layer(config.cost_layer), config,
                 map.Has(config.speed.roughness_layer) ? &map.Layer(config.speed.roughness_layer)
+                                                      : nullptr,
+                map.Has(config.slope.elevation_layer) ? &map.Layer(config.slope.elevation_layer)
                                                       : nullptr) {}
 
 CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
-                     const CostMapConfig& config, const Eigen::MatrixXf* roughness_m)
-    : geometry_(geometry), open_speed_m_s_(config.speed.open_m_s) {
+                     const CostMapConfig& config, const Eigen::MatrixXf* roughness_m,
+                     const Eigen::MatrixXf* elevation_m)
+    : geometry_(geometry),
+      open_speed_m_s_(config.speed.open_m_s),
+      max_pitch_roll_tangents_(config.slope.Tangents()) {
   const int nx = geometry_.num_x, ny = geometry_.num_y;
   cost_.resize(nx, ny);
   Mask lethal(nx, ny);
@@ -150,6 +155,9 @@ CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf
     }
   }
   speed_limit_ = SpeedLimits(layer, roughness_m, config.speed, geometry_.resolution_m);
+  elevation_ = elevation_m != nullptr
+                   ? Eigen::MatrixXd(elevation_m->cast<double>())
+                   : Eigen::MatrixXd::Constant(nx, ny, std::numeric_limits<double>::quiet_NaN());
 }
 
 double FootprintDistance(const CostField& field, const Eigen::Vector2d& position_W, double yaw,
@@ -182,6 +190,9 @@ FieldSample CostField::Interpolate(const Eigen::MatrixXd& layer, const Eigen::Ve
   }
   if (inside_y) {
     sample.gradient_W.y() = ((1 - tx) * (v01 - v00) + tx * (v11 - v10)) / g.resolution_m;
+  }
+  if (inside_x && inside_y) {
+    sample.cross_derivative = (v11 - v01 - v10 + v00) / (g.resolution_m * g.resolution_m);
   }
   return sample;
 }

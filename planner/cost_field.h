@@ -13,6 +13,9 @@ namespace trav::planner {
 struct FieldSample {
   double value{0.0};
   Eigen::Vector2d gradient_W{Eigen::Vector2d::Zero()};  ///< per metre
+  /// d^2 value / dx dy, per square metre (the only second derivative of a bilinear cell that is
+  /// not 0).
+  double cross_derivative{0.0};
 };
 
 /// The traversability map as smooth fields for trajectory optimisation: the cost c in [0, 1], the
@@ -27,10 +30,12 @@ class CostField {
   /// @throws std::out_of_range if the map lacks `config.cost_layer`.
   CostField(const common::GridLayers& map, const CostMapConfig& config);
 
-  /// From the cost layer itself (`layer` on `geometry`) and, unless null, the roughness of the
-  /// same cells (TerrainSpeedConfig; without it the speed limit knows no roughness).
+  /// From the cost layer itself (`layer` on `geometry`) and, unless null, the roughness and the
+  /// elevation of the same cells (TerrainSpeedConfig, SlopeLimits; without them the speed limit
+  /// knows no roughness and no slope is limited).
   CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
-            const CostMapConfig& config, const Eigen::MatrixXf* roughness_m = nullptr);
+            const CostMapConfig& config, const Eigen::MatrixXf* roughness_m = nullptr,
+            const Eigen::MatrixXf* elevation_m = nullptr);
 
   /// Cost at p_W.
   FieldSample Cost(const Eigen::Vector2d& p_W) const { return Interpolate(cost_, p_W); }
@@ -45,6 +50,14 @@ class CostField {
   FieldSample SpeedLimit(const Eigen::Vector2d& p_W) const {
     return Interpolate(speed_limit_, p_W);
   }
+
+  /// The ground's height at p_W [m] from the map's `config.slope.elevation_layer`, its gradient
+  /// (the slope's tangent along x and y) and cross derivative; NaN where a cell around p_W is
+  /// unknown or the map has no such layer.
+  FieldSample Elevation(const Eigen::Vector2d& p_W) const { return Interpolate(elevation_, p_W); }
+
+  /// The slope limits of `config.slope`: the tangents of the largest pitch and roll.
+  const Eigen::Vector2d& max_pitch_roll_tangents() const { return max_pitch_roll_tangents_; }
 
   /// The speed where the terrain sets no limit [m/s] (TerrainSpeedConfig::open_m_s).
   double open_speed_m_s() const { return open_speed_m_s_; }
@@ -61,6 +74,8 @@ class CostField {
   Eigen::MatrixXd cost_;
   Eigen::MatrixXd distance_;
   Eigen::MatrixXd speed_limit_;
+  Eigen::MatrixXd elevation_;
+  Eigen::Vector2d max_pitch_roll_tangents_{Eigen::Vector2d::Zero()};
   double open_speed_m_s_{0.0};
 };
 

@@ -55,6 +55,31 @@ struct TerrainSpeedConfig {
   double ForRoughness(double roughness_m) const;
 };
 
+/// The steepest ground the robot drives on (scenario section `planner.slope`), measured in MuJoCo
+/// (docs/navigation.md). With the ground's slope a, a heading at angle phi from the fall line has
+/// pitch tan a cos phi and roll tan a sin phi (as tangents): the trajectory optimiser keeps both
+/// within the limits, and a cell where no heading does (tan^2 a > tan^2 pitch + tan^2 roll) is
+/// lethal for every planner.
+struct SlopeLimits {
+  std::string slope_layer{"slope"};          ///< the slope's magnitude [rad]
+  std::string elevation_layer{"elevation"};  ///< heights [m], for the slope's direction
+  double max_pitch_deg{35.0};                ///< climbing or descending [deg]
+  double max_roll_deg{35.0};                 ///< across the slope [deg]
+
+  /// The keys of scenario section `planner.slope` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("max_pitch", &max_pitch_deg, {1, 89});
+    a->Field("max_roll", &max_roll_deg, {1, 89});
+  }
+
+  /// tan(max_pitch), tan(max_roll).
+  Eigen::Vector2d Tangents() const;
+
+  /// True if no heading keeps pitch and roll within the limits on a slope of `slope_rad`.
+  bool TooSteep(double slope_rad) const;
+};
+
 /// How a traversability layer becomes search costs; the settings of A* (`AStarConfig`) and of the
 /// sampling planners.
 struct CostMapConfig {
@@ -73,6 +98,7 @@ struct CostMapConfig {
   double band_radius_m{0.0};
   double band_cost{0.5};     ///< extra cost next to the blocked cells, in [0, 1]
   TerrainSpeedConfig speed;  ///< the terrain's speed limits (CostField::SpeedLimit)
+  SlopeLimits slope;         ///< the steepest pitch and roll
 
   /// The keys of scenario section `planner.search` that configure the costs (common/archive.h).
   template <typename Archive>
@@ -140,7 +166,8 @@ class SearchCostMap {
 class CostField;
 
 /// One traversability map as every part of the planning stack reads it, built once per map
-/// update: the search costs of A* (SearchCostMap), the smooth cost and distance fields of the
+/// update (its cost layer with the cells too steep for any heading, SlopeLimits::TooSteep, made
+/// lethal): the search costs of A* (SearchCostMap), the smooth cost and distance fields of the
 /// trajectory optimiser (CostField) and the lethal test of the navigator's safety checks, all
 /// from one copy of the cost layer and one lethal rule (IsLethal). The search costs and the fields
 /// are built on first use. Not thread-safe (the lazy parts).
@@ -173,6 +200,7 @@ class CostMap {
   CostMapConfig config_;
   Eigen::MatrixXf layer_;
   Eigen::MatrixXf roughness_;  // empty when the map has no `config.speed.roughness_layer`
+  Eigen::MatrixXf elevation_;  // empty when the map has no `config.slope.elevation_layer`
   mutable std::unique_ptr<SearchCostMap> search_;
   mutable std::unique_ptr<SearchCostMap> wide_search_;
   mutable std::unique_ptr<CostField> field_;

@@ -73,6 +73,10 @@ void ValidateNavigationPlannerConfig(const NavigationPlannerConfig& c) {
   RequireValue(v.smooth_m >= 0.0, "speed.smooth_roughness", v.smooth_m, "must be >= 0");
   RequireValue(v.rough_m > v.smooth_m, "speed.rough_roughness", v.rough_m,
                "must be > speed.smooth_roughness");
+  RequireValue(s.slope.max_pitch_deg > 0.0 && s.slope.max_pitch_deg < 90.0, "slope.max_pitch",
+               s.slope.max_pitch_deg, "must be in (0, 90)");
+  RequireValue(s.slope.max_roll_deg > 0.0 && s.slope.max_roll_deg < 90.0, "slope.max_roll",
+               s.slope.max_roll_deg, "must be in (0, 90)");
   common::ValidateAt("optimizer", [&] { ValidateTrajectoryOptimizerConfig(c.OptimizerConfig()); });
   common::ValidateAt("fallback", [&] { ValidateFallbackConfig(c.fallback); });
 }

@@ -52,6 +52,7 @@ struct NavigationPlannerConfig {
     });
     a->Map("optimizer", &optimizer);
     a->Map("speed", &search.speed);
+    a->Map("slope", &search.slope);
     a->Map("fallback", &fallback);
   }
 };

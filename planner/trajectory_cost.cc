@@ -87,7 +87,31 @@ struct FieldTerms {
   double clearance;       // the distance to lethal cells below the clearance
   double traversability;  // the cost integrated over the distance driven
   double speed;           // the speed above the terrain's limit (a limits term)
+  double tilt;            // pitch and roll beyond the slope limits (a limits term)
 };
+
+// The pitch and roll penalty at one node: the ground's slope (its tangent g, the elevation's
+// gradient) along the heading h and across it n within the limits' tangents, with its partials
+// added to `p`.
+double TiltPenalty(const CostField& field, const Eigen::Vector2d& position, double cos_t,
+                   double sin_t, double weight, double mu, Partials* partials) {
+  const FieldSample ground = field.Elevation(position);
+  if (!std::isfinite(ground.value)) return 0.0;
+  const Eigen::Vector2d h(cos_t, sin_t), n(-sin_t, cos_t);
+  const Eigen::Vector2d& g = ground.gradient_W;
+  const double pitch = g.dot(h), roll = g.dot(n);
+  const Eigen::Vector2d& limit = field.max_pitch_roll_tangents();
+  double slope_pitch = 0.0, slope_roll = 0.0;
+  const double tilt = SmoothedL1(pitch * pitch - limit.x() * limit.x(), mu, &slope_pitch) +
+                      SmoothedL1(roll * roll - limit.y() * limit.y(), mu, &slope_roll);
+  // dg/dp is the bilinear field's Hessian [[0, c], [c, 0]]; dh/dtheta = n, dn/dtheta = -h
+  const double c = ground.cross_derivative;
+  partials->position += weight * 2.0 * c *
+                        (slope_pitch * pitch * Eigen::Vector2d(h.y(), h.x()) +
+                         slope_roll * roll * Eigen::Vector2d(n.y(), n.x()));
+  partials->theta += weight * 2.0 * pitch * roll * (slope_pitch - slope_roll);
+  return weight * tilt;
+}
 
 FieldTerms FieldPenalties(const CostField& field, const TrajectoryCostSetup& s,
                           const Eigen::Vector2d& position, double theta, double v,
@@ -130,7 +154,8 @@ FieldTerms FieldPenalties(const CostField& field, const TrajectoryCostSetup& s,
     p.ds += w.limits * slope * 2.0 * v;
     p.position -= w.limits * slope * 2.0 * limit.value * limit.gradient_W;
   }
-  return {clearance, traversability, over_limit};
+  const double tilt = TiltPenalty(field, position, cos_t, sin_t, w.limits, mu, partials);
+  return {clearance, traversability, over_limit, tilt};
 }
 
 // The moving-obstacle penalty at one node (position_W at absolute time t_abs), with its partials
@@ -230,7 +255,7 @@ CostTerms NodePenalties(const CostField& field, const TrajectoryCostSetup& s,
   g.limits = LimitsPenalty(state, s.limits, s.weights.limits, s.smoothing, partials);
   const FieldTerms field_terms =
       FieldPenalties(field, s, position, state.theta, state.ds, partials);
-  g.limits += field_terms.speed;
+  g.limits += field_terms.speed + field_terms.tilt;
   g.clearance = field_terms.clearance;
   g.traversability = field_terms.traversability;
   g.moving_obstacles = ObstaclesPenalty(s, position, t_abs, partials);

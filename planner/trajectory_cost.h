@@ -26,7 +26,7 @@ struct TrajectoryCostWeights {
   double arc_length_jerk{1.0};     ///< energy weight of arc-length jerk
   double time{50.0};               ///< per second of duration
   double traversability{50.0};     ///< per metre driven on cost 1 (int c |v| dt)
-  double limits{1.0e4};            ///< on the dynamic limits and the terrain's speed limit
+  double limits{1.0e4};            ///< on the dynamic limits, the terrain's speed and the slope
   double clearance{1.0e5};         ///< on the clearance from lethal cells
   double moving_obstacles{1.0e5};  ///< on the clearance from moving obstacles
 };
@@ -92,9 +92,11 @@ struct CostTerms {
 /// integrated from v (cos theta, sin theta) by composite Simpson's rule over `samples_per_piece`
 /// intervals per piece, and the gradient of every position-dependent term flows back through all
 /// earlier integration nodes. Constraints are penalties integrated by the trapezoidal rule at the
-/// interval ends; the terrain's speed limit (CostField::SpeedLimit, v^2 <= limit(p)^2) is one of
-/// the limits, soft: a start faster than the limit cannot brake at once, so it does not count in
-/// the optimiser's feasibility.
+/// interval ends; the terrain's speed limit (CostField::SpeedLimit, v^2 <= limit(p)^2) and the
+/// slope limits (the elevation's gradient along and across the heading within the tangents of
+/// the largest pitch and roll, CostField::Elevation) are limits too, soft: a start faster than
+/// the limit, or on a slope, cannot change at once, so they do not count in the optimiser's
+/// feasibility.
 ///
 /// Decision vector z (size 3N): [theta_1..theta_{N-1} | s_1..s_{N-1} | theta_T | s_T |
 /// tau_1..tau_N] with inner waypoints of yaw and arc length, the free end yaw and end arc length,

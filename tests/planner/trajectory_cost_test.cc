@@ -15,7 +15,7 @@ namespace {
 common::GridLayers TestMap() {
   common::GridLayers map(
       common::GridGeometry::Centered(Eigen::Vector2d(2, 0), Eigen::Vector2d(12, 8), 0.1),
-      {"traversability", "roughness"});
+      {"traversability", "roughness", "elevation"});
   const common::GridGeometry& g = map.geometry();
   for (int ix = 0; ix < g.num_x; ++ix) {
     for (int iy = 0; iy < g.num_y; ++iy) {
@@ -26,6 +26,8 @@ common::GridLayers TestMap() {
                  : static_cast<float>(0.3 + 0.2 * std::sin(0.9 * p.x()) * std::cos(0.7 * p.y()));
       map.Layer("roughness")(ix, iy) =
           static_cast<float>(0.02 + 0.015 * std::sin(1.3 * p.x()) * std::cos(0.9 * p.y()));
+      map.Layer("elevation")(ix, iy) =
+          static_cast<float>(0.8 * std::sin(0.7 * p.x()) * std::cos(0.5 * p.y()));
     }
   }
   return map;
@@ -38,7 +40,7 @@ TrajectoryCostWeights Only(const std::string& term) {
   w.arc_length_jerk = term == "energy" ? 1.0 : 0.0;
   w.time = term == "time" ? 50.0 : 0.0;
   w.traversability = term == "traversability" ? 50.0 : 0.0;
-  w.limits = term == "limits" || term == "terrain_speed" ? 1.0e3 : 0.0;
+  w.limits = term == "limits" || term == "terrain_speed" || term == "tilt" ? 1.0e3 : 0.0;
   w.clearance = term == "clearance" || term == "body_clearance" ? 1.0e3 : 0.0;
   w.moving_obstacles = term == "moving_obstacles" ? 1.0e3 : 0.0;
   return w;
@@ -55,7 +57,7 @@ TrajectoryCostSetup CostSetup(const std::string& term) {
   s.limits.max_centripetal_acceleration_m_s2 = 0.1;
   s.clearance_m = 0.8;
   // the terrain's speed limit alone (between 0.5 and 1.3 m/s on the test map)
-  if (term == "terrain_speed") {
+  if (term == "terrain_speed" || term == "tilt") {
     s.limits = DynamicLimits{10.0, 10.0, 10.0, 10.0, 100.0};
   }
   // the footprint's boundary keeps the clearance: the yaw enters the term too
@@ -97,7 +99,13 @@ CostMapConfig FieldConfig(const std::string& term) {
     config.speed.smooth_m = 0.0;
     config.speed.rough_m = 0.04;
     config.speed.rough_m_s = 0.4;
+  } else {
+    config.speed.rough_m_s = 100.0;  // no speed limit
   }
+  // the test map's slopes reach 29 deg: pitch and roll limits of 10 and 12 deg are active (and
+  // out of the way of the other terms)
+  config.slope.max_pitch_deg = term == "tilt" ? 10.0 : 80.0;
+  config.slope.max_roll_deg = term == "tilt" ? 12.0 : 80.0;
   return config;
 }
 
@@ -122,6 +130,7 @@ TEST_P(TrajectoryCostGradientTest, MatchesCentralDifferences) {
                               : GetParam() == "traversability"   ? terms.traversability
                               : GetParam() == "limits"           ? terms.limits
                               : GetParam() == "terrain_speed"    ? terms.limits
+                              : GetParam() == "tilt"             ? terms.limits
                               : GetParam() == "clearance"        ? terms.clearance
                               : GetParam() == "body_clearance"   ? terms.clearance
                               : GetParam() == "moving_obstacles" ? terms.moving_obstacles
@@ -144,11 +153,53 @@ TEST_P(TrajectoryCostGradientTest, MatchesCentralDifferences) {
 
 INSTANTIATE_TEST_SUITE_P(EveryTerm, TrajectoryCostGradientTest,
                          testing::Values("energy", "time", "traversability", "limits",
-                                         "terrain_speed", "clearance", "body_clearance",
+                                         "terrain_speed", "tilt", "clearance", "body_clearance",
                                          "moving_obstacles", "terminal"),
                          [](const testing::TestParamInfo<std::string>& param_info) {
                            return param_info.param;
                          });
+
+TEST(TrajectoryCostTest, TiltIsPenalisedAlongTheHeadingThatExceedsItsLimit) {
+  // a 30 deg slope rising along x: climbing it pitches 30 deg (over a 25 deg pitch limit), crossing
+  // it rolls 30 deg (within a 35 deg roll limit)
+  common::GridLayers map(
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(20, 20), 0.1),
+      {"traversability", "elevation"});
+  map.Layer("traversability").setConstant(0.0f);
+  const common::GridGeometry& g = map.geometry();
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      map.Layer("elevation")(ix, iy) =
+          static_cast<float>(std::tan(30.0 * M_PI / 180.0) * g.CellCenter(ix, iy).x());
+    }
+  }
+  CostMapConfig config;
+  config.slope.max_pitch_deg = 25.0;
+  config.slope.max_roll_deg = 35.0;
+  const CostField field(map, config);
+  EXPECT_NEAR(field.Elevation({1.03, 0.2}).gradient_W.x(), std::tan(30.0 * M_PI / 180.0), 1e-6);
+  EXPECT_NEAR(field.Elevation({1.03, 0.2}).cross_derivative, 0.0, 1e-6);
+  // a 3 m straight drive in 3 s along the heading `yaw`, every other term off
+  auto limits_cost = [&](double yaw) {
+    TrajectoryCostSetup s;
+    s.weights = Only("tilt");
+    s.limits = DynamicLimits{10.0, 10.0, 10.0, 10.0, 100.0};
+    s.head << yaw, 0.0, 0.0, 0.0, 0.0, 0.0;
+    s.goal_W = 3.0 * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
+    TrajectoryCost cost(field, s, 1);
+    Eigen::VectorXd z(3);
+    z << yaw, 3.0, TrajectoryCost::VirtualFromDuration(3.0);
+    CostTerms terms;
+    cost.Evaluate(z, nullptr, &terms);
+    return terms.limits;
+  };
+  // (tan^2 30 - tan^2 25 - mu / 2) over 3 s, times the weight
+  const double pitch_excess = std::pow(std::tan(30.0 * M_PI / 180.0), 2) -
+                              std::pow(std::tan(25.0 * M_PI / 180.0), 2) - 0.5e-2;
+  EXPECT_NEAR(limits_cost(0.0), 1.0e3 * 3.0 * pitch_excess, 0.1);  // the elevation is float
+  EXPECT_NEAR(limits_cost(M_PI), 1.0e3 * 3.0 * pitch_excess, 0.1);
+  EXPECT_EQ(limits_cost(0.5 * M_PI), 0.0);
+}
 
 TEST(TrajectoryCostTest, IntegratesAStraightMotionToItsArcLength) {
   // from rest to rest along yaw 0.3: the integrated end position is s_T (cos 0.3, sin 0.3) up to
