@@ -122,8 +122,8 @@ CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf
                      const CostMapConfig& config, const Eigen::MatrixXf* roughness_m,
                      const Eigen::MatrixXf* elevation_m)
     : geometry_(geometry),
-      open_speed_m_s_(config.speed.open_m_s),
-      max_pitch_roll_tangents_(config.slope.Tangents()) {
+      max_pitch_roll_tangents_(config.slope.Tangents()),
+      open_speed_m_s_(config.speed.open_m_s) {
   const int nx = geometry_.num_x, ny = geometry_.num_y;
   cost_.resize(nx, ny);
   Mask lethal(nx, ny);
