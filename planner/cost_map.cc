@@ -111,21 +111,10 @@ Eigen::Vector2d SlopeLimits::Tangents() const {
   return {std::tan(max_pitch_deg * kDegToRad), std::tan(max_roll_deg * kDegToRad)};
 }
 
-bool SlopeLimits::TooSteep(double slope_rad) const {
-  const double tangent = std::tan(slope_rad);
-  return tangent * tangent > Tangents().squaredNorm();
-}
-
 CostMap::CostMap(const common::GridLayers& map, const CostMapConfig& config)
     : geometry_(map.geometry()), config_(config), layer_(map.Layer(config.cost_layer)) {
   if (map.Has(config.speed.roughness_layer)) roughness_ = map.Layer(config.speed.roughness_layer);
   if (map.Has(config.slope.elevation_layer)) elevation_ = map.Layer(config.slope.elevation_layer);
-  if (map.Has(config.slope.slope_layer)) {
-    const Eigen::MatrixXf& slope = map.Layer(config.slope.slope_layer);
-    for (Eigen::Index i = 0; i < layer_.size(); ++i) {
-      if (config.slope.TooSteep(slope.data()[i])) layer_.data()[i] = 1.0f;
-    }
-  }
 }
 
 CostMap::~CostMap() = default;

@@ -90,13 +90,25 @@ struct FieldTerms {
   double tilt;            // pitch and roll beyond the slope limits (a limits term)
 };
 
+// Near lethal cells the mapped elevation is the regression's ramp up an obstacle's foot (its lowest
+// points are taken for ground), not a slope: the tilt penalty fades in between these distances of
+// the base from lethal cells [m], by the C^1 smoothstep.
+constexpr double kTiltFadeStart_m = 0.5;
+constexpr double kTiltFadeEnd_m = 1.0;
+
 // The pitch and roll penalty at one node: the ground's slope (its tangent g, the elevation's
-// gradient) along the heading h and across it n within the limits' tangents, with its partials
-// added to `p`.
+// gradient) along the heading h and across it n within the limits' tangents, faded in with the
+// distance from lethal cells, with its partials added to `p`.
 double TiltPenalty(const CostField& field, const Eigen::Vector2d& position, double cos_t,
                    double sin_t, double weight, double mu, Partials* partials) {
   const FieldSample ground = field.Elevation(position);
   if (!std::isfinite(ground.value)) return 0.0;
+  const FieldSample distance = field.Distance(position);
+  const double r = (distance.value - kTiltFadeStart_m) / (kTiltFadeEnd_m - kTiltFadeStart_m);
+  if (r <= 0.0) return 0.0;
+  const double fade = r >= 1.0 ? 1.0 : r * r * (3.0 - 2.0 * r);
+  const double fade_slope =
+      r >= 1.0 ? 0.0 : 6.0 * r * (1.0 - r) / (kTiltFadeEnd_m - kTiltFadeStart_m);
   const Eigen::Vector2d h(cos_t, sin_t), n(-sin_t, cos_t);
   const Eigen::Vector2d& g = ground.gradient_W;
   const double pitch = g.dot(h), roll = g.dot(n);
@@ -106,11 +118,12 @@ double TiltPenalty(const CostField& field, const Eigen::Vector2d& position, doub
                       SmoothedL1(roll * roll - limit.y() * limit.y(), mu, &slope_roll);
   // dg/dp is the bilinear field's Hessian [[0, c], [c, 0]]; dh/dtheta = n, dn/dtheta = -h
   const double c = ground.cross_derivative;
-  partials->position += weight * 2.0 * c *
-                        (slope_pitch * pitch * Eigen::Vector2d(h.y(), h.x()) +
-                         slope_roll * roll * Eigen::Vector2d(n.y(), n.x()));
-  partials->theta += weight * 2.0 * pitch * roll * (slope_pitch - slope_roll);
-  return weight * tilt;
+  partials->position += weight * fade * 2.0 * c *
+                            (slope_pitch * pitch * Eigen::Vector2d(h.y(), h.x()) +
+                             slope_roll * roll * Eigen::Vector2d(n.y(), n.x())) +
+                        weight * tilt * fade_slope * distance.gradient_W;
+  partials->theta += weight * fade * 2.0 * pitch * roll * (slope_pitch - slope_roll);
+  return weight * fade * tilt;
 }
 
 FieldTerms FieldPenalties(const CostField& field, const TrajectoryCostSetup& s,

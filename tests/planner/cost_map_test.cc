@@ -129,25 +129,5 @@ TEST(CostMapTest, AMapWithoutFreeCellsHasMinimumCostZeroAndAMissingLayerThrows) 
               ThrowsMessage<std::out_of_range>(HasSubstr("roughness")));
 }
 
-TEST(CostMapTest, ACellTooSteepForEveryHeadingIsLethal) {
-  // pitch and roll limits of 35 deg: some heading keeps both on slopes up to
-  // atan(sqrt(2) tan 35 deg) = 44.7 deg
-  common::GridLayers map = ConstantMap(2.0, 0.2f);
-  map.AddLayer("slope");
-  map.Layer("slope").setConstant(static_cast<float>(44.5 * M_PI / 180.0));
-  map.Layer("slope")(3, 4) = static_cast<float>(45.0 * M_PI / 180.0);
-  map.Layer("slope")(5, 5) = std::numeric_limits<float>::quiet_NaN();
-  const CostMap dut(map, CostMapConfig{});
-  const common::GridGeometry& g = map.geometry();
-  for (int ix = 0; ix < g.num_x; ++ix) {
-    for (int iy = 0; iy < g.num_y; ++iy) {
-      EXPECT_EQ(dut.LethalAt(g.CellCenter(ix, iy)), ix == 3 && iy == 4) << ix << "," << iy;
-    }
-  }
-  EXPECT_TRUE(std::isinf(dut.search().cost(3, 4)));
-  EXPECT_FALSE(SlopeLimits{}.TooSteep(44.6 * M_PI / 180.0));
-  EXPECT_TRUE(SlopeLimits{}.TooSteep(44.8 * M_PI / 180.0));
-}
-
 }  // namespace
 }  // namespace trav::planner
