@@ -115,6 +115,8 @@ TEST(CostFieldTest, TheSpeedLimitFollowsUnknownCellsAndRoughnessWithinReach) {
   config.speed.open_m_s = 1.5;
   config.speed.unknown_m_s = 0.8;
   config.speed.rough_m_s = 1.1;
+  config.speed.smooth_m = 0.01;
+  config.speed.rough_m = 0.03;
   const CostField dut(map, config);
   EXPECT_NEAR(dut.open_speed_m_s(), 1.5, 1e-6);
   EXPECT_NEAR(dut.SpeedLimit(g.CellCenter(5, 5)).value, 0.8, 1e-6);
