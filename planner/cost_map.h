@@ -32,8 +32,8 @@ struct TerrainSpeedConfig {
   std::string roughness_layer{"roughness"};  ///< [m]; a map without it, or NaN: 0
   double unknown_m_s{1.0};  ///< over unknown cells (the ground ahead not yet seen) [m/s]
   double rough_m_s{1.1};    ///< over cells at least `rough_m` rough [m/s]
-  double smooth_m{0.02};    ///< cells at most this rough set no limit [m]; linear up to rough_m
-  double rough_m{0.04};     ///< [m], > smooth_m
+  double smooth_m{0.01};    ///< cells at most this rough set no limit [m]; linear up to rough_m
+  double rough_m{0.03};     ///< [m], > smooth_m
   /// The speed where the terrain sets no limit [m/s]. Not a scenario key: the planner sets it to
   /// its own speed limit (NavigationPlannerConfig::SearchConfig).
   double open_m_s{1.5};
