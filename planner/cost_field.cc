@@ -45,22 +45,22 @@ void Transform1d(const std::vector<double>& f, std::vector<double>* d, std::vect
   }
 }
 
-// The smallest value of `values` within `radius` cells of each cell along x and along y (an
-// erosion by the square of half-side `radius`, which holds the disc of that radius), separable:
-// a pass along x, then one along y.
+// The smallest value of `values` within `radius` cells of each cell (a disc's erosion).
 Eigen::MatrixXd MinimumWithin(const Eigen::MatrixXd& values, int radius) {
   if (radius <= 0) return values;
-  const auto nx = static_cast<int>(values.rows()), ny = static_cast<int>(values.cols());
-  Eigen::MatrixXd along_x(nx, ny), eroded(nx, ny);
+  const int nx = static_cast<int>(values.rows()), ny = static_cast<int>(values.cols());
+  Eigen::MatrixXd eroded = values;
   for (int iy = 0; iy < ny; ++iy) {
     for (int ix = 0; ix < nx; ++ix) {
-      const int from = std::max(0, ix - radius), to = std::min(nx - 1, ix + radius);
-      along_x(ix, iy) = values.col(iy).segment(from, to - from + 1).minCoeff();
+      for (int dy = -radius; dy <= radius; ++dy) {
+        for (int dx = -radius; dx <= radius; ++dx) {
+          const int jx = ix + dx, jy = iy + dy;
+          if (dx * dx + dy * dy > radius * radius || jx < 0 || jy < 0 || jx >= nx || jy >= ny)
+            continue;
+          eroded(ix, iy) = std::min(eroded(ix, iy), values(jx, jy));
+        }
+      }
     }
-  }
-  for (int iy = 0; iy < ny; ++iy) {
-    const int from = std::max(0, iy - radius), to = std::min(ny - 1, iy + radius);
-    eroded.col(iy) = along_x.middleCols(from, to - from + 1).rowwise().minCoeff();
   }
   return eroded;
 }

@@ -46,8 +46,7 @@ class CostField {
 
   /// The terrain's speed limit at p_W [m/s] (TerrainSpeedConfig): `unknown_m_s` over unknown
   /// cells, over known ones TerrainSpeedConfig::ForRoughness of the cell's roughness (NaN: 0),
-  /// never above `open_m_s`; each cell holds the smallest limit within `reach_m` of it along x
-  /// and y (a square round it, which holds the disc).
+  /// never above `open_m_s`; each cell holds the smallest limit within `reach_m` of it.
   FieldSample SpeedLimit(const Eigen::Vector2d& p_W) const {
     return Interpolate(speed_limit_, p_W);
   }

@@ -37,8 +37,7 @@ struct TerrainSpeedConfig {
   /// The speed where the terrain sets no limit [m/s]. Not a scenario key: the planner sets it to
   /// its own speed limit (NavigationPlannerConfig::SearchConfig).
   double open_m_s{1.5};
-  /// A cell's limit holds for the base anywhere within this distance of it along x and y [m]
-  /// (rounded up to whole cells), so that it holds
+  /// A cell's limit holds for the base anywhere within this distance of it [m], so that it holds
   /// for every wheel. Not a scenario key: the planner sets it to the footprint's circumscribed
   /// radius.
   double reach_m{0.0};
