@@ -45,25 +45,44 @@ void Transform1d(const std::vector<double>& f, std::vector<double>* d, std::vect
   }
 }
 
-// The smallest value of `values` within `radius` cells of each cell (a disc's erosion).
-Eigen::MatrixXd MinimumWithin(const Eigen::MatrixXd& values, int radius) {
+}  // namespace
+
+Eigen::MatrixXd MinimumWithinDisc(const Eigen::MatrixXd& values, int radius) {
   if (radius <= 0) return values;
-  const int nx = static_cast<int>(values.rows()), ny = static_cast<int>(values.cols());
-  Eigen::MatrixXd eroded = values;
-  for (int iy = 0; iy < ny; ++iy) {
-    for (int ix = 0; ix < nx; ++ix) {
-      for (int dy = -radius; dy <= radius; ++dy) {
-        for (int dx = -radius; dx <= radius; ++dx) {
-          const int jx = ix + dx, jy = iy + dy;
-          if (dx * dx + dy * dy > radius * radius || jx < 0 || jy < 0 || jx >= nx || jy >= ny)
-            continue;
-          eroded(ix, iy) = std::min(eroded(ix, iy), values(jx, jy));
-        }
+  const auto nx = static_cast<int>(values.rows()), ny = static_cast<int>(values.cols());
+  // the disc's half-width along x at each row offset dy: the largest w with w^2 + dy^2 <= r^2
+  std::vector<int> half_width(static_cast<std::size_t>(radius) + 1);
+  for (int dy = 0; dy <= radius; ++dy) {
+    int w = radius;
+    while (w * w + dy * dy > radius * radius) --w;
+    half_width[static_cast<std::size_t>(dy)] = w;
+  }
+  // the minimum along x over each half-width the disc has, then over the rows
+  std::vector<Eigen::MatrixXd> along_x(static_cast<std::size_t>(radius) + 1);
+  for (const int w : half_width) {
+    Eigen::MatrixXd& row_min = along_x[static_cast<std::size_t>(w)];
+    if (row_min.size() > 0) continue;
+    row_min.resize(nx, ny);
+    for (int iy = 0; iy < ny; ++iy) {
+      for (int ix = 0; ix < nx; ++ix) {
+        const int from = std::max(0, ix - w), to = std::min(nx - 1, ix + w);
+        row_min(ix, iy) = values.col(iy).segment(from, to - from + 1).minCoeff();
       }
+    }
+  }
+  Eigen::MatrixXd eroded = along_x[static_cast<std::size_t>(radius)];
+  for (int iy = 0; iy < ny; ++iy) {
+    for (int dy = 1; dy <= radius; ++dy) {
+      const Eigen::MatrixXd& row_min =
+          along_x[static_cast<std::size_t>(half_width[static_cast<std::size_t>(dy)])];
+      if (iy - dy >= 0) eroded.col(iy) = eroded.col(iy).cwiseMin(row_min.col(iy - dy));
+      if (iy + dy < ny) eroded.col(iy) = eroded.col(iy).cwiseMin(row_min.col(iy + dy));
     }
   }
   return eroded;
 }
+
+namespace {
 
 // The terrain's speed limit per cell (CostField::SpeedLimit).
 Eigen::MatrixXd SpeedLimits(const Eigen::MatrixXf& cost, const Eigen::MatrixXf* roughness_m,
@@ -79,7 +98,8 @@ Eigen::MatrixXd SpeedLimits(const Eigen::MatrixXf& cost, const Eigen::MatrixXf* 
       }
     }
   }
-  return MinimumWithin(limit, static_cast<int>(std::ceil(config.reach_m / resolution_m - 1e-9)));
+  return MinimumWithinDisc(limit,
+                           static_cast<int>(std::ceil(config.reach_m / resolution_m - 1e-9)));
 }
 
 }  // namespace

@@ -85,6 +85,11 @@ class CostField {
 double FootprintDistance(const CostField& field, const Eigen::Vector2d& position_W, double yaw,
                          const std::vector<Eigen::Vector2d>& body_points_B);
 
+/// The smallest of `values` within `radius` cells of each cell (the cells (dx, dy) with
+/// dx^2 + dy^2 <= radius^2: an erosion by a disc), by one pass along x per half-width of the disc
+/// and one along y. 0 or less: `values` itself.
+Eigen::MatrixXd MinimumWithinDisc(const Eigen::MatrixXd& values, int radius);
+
 /// Euclidean distance [cells] from each cell centre to the nearest cell where `mask` is true, exact
 /// (Felzenszwalb and Huttenlocher, "Distance Transforms of Sampled Functions", 2012: two passes of
 /// the 1-D lower-envelope transform). Infinity everywhere if no cell is set.

@@ -102,7 +102,11 @@ constexpr double kTiltFadeEnd_m = 1.0;
 double TiltPenalty(const CostField& field, const Eigen::Vector2d& position, double cos_t,
                    double sin_t, double weight, double mu, Partials* partials) {
   const FieldSample ground = field.Elevation(position);
-  if (!std::isfinite(ground.value)) return 0.0;
+  const Eigen::Vector2d& limit = field.max_pitch_roll_tangents();
+  // no heading can exceed a limit where the whole slope is within both (most nodes)
+  if (!std::isfinite(ground.value) ||
+      ground.gradient_W.squaredNorm() <= limit.cwiseAbs2().minCoeff())
+    return 0.0;
   const FieldSample distance = field.Distance(position);
   const double r = (distance.value - kTiltFadeStart_m) / (kTiltFadeEnd_m - kTiltFadeStart_m);
   if (r <= 0.0) return 0.0;
@@ -112,7 +116,6 @@ double TiltPenalty(const CostField& field, const Eigen::Vector2d& position, doub
   const Eigen::Vector2d h(cos_t, sin_t), n(-sin_t, cos_t);
   const Eigen::Vector2d& g = ground.gradient_W;
   const double pitch = g.dot(h), roll = g.dot(n);
-  const Eigen::Vector2d& limit = field.max_pitch_roll_tangents();
   double slope_pitch = 0.0, slope_roll = 0.0;
   const double tilt = SmoothedL1(pitch * pitch - limit.x() * limit.x(), mu, &slope_pitch) +
                       SmoothedL1(roll * roll - limit.y() * limit.y(), mu, &slope_roll);

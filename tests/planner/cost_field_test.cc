@@ -142,5 +142,26 @@ TEST(CostFieldTest, TheSpeedLimitFollowsUnknownCellsAndRoughnessWithinReach) {
   EXPECT_NEAR(CostField(map, config).SpeedLimit(g.CellCenter(5, 5)).value, 1.5, 1e-6);
 }
 
+TEST(MinimumWithinDiscTest, EqualsTheBruteForceMinimumOverTheDisc) {
+  common::Random random(7);
+  Eigen::MatrixXd values(23, 17);
+  for (Eigen::Index i = 0; i < values.size(); ++i) values.data()[i] = random.Uniform(0.0, 1.0);
+  for (const int radius : {0, 1, 2, 5, 30}) {
+    const Eigen::MatrixXd dut = MinimumWithinDisc(values, radius);
+    for (int ix = 0; ix < values.rows(); ++ix) {
+      for (int iy = 0; iy < values.cols(); ++iy) {
+        double expected = values(ix, iy);
+        for (int jx = 0; jx < values.rows(); ++jx) {
+          for (int jy = 0; jy < values.cols(); ++jy) {
+            if ((jx - ix) * (jx - ix) + (jy - iy) * (jy - iy) <= radius * radius)
+              expected = std::min(expected, values(jx, jy));
+          }
+        }
+        ASSERT_EQ(dut(ix, iy), expected) << "radius " << radius << " at " << ix << "," << iy;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace trav::planner
