@@ -15,6 +15,13 @@ struct GroundTruthConfig {
   /// 0: the cell itself; the planners add the robot's footprint (docs/navigation.md), so that the
   /// robot's size is counted once.
   double footprint_radius_m{0.0};
+  /// The physical truth's limits (ComputePhysicalTruth), measured in MuJoCo (docs/ground-truth.md):
+  /// the steepest slope the robot climbs, and crosses without rolling over [deg], and the highest
+  /// step one wheel climbs [m]; `clearance_m` is its belly's height above the wheel contacts.
+  double max_pitch_deg{40.0};
+  double max_roll_deg{40.0};
+  double max_step_m{0.16};
+  int headings{16};  ///< headings of the physical truth, evenly spaced over the full turn
 
   /// The keys of scenario section `ground_truth` (common/archive.h).
   template <typename Archive>
@@ -22,6 +29,10 @@ struct GroundTruthConfig {
     a->Field("neighbourhood_radius", &neighbourhood_radius_m, {0.01, 5.0});
     a->Field("clearance", &clearance_m, {0.01, 5.0});
     a->Field("footprint_radius", &footprint_radius_m, {0.0, 5.0});
+    a->Field("max_pitch", &max_pitch_deg, {1.0, 89.0});
+    a->Field("max_roll", &max_roll_deg, {1.0, 89.0});
+    a->Field("max_step", &max_step_m, {0.001, 5.0});
+    a->Field("headings", &headings, {2, 64});
   }
 };
 

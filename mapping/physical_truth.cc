@@ -1,0 +1,198 @@
+#include "mapping/physical_truth.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "mapping/traversability_mapper.h"
+
+namespace trav::mapping {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+// Spacing of the samples over a wheel's contact patch and under the belly [m]: fine enough that a
+// step edge or an obstacle's side on the world's 0.05-0.1 m grid falls between two samples.
+constexpr double kWheelSpacing_m = 0.025;
+constexpr double kBellySpacing_m = 0.05;
+
+// The wheel signs (x, y) in B, in common::Wheel order: front-left, rear-left, front-right,
+// rear-right.
+constexpr std::array<std::array<double, 2>, 4> kWheelSigns{
+    {{1.0, 1.0}, {-1.0, 1.0}, {1.0, -1.0}, {-1.0, -1.0}}};
+
+// Evenly spaced values from -half to half, at most `spacing` apart, 0 among them (so that a wheel's
+// lowest point is a sample).
+std::vector<double> Span(double half, double spacing) {
+  const int intervals = 2 * std::max(1, static_cast<int>(std::ceil(half / spacing)));
+  std::vector<double> values;
+  for (int i = 0; i <= intervals; ++i) values.push_back(-half + 2.0 * half * i / intervals);
+  return values;
+}
+
+// A sample under the robot, in B, with the rim's height above the wheel's lowest point for wheel
+// samples (sqrt(r^2 - a^2), a along the heading).
+struct BodySample {
+  Eigen::Vector2d p_B;
+  double rim_m{0.0};
+};
+
+// The samples under the four wheels and under the belly, in B.
+struct BodySamples {
+  std::array<std::vector<BodySample>, 4> wheels;
+  std::vector<BodySample> belly;
+
+  explicit BodySamples(const RestingBody& body) {
+    const double r = body.wheel_radius_m;
+    for (std::size_t w = 0; w < 4; ++w) {
+      const Eigen::Vector2d centre(kWheelSigns[w][0] * body.wheel_x_m,
+                                   kWheelSigns[w][1] * body.wheel_y_m);
+      for (const double a : Span(r, kWheelSpacing_m)) {
+        for (const double c : Span(body.wheel_half_width_m, kWheelSpacing_m)) {
+          wheels[w].push_back(
+              {centre + Eigen::Vector2d(a, c), std::sqrt(std::max(0.0, r * r - a * a))});
+        }
+      }
+    }
+    for (const double x : Span(body.chassis_half_length_m, kBellySpacing_m)) {
+      for (const double y : Span(body.chassis_half_width_m, kBellySpacing_m)) {
+        belly.push_back({Eigen::Vector2d(x, y), 0.0});
+      }
+    }
+  }
+};
+
+PoseAssessment Assess(const RestingSurface& surface, const Eigen::Vector2d& p_W, double yaw,
+                      const RestingBody& body, const BodySamples& samples,
+                      const GroundTruthConfig& config) {
+  const Eigen::Matrix2d R_WB = Eigen::Rotation2Dd(yaw).toRotationMatrix();
+  PoseAssessment pose;
+  // the surface under every sample, and where each wheel's rim first touches it
+  std::array<std::vector<double>, 4> wheel_heights;
+  std::array<double, 4> contact{};
+  for (std::size_t w = 0; w < 4; ++w) {
+    double axle = -std::numeric_limits<double>::infinity();
+    for (const BodySample& s : samples.wheels[w]) {
+      const Eigen::Vector2d q_W = p_W + R_WB * s.p_B;
+      if (!surface.Contains(q_W)) return pose;
+      const double z = surface.HeightAt(q_W);
+      wheel_heights[w].push_back(z);
+      axle = std::max(axle, z + s.rim_m);
+    }
+    contact[w] = axle - body.wheel_radius_m;
+  }
+  // least-squares plane z = c + gx x + gy y through the four contacts (a rectangle in B)
+  const double c = 0.25 * (contact[0] + contact[1] + contact[2] + contact[3]);
+  const double gx = (contact[0] + contact[2] - contact[1] - contact[3]) / (4.0 * body.wheel_x_m);
+  const double gy = (contact[0] + contact[1] - contact[2] - contact[3]) / (4.0 * body.wheel_y_m);
+  auto residual = [&](const Eigen::Vector2d& p_B, double z) {
+    return z - (c + gx * p_B.x() + gy * p_B.y());
+  };
+  for (std::size_t w = 0; w < 4; ++w) {
+    double low = std::numeric_limits<double>::infinity();
+    double high = -low;
+    for (std::size_t i = 0; i < samples.wheels[w].size(); ++i) {
+      const double r = residual(samples.wheels[w][i].p_B, wheel_heights[w][i]);
+      low = std::min(low, r);
+      high = std::max(high, r);
+    }
+    pose.step_m = std::max(pose.step_m, high - low);
+  }
+  pose.belly_m = -std::numeric_limits<double>::infinity();
+  for (const BodySample& s : samples.belly) {
+    const Eigen::Vector2d q_W = p_W + R_WB * s.p_B;
+    if (!surface.Contains(q_W)) return pose;
+    pose.belly_m = std::max(pose.belly_m, residual(s.p_B, surface.HeightAt(q_W)));
+  }
+  pose.pitch_rad = std::atan(gx);
+  pose.roll_rad = std::atan(gy);
+  // a plane steeper than both limits holds at no heading: the wheels must resist its whole downhill
+  // pull whichever way the robot faces (so the diagonal of a too steep slope is not a way up)
+  const double tilt_rad = std::atan(std::hypot(gx, gy));
+  const double max_tilt_rad = std::max(config.max_pitch_deg, config.max_roll_deg) * kDegToRad;
+  const double worst = std::max({std::abs(pose.pitch_rad) / (config.max_pitch_deg * kDegToRad),
+                                 std::abs(pose.roll_rad) / (config.max_roll_deg * kDegToRad),
+                                 tilt_rad / max_tilt_rad, pose.step_m / config.max_step_m,
+                                 pose.belly_m / config.clearance_m});
+  pose.cost = std::clamp(worst, 0.0, 1.0);
+  pose.traversable = worst < 1.0;
+  pose.known = true;
+  return pose;
+}
+
+}  // namespace
+
+double RestingSurface::HeightAt(const Eigen::Vector2d& p_W) const {
+  double z = common::InterpolateBilinear(geometry, ground_m, p_W);
+  if (const std::optional<Eigen::Vector2i> cell = geometry.CellIndex(p_W)) {
+    z += obstacle_m(cell->x(), cell->y());
+  }
+  return z;
+}
+
+bool RestingSurface::Contains(const Eigen::Vector2d& p_W) const {
+  const Eigen::Vector2d low = geometry.origin_W;
+  const Eigen::Vector2d high = geometry.origin_W + geometry.Extent();
+  return (p_W.array() >= low.array()).all() && (p_W.array() <= high.array()).all();
+}
+
+PoseAssessment AssessPose(const RestingSurface& surface, const Eigen::Vector2d& p_W, double yaw,
+                          const RestingBody& body, const GroundTruthConfig& config) {
+  return Assess(surface, p_W, yaw, body, BodySamples(body), config);
+}
+
+std::string HeadingLayer(int k) { return fmt::format("traversability_h{:02d}", k); }
+
+common::GridLayers ComputePhysicalTruth(const common::GridGeometry& map_geometry,
+                                        const common::GridGeometry& world_geometry,
+                                        const Eigen::MatrixXf& ground_m,
+                                        const Eigen::MatrixXf& obstacle_m, const RestingBody& body,
+                                        const GroundTruthConfig& config) {
+  std::vector<std::string> names{layers::kTraversability, layers::kElevation, kTraversableHeadings};
+  for (int k = 0; k < config.headings; ++k) names.push_back(HeadingLayer(k));
+  common::GridLayers truth(map_geometry, names);
+  const RestingSurface surface{world_geometry, ground_m, obstacle_m};
+  const BodySamples samples(body);
+  // the rectangle rests the same way turned by half a turn (|pitch|, |roll|, steps and belly are
+  // symmetric), so with an even count the second half of the headings copies the first
+  const bool symmetric = config.headings % 2 == 0;
+  const int computed = symmetric ? config.headings / 2 : config.headings;
+  Eigen::MatrixXf& best = truth.Layer(layers::kTraversability);
+  Eigen::MatrixXf& count = truth.Layer(kTraversableHeadings);
+  for (int k = 0; k < computed; ++k) {
+    const double yaw = 2.0 * M_PI * k / config.headings;
+    Eigen::MatrixXf& layer = truth.Layer(HeadingLayer(k));
+    for (int mx = 0; mx < map_geometry.num_x; ++mx) {
+      for (int my = 0; my < map_geometry.num_y; ++my) {
+        const PoseAssessment pose =
+            Assess(surface, map_geometry.CellCenter(mx, my), yaw, body, samples, config);
+        if (!pose.known) continue;
+        layer(mx, my) = static_cast<float>(pose.cost);
+      }
+    }
+    if (symmetric) truth.Layer(HeadingLayer(k + computed)) = layer;
+  }
+  for (int mx = 0; mx < map_geometry.num_x; ++mx) {
+    for (int my = 0; my < map_geometry.num_y; ++my) {
+      const float first = truth.Layer(HeadingLayer(0))(mx, my);
+      if (std::isnan(first)) continue;
+      float lowest = 1.0f;
+      int traversable = 0;
+      for (int k = 0; k < config.headings; ++k) {
+        const float cost = truth.Layer(HeadingLayer(k))(mx, my);
+        lowest = std::min(lowest, cost);
+        if (cost < 1.0f) ++traversable;
+      }
+      best(mx, my) = lowest;
+      count(mx, my) = static_cast<float>(traversable);
+      truth.Layer(layers::kElevation)(mx, my) =
+          static_cast<float>(surface.HeightAt(map_geometry.CellCenter(mx, my)));
+    }
+  }
+  return truth;
+}
+
+}  // namespace trav::mapping
