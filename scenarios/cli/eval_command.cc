@@ -75,6 +75,11 @@ void AddEvalOptions(CLI::App* eval, EvalFlags* flags) {
           "Pose sources of the mappers besides the true pose (drift-model, scan-matching), "
           "comma-separated: each runs every mapper of --methods as <method>@<source>")
       ->delimiter(',');
+  eval->add_option("--truth", options.truth,
+                   "Ground truth the maps are scored against: physical (the robot resting on the "
+                   "world against its measured limits) or geometric (the mappers' score formula on "
+                   "exact heights)")
+      ->capture_default_str();
   eval->add_option("--route-length", options.route_length_m, "Distance from start to goal [m]")
       ->capture_default_str();
   eval->add_option("--frames", options.max_frames,

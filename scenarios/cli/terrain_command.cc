@@ -22,7 +22,7 @@ int Terrain(const ScenarioOptions& options) {
               written.num_x, written.num_y, written.obstacles);
   std::printf(
       "written to %s (heightmap.png, heightmap.raw, cloud.pcd, preview.png, ground_truth.png, "
-      "ground_truth.raw, terrain.json)\n",
+      "ground_truth.raw, physical_truth.png, physical_truth.raw, terrain.json)\n",
       folder.final_path().c_str());
   return kExitExpected;
 }

@@ -181,6 +181,19 @@ std::string TableOne(const std::vector<EvalAggregate>& rows, const EvalOptions& 
   return md.str();
 }
 
+// Which ground truth the maps were scored against, and what is untraversable in it.
+std::string TruthNote(const EvalOptions& options) {
+  if (options.truth == "physical") {
+    return "Ground truth: **physical** (docs/ground-truth.md): the Scout Mini resting on the dense "
+           "world at 16 headings, its pitch, roll, wheel steps and belly clearance against its "
+           "measured limits; a cell's cost is the largest normalised violation at its best "
+           "heading, and it is untraversable (cost 1) where no heading is within every limit.";
+  }
+  return "Ground truth: **geometric** (docs/ground-truth.md): the mappers' score formula on the "
+         "exact heights; untraversable where its cost is at or above the planner's lethal "
+         "threshold.";
+}
+
 // A metric's value for a table cell ("-" when unset).
 std::string Cell(const std::optional<double>& value, const char* format) {
   return value ? common::FormatNumber(format, *value) : std::string("-");
@@ -192,7 +205,7 @@ std::string HazardTable(const std::vector<EvalAggregate>& rows, const EvalOption
   std::ostringstream md;
   md << "## Finding hazards: AUROC / average precision / Spearman / calibrated error\n\n"
      << "On the final map of each scene over its observed cells (docs/evaluation.md): how the cost "
-        "ranks the untraversable cells (truth cost >= the planner's lethal threshold), its rank "
+        "ranks the untraversable cells (see the ground truth above), its rank "
         "correlation with the truth's cost, and the mean error after a monotone calibration fitted "
         "on the method's other scenes; means over scenes. A constant map has AUROC 0.5, the "
         "oracle 1.\n\n"
@@ -620,6 +633,7 @@ void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,
   md << " (" << options.scenes << " per terrain type, seeds " << options.seed << " to "
      << options.seed + static_cast<std::uint64_t>(options.scenes) - 1
      << "); per-frame numbers in scenes/<id>.json. " << DriveOutcomes(scenes) << "\n\n"
+     << TruthNote(options) << "\n\n"
      << TableOne(rows, options, methods) << "\n"
      << HazardTable(rows, options, methods) << "\n"
      << PairedTable(rows) << "\n"

@@ -22,6 +22,7 @@
 #include "common/stopwatch.h"
 #include "common/yaml_reader.h"
 #include "mapping/lidar_odometry.h"
+#include "mapping/physical_truth.h"
 #include "mapping/traversability_mapper.h"
 #include "scenarios/experiments/eval_report.h"
 #include "scenarios/experiments/job_array.h"
@@ -55,6 +56,16 @@ constexpr int kRouteDraws = 16;
 // The route's length as a fraction of --route-length, tried in turn when no heading has a path.
 constexpr double kRouteLengths[] = {1.0, 0.75, 0.5};
 constexpr double kBytesPerMiB = 1024.0 * 1024.0;
+// The ground truths a scene is scored against (EvalOptions::truth).
+constexpr const char* kPhysicalTruth = "physical";
+constexpr const char* kGeometricTruth = "geometric";
+
+// What the maps of a scene are scored against: the truth's layers and the cost from which a cell
+// is untraversable (the physical truth's 1, the geometric truth's the planner's lethal threshold).
+struct ScoringTruth {
+  common::GridLayers layers;
+  double untraversable_cost{1.0};
+};
 
 // The scene scenario of a terrain type before its route: 50 x 50 m like the paper's scenes, the
 // MID-360 with 15 % of each frame occluded as in the paper's evaluation, a rolling map large
@@ -289,8 +300,9 @@ std::optional<double> NumberOrNone(double value) {
 
 // Feeds the frames to one method, scoring its map after every frame.
 EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene,
-                                const common::GridLayers& truth_W,
-                                const std::vector<RecordedFrame>& frames, double fixed_gain) {
+                                const ScoringTruth& truth, const std::vector<RecordedFrame>& frames,
+                                double fixed_gain) {
+  const common::GridLayers& truth_W = truth.layers;
   const double heap_before = HeapInUseBytes();
   double peak_heap = 0.0;
   std::unique_ptr<mapping::TraversabilityMapper> mapper =
@@ -337,8 +349,7 @@ EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene
   record.runtime_ms_median = common::Quantile(runtime, 0.5);
   record.wall_ms_median = common::Quantile(wall, 0.5);
   if (weighted_frames > 0) record.mean_fusion_weight = weight_sum / weighted_frames;
-  record.hazards =
-      ScoreHazards(mapper->map(), truth_W, observed, scene.planner.search.lethal_threshold);
+  record.hazards = ScoreHazards(mapper->map(), truth_W, observed, truth.untraversable_cost);
   record.runtime_ms_max = runtime.empty() ? 0.0 : *std::max_element(runtime.begin(), runtime.end());
   record.peak_memory_mb = peak_heap / kBytesPerMiB;
   const double last_observed = observed_count.empty() ? 0.0 : observed_count.back();
@@ -360,12 +371,11 @@ EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene
 // FSGP-BGK's mean uncertainty weight on the scene's frames (from its record when it ran already):
 // the gain of the fixed-gain ablation, so that both fuse with the same mean weight.
 double SceneMeanWeight(const EvalSceneRecord& record, const Scenario& scene,
-                       const common::GridLayers& truth_W,
-                       const std::vector<RecordedFrame>& frames) {
+                       const ScoringTruth& truth, const std::vector<RecordedFrame>& frames) {
   const auto bgk = record.methods.find("fsgp-bgk");
   const EvalMethodRecord measured = bgk != record.methods.end()
                                         ? bgk->second
-                                        : EvaluateMethod("fsgp-bgk", scene, truth_W, frames, 0.0);
+                                        : EvaluateMethod("fsgp-bgk", scene, truth, frames, 0.0);
   return measured.mean_fusion_weight.value_or(1.0 / scene.mapping.variance_epsilon);
 }
 
@@ -441,6 +451,9 @@ void ValidateEvalOptions(const EvalOptions& options) {
   if (options.terrains.empty()) throw common::InputError("--terrains", "", "needs a terrain type");
   common::RequireValue(options.scenes >= 1 && options.scenes <= 100000, "--scenes", options.scenes,
                        "must be in [1, 100000]");
+  if (options.truth != kPhysicalTruth && options.truth != kGeometricTruth) {
+    throw common::InputError("--truth", options.truth, "expected physical or geometric");
+  }
   common::RequireValue(options.route_length_m > 0.0 && options.route_length_m <= 40.0,
                        "--route-length", options.route_length_m, "must be in (0, 40] m");
   common::RequireValue(options.max_frames >= 0 && options.max_frames <= 100000, "--frames",
@@ -497,6 +510,7 @@ nlohmann::json EvalOptionsJson(const EvalOptions& options) {
           {"methods", options.methods},
           {"inducing_points", options.inducing_points},
           {"pose_sources", options.pose_sources},
+          {"truth", options.truth},
           {"route_length_m", options.route_length_m},
           {"max_frames", options.max_frames},
           {"sets", options.sets},
@@ -514,6 +528,8 @@ EvalOptions EvalOptionsFromJson(const nlohmann::json& json, const std::string& s
     json.at("inducing_points").get_to(options.inducing_points);
     // absent in evaluations written before pose sources existed: the true pose only
     options.pose_sources = json.value("pose_sources", std::vector<std::string>{});
+    // absent in evaluations written before the physical truth: they were scored on the geometric
+    options.truth = json.value("truth", std::string(kGeometricTruth));
     json.at("route_length_m").get_to(options.route_length_m);
     json.at("max_frames").get_to(options.max_frames);
     json.at("sets").get_to(options.sets);
@@ -534,8 +550,8 @@ EvalOptions EvalOptionsFromJson(const nlohmann::json& json, const std::string& s
 bool SameEvaluation(const EvalOptions& a, const EvalOptions& b) {
   return a.terrains == b.terrains && a.scenes == b.scenes && a.seed == b.seed &&
          a.methods == b.methods && a.inducing_points == b.inducing_points &&
-         a.pose_sources == b.pose_sources && a.route_length_m == b.route_length_m &&
-         a.max_frames == b.max_frames && a.sets == b.sets;
+         a.pose_sources == b.pose_sources && a.truth == b.truth &&
+         a.route_length_m == b.route_length_m && a.max_frames == b.max_frames && a.sets == b.sets;
 }
 
 std::vector<EvalScene> EvalScenes(const EvalOptions& options) {
@@ -738,8 +754,6 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
     record.drive.outcome = kNoRoute;
     return record;
   }
-  const common::GridLayers& truth_W = *routable;
-
   // the drive: the closed loop on the oracle and the true pose, every frame recorded as the mapper
   // would get it (the pose sources' estimates are made along it afterwards)
   Scenario drive_scenario = scenario;
@@ -751,6 +765,14 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   FrameRecorder recorder(&frames, scan_matching ? &scans : nullptr);
   ClosedLoop loop(drive_scenario, {robot_model_path, options.max_frames});
   const RunSummary drive = RunLoop(&loop, {&recorder});
+  const ScoringTruth truth =
+      options.truth == kPhysicalTruth
+          ? ScoringTruth{mapping::ComputePhysicalTruth(
+                             routable->geometry(), loop.world().geometry, loop.world().height_m,
+                             loop.obstacle_heights(), mapping::RestingBody{},
+                             scenario.ground_truth),
+                         1.0}
+          : ScoringTruth{*routable, scenario.planner.search.lethal_threshold};
 
   std::map<std::string, std::vector<RecordedFrame>> frames_on_source;
   for (const std::string& source : options.pose_sources) {
@@ -763,10 +785,10 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   }
   for (const std::string& method : EvalMethods(options)) {
     const double fixed_gain =
-        method == kFixedGain ? SceneMeanWeight(record, scenario, truth_W, frames) : 0.0;
+        method == kFixedGain ? SceneMeanWeight(record, scenario, truth, frames) : 0.0;
     const std::optional<PoseSourceMethod> on_source = ParsePoseSourceMethod(method);
     record.methods[method] =
-        EvaluateMethod(method, scenario, truth_W,
+        EvaluateMethod(method, scenario, truth,
                        on_source ? frames_on_source.at(on_source->source) : frames, fixed_gain);
   }
   record.route.start = {scenario.start_W.position.x(), scenario.start_W.position.y(),
@@ -774,7 +796,7 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   record.route.goal = {scenario.goal_W.x(), scenario.goal_W.y()};
   record.route.optimal_length_m = drive.navigation ? drive.navigation->optimal_path_length_m : 0.0;
   record.drive = {common::NameOf(drive.outcome), drive.sim_time_s, drive.distance_m, frames.size(),
-                  static_cast<long long>(truth_W.geometry().num_x) * truth_W.geometry().num_y};
+                  static_cast<long long>(routable->geometry().num_x) * routable->geometry().num_y};
   return record;
 }
 

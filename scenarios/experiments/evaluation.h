@@ -41,6 +41,11 @@ struct EvalOptions {
   /// drive (the drift model fed the true poses, the LiDAR odometry the drive's scans; the drive
   /// itself navigates on the true pose). Empty: the true pose only.
   std::vector<std::string> pose_sources;
+  /// The ground truth the maps are scored against (docs/ground-truth.md): "physical" (the robot
+  /// resting on the world at 16 headings against its measured limits; untraversable: cost 1) or
+  /// "geometric" (the mapper's score formula on exact heights; untraversable: cost at or above the
+  /// planner's lethal threshold). Routes and drives use the geometric one either way.
+  std::string truth{"physical"};
   double route_length_m{24.0};  ///< straight-line distance from start to goal [m], > 0
   int max_frames{0};            ///< LiDAR frames per scene, 0: until the drive ends; >= 0
   /// Scenario overrides applied to every scene (key.path=value, as `trav run --set`).

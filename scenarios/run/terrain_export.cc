@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/enum_names.h"
+#include "mapping/physical_truth.h"
 #include "mapping/traversability_mapper.h"
 #include "renders/image.h"
 #include "renders/overlay.h"
@@ -103,21 +104,34 @@ void WritePreview(const sim::TerrainWorld& world, const OutputFolder& folder) {
   renders::WritePng(folder.File("preview.png"), image);
 }
 
+// Writes a cost layer as <stem>.raw (float32, x fastest) and <stem>.png.
+void WriteCostLayer(const Eigen::MatrixXf& cost, const std::string& stem,
+                    const OutputFolder& folder) {
+  const std::string raw_path = folder.File(stem + ".raw");
+  std::ofstream raw(raw_path, std::ios::binary);
+  raw.write(reinterpret_cast<const char*>(cost.data()),
+            static_cast<std::streamsize>(cost.size() * sizeof(float)));
+  raw.close();
+  CheckWritten(raw_path, !raw.fail());
+  renders::WritePng(folder.File(stem + ".png"), renders::TraversabilityImage(cost));
+}
+
+// Writes both ground truths (docs/ground-truth.md): the geometric one as ground_truth.*, the
+// physical one as physical_truth.*.
 common::GridGeometry WriteGroundTruth(const sim::TerrainWorld& world,
                                       const mapping::FsgpConfig& score,
                                       const mapping::GroundTruthConfig& config,
                                       const OutputFolder& folder) {
   const common::GridGeometry map_geometry = common::GridGeometry::Centered(
       world.geometry.Center(), world.geometry.Extent(), score.area.resolution_m);
-  const common::GridLayers truth = mapping::ComputeGroundTruth(
-      map_geometry, world.geometry, world.height_m, sim::ObstacleHeightGrid(world), score, config);
-  const Eigen::MatrixXf& cost = truth.Layer(mapping::layers::kTraversability);
-  std::ofstream raw(folder.File("ground_truth.raw"), std::ios::binary);
-  raw.write(reinterpret_cast<const char*>(cost.data()),
-            static_cast<std::streamsize>(cost.size() * sizeof(float)));
-  raw.close();
-  CheckWritten(folder.File("ground_truth.raw"), !raw.fail());
-  renders::WritePng(folder.File("ground_truth.png"), renders::TraversabilityImage(cost));
+  const Eigen::MatrixXf obstacle_heights = sim::ObstacleHeightGrid(world);
+  const common::GridLayers geometric = mapping::ComputeGroundTruth(
+      map_geometry, world.geometry, world.height_m, obstacle_heights, score, config);
+  WriteCostLayer(geometric.Layer(mapping::layers::kTraversability), "ground_truth", folder);
+  const common::GridLayers physical =
+      mapping::ComputePhysicalTruth(map_geometry, world.geometry, world.height_m, obstacle_heights,
+                                    mapping::RestingBody{}, config);
+  WriteCostLayer(physical.Layer(mapping::layers::kTraversability), "physical_truth", folder);
   return map_geometry;
 }
 

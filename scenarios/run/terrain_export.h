@@ -19,10 +19,11 @@ namespace trav::scenarios {
 ///   the smallest y (num_y rows of num_x values);
 /// - `cloud.pcd`: the dense noise-free point cloud (PCL binary PCD, frame W);
 /// - `preview.png`: a shaded top view with obstacles in their colours (+y up);
-/// - `ground_truth.png` and `ground_truth.raw`: the ground-truth traversability
-/// (docs/ground-truth.md)
-///   on the mapper's grid (`score.area.resolution_m`), colours green (0) to red (1), and float32
-///   values with rows along +y (its grid in terrain.json);
+/// - `ground_truth.png` and `ground_truth.raw`: the geometric ground-truth traversability, and
+///   `physical_truth.png` and `physical_truth.raw` the physical one (the robot resting on the world
+///   at its best heading; docs/ground-truth.md), both on the mapper's grid
+///   (`score.area.resolution_m`), colours green (0) to red (1), and float32 values with rows along
+///   +y (its grid in terrain.json; NaN where the robot would stand partly off the world);
 /// - `terrain.json`: grid geometry, height range, statistics and the obstacle list.
 void ExportTerrain(const sim::TerrainWorld& world, const mapping::FsgpConfig& score,
                    const mapping::GroundTruthConfig& ground_truth, const OutputFolder& folder);

@@ -339,6 +339,12 @@ TEST_F(TravCliTest, TerrainExportsHeightmapCloudAndPreview) {
       nlohmann::json::parse(ReadFile(root_ / "terrain" / "terrain.json"));
   EXPECT_EQ(terrain["grid"]["num_x"], 121);
   EXPECT_EQ(terrain["type"], "hilly");
+  // both ground truths on the map's 0.2 m grid (61 x 61 cells)
+  for (const char* truth : {"ground_truth", "physical_truth"}) {
+    EXPECT_TRUE(fs::exists(root_ / "terrain" / (std::string(truth) + ".png"))) << truth;
+    EXPECT_EQ(fs::file_size(root_ / "terrain" / (std::string(truth) + ".raw")), 61u * 61u * 4u)
+        << truth;
+  }
   // a PCD header announcing the ground samples
   const std::string pcd = ReadFile(root_ / "terrain" / "cloud.pcd");
   EXPECT_THAT(pcd, HasSubstr("POINTS 14641"));
