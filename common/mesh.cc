@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace trav::common {
 namespace {
@@ -92,7 +93,108 @@ std::vector<Eigen::Vector2d> SphereProfile(double radius, double z_offset, doubl
   return profile;
 }
 
+// The interval of t where a t^2 + b t + c <= 0 (a >= 0), intersected with [low, high]; false if
+// empty.
+bool QuadraticInterval(double a, double b, double c, double* low, double* high) {
+  constexpr double kParallel = 1e-12;
+  if (a < kParallel) {
+    // the line runs along the quadric's axis: inside everywhere or nowhere (b is 0 then)
+    return c <= 0.0;
+  }
+  const double discriminant = b * b - 4.0 * a * c;
+  if (discriminant < 0.0) return false;
+  const double root = std::sqrt(discriminant);
+  *low = std::max(*low, (-b - root) / (2.0 * a));
+  *high = std::min(*high, (-b + root) / (2.0 * a));
+  return *low <= *high;
+}
+
+// The parameters where the line p + t d (in the shape's frame) is inside a sphere of `radius`
+// centred on `centre`, intersected with [low, high].
+bool SphereInterval(const Eigen::Vector3d& p, const Eigen::Vector3d& d,
+                    const Eigen::Vector3d& centre, double radius, double* low, double* high) {
+  const Eigen::Vector3d q = p - centre;
+  return QuadraticInterval(d.squaredNorm(), 2.0 * q.dot(d), q.squaredNorm() - radius * radius, low,
+                           high);
+}
+
+// ... inside the infinite cylinder of `radius` about the local z axis, and between z = -half and
+// z = half.
+bool CylinderInterval(const Eigen::Vector3d& p, const Eigen::Vector3d& d, double radius,
+                      double half, double* low, double* high) {
+  if (!QuadraticInterval(d.x() * d.x() + d.y() * d.y(), 2.0 * (p.x() * d.x() + p.y() * d.y()),
+                         p.x() * p.x() + p.y() * p.y() - radius * radius, low, high)) {
+    return false;
+  }
+  constexpr double kParallel = 1e-12;
+  if (std::abs(d.z()) < kParallel) return std::abs(p.z()) <= half;
+  const double t1 = (-half - p.z()) / d.z(), t2 = (half - p.z()) / d.z();
+  *low = std::max(*low, std::min(t1, t2));
+  *high = std::min(*high, std::max(t1, t2));
+  return *low <= *high;
+}
+
 }  // namespace
+
+std::optional<std::pair<double, double>> VerticalExtent(const Primitive& primitive,
+                                                        const Eigen::Vector2d& p_W) {
+  // the line (x, y, 0) + t e_z of W in the shape's frame O: its points are at height t in W
+  const Eigen::Matrix3d R_OW = primitive.X_WO.linear().transpose();
+  const Eigen::Vector3d p =
+      R_OW * (Eigen::Vector3d(p_W.x(), p_W.y(), 0.0) - primitive.X_WO.translation());
+  const Eigen::Vector3d d = R_OW.col(2);
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  double low = -kInfinity, high = kInfinity;
+  const Eigen::Vector3d& size = primitive.size;
+  bool hit = false;
+  switch (primitive.shape) {
+    case ShapeType::kBox: {
+      hit = true;
+      for (int i = 0; i < 3 && hit; ++i) {
+        if (std::abs(d[i]) < 1e-12) {
+          hit = std::abs(p[i]) <= size[i];
+          continue;
+        }
+        const double t1 = (-size[i] - p[i]) / d[i], t2 = (size[i] - p[i]) / d[i];
+        low = std::max(low, std::min(t1, t2));
+        high = std::min(high, std::max(t1, t2));
+        hit = low <= high;
+      }
+      break;
+    }
+    case ShapeType::kSphere:
+      hit = SphereInterval(p, d, Eigen::Vector3d::Zero(), size[0], &low, &high);
+      break;
+    case ShapeType::kCylinder:
+      hit = CylinderInterval(p, d, size[0], size[1], &low, &high);
+      break;
+    case ShapeType::kCapsule: {
+      // convex: the union of its cylinder's and its two spheres' intervals is one interval
+      double part_low[3], part_high[3];
+      bool part_hit[3];
+      for (int k = 0; k < 3; ++k) {
+        part_low[k] = -kInfinity;
+        part_high[k] = kInfinity;
+      }
+      part_hit[0] = CylinderInterval(p, d, size[0], size[1], &part_low[0], &part_high[0]);
+      part_hit[1] = SphereInterval(p, d, Eigen::Vector3d(0, 0, size[1]), size[0], &part_low[1],
+                                   &part_high[1]);
+      part_hit[2] = SphereInterval(p, d, Eigen::Vector3d(0, 0, -size[1]), size[0], &part_low[2],
+                                   &part_high[2]);
+      low = kInfinity;
+      high = -kInfinity;
+      for (int k = 0; k < 3; ++k) {
+        if (!part_hit[k]) continue;
+        hit = true;
+        low = std::min(low, part_low[k]);
+        high = std::max(high, part_high[k]);
+      }
+      break;
+    }
+  }
+  if (!hit || !std::isfinite(low) || !std::isfinite(high)) return std::nullopt;
+  return std::make_pair(low, high);
+}
 
 TriangleMesh PrimitiveMesh(const Primitive& primitive, int segments) {
   segments = std::max(segments, 3);

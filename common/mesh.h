@@ -1,5 +1,7 @@
 #pragma once
 
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -29,6 +31,11 @@ struct TriangleMesh {
 /// and spheres as surfaces of revolution with `segments` around (>= 3) and a vertex at angle 0 (on
 /// the local +x axis) of every ring.
 TriangleMesh PrimitiveMesh(const Primitive& primitive, int segments = 16);
+
+/// The heights [m] where the vertical line through p_W (x, y) enters and leaves the primitive's
+/// solid (low, high), or nothing if it misses it. Exact for every shape and pose.
+std::optional<std::pair<double, double>> VerticalExtent(const Primitive& primitive,
+                                                        const Eigen::Vector2d& p_W);
 
 /// Appends `mesh` to `into`.
 void AppendMesh(const TriangleMesh& mesh, TriangleMesh* into);

@@ -15,12 +15,16 @@ struct GroundTruthConfig {
   /// 0: the cell itself; the planners add the robot's footprint (docs/navigation.md), so that the
   /// robot's size is counted once.
   double footprint_radius_m{0.0};
-  /// The physical truth's limits (ComputePhysicalTruth), measured in MuJoCo (docs/ground-truth.md):
-  /// the steepest slope the robot climbs, and crosses without rolling over [deg], and the highest
-  /// step one wheel climbs [m]; `clearance_m` is its belly's height above the wheel contacts.
+  /// The physical truth's limits (ComputePhysicalTruth), measured in MuJoCo at 1 m/s
+  /// (docs/ground-truth.md): the steepest slope the robot climbs, and crosses without rolling over
+  /// [deg]; the highest step it climbs (its rear wheels), the highest its front wheels get onto
+  /// pushed by the rear ones, and the depth from which driving off tilts it 45 deg [m];
+  /// `clearance_m` is its belly's height above the wheel contacts.
   double max_pitch_deg{40.0};
   double max_roll_deg{40.0};
   double max_step_m{0.16};
+  double max_front_step_m{0.22};
+  double max_drop_m{0.27};
   int headings{16};  ///< headings of the physical truth, evenly spaced over the full turn
 
   /// The keys of scenario section `ground_truth` (common/archive.h).
@@ -32,6 +36,8 @@ struct GroundTruthConfig {
     a->Field("max_pitch", &max_pitch_deg, {1.0, 89.0});
     a->Field("max_roll", &max_roll_deg, {1.0, 89.0});
     a->Field("max_step", &max_step_m, {0.001, 5.0});
+    a->Field("max_front_step", &max_front_step_m, {0.001, 5.0});
+    a->Field("max_drop", &max_drop_m, {0.001, 5.0});
     a->Field("headings", &headings, {2, 64});
   }
 };

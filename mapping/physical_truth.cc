@@ -40,13 +40,16 @@ struct BodySample {
   double rim_m{0.0};
 };
 
-// The samples under the four wheels and under the belly, in B.
+// The samples under the four wheels and under the belly, in B. A wheel's samples run along its
+// patch from the back (-r) to the front (+r), `across` of them at each position.
 struct BodySamples {
   std::array<std::vector<BodySample>, 4> wheels;
   std::vector<BodySample> belly;
+  std::size_t across{0};
 
   explicit BodySamples(const RestingBody& body) {
     const double r = body.wheel_radius_m;
+    across = Span(body.wheel_half_width_m, kWheelSpacing_m).size();
     for (std::size_t w = 0; w < 4; ++w) {
       const Eigen::Vector2d centre(kWheelSigns[w][0] * body.wheel_x_m,
                                    kWheelSigns[w][1] * body.wheel_y_m);
@@ -91,15 +94,27 @@ PoseAssessment Assess(const RestingSurface& surface, const Eigen::Vector2d& p_W,
   auto residual = [&](const Eigen::Vector2d& p_B, double z) {
     return z - (c + gx * p_B.x() + gy * p_B.y());
   };
+  // steps up and down along each wheel's patch in the direction of travel, on the profile of the
+  // highest point across the wheel at each position (on a slope within the pitch limit the rise
+  // over the patch, 2 r tan(slope), stays below the step limits: the pitch governs there)
   for (std::size_t w = 0; w < 4; ++w) {
-    double low = std::numeric_limits<double>::infinity();
-    double high = -low;
-    for (std::size_t i = 0; i < samples.wheels[w].size(); ++i) {
-      const double r = residual(samples.wheels[w][i].p_B, wheel_heights[w][i]);
-      low = std::min(low, r);
-      high = std::max(high, r);
+    double lowest_behind = std::numeric_limits<double>::infinity();
+    double highest_behind = -lowest_behind;
+    double climb = 0.0, drop = 0.0;
+    for (std::size_t i = 0; i < samples.wheels[w].size(); i += samples.across) {
+      double profile = -std::numeric_limits<double>::infinity();
+      for (std::size_t k = i; k < i + samples.across; ++k) {
+        profile = std::max(profile, wheel_heights[w][k]);
+      }
+      climb = std::max(climb, profile - lowest_behind);
+      drop = std::max(drop, highest_behind - profile);
+      lowest_behind = std::min(lowest_behind, profile);
+      highest_behind = std::max(highest_behind, profile);
     }
-    pose.step_m = std::max(pose.step_m, high - low);
+    const bool front = kWheelSigns[w][0] > 0.0;
+    (front ? pose.front_step_m : pose.step_m) =
+        std::max(front ? pose.front_step_m : pose.step_m, climb);
+    pose.drop_m = std::max(pose.drop_m, drop);
   }
   pose.belly_m = -std::numeric_limits<double>::infinity();
   for (const BodySample& s : samples.belly) {
@@ -113,10 +128,16 @@ PoseAssessment Assess(const RestingSurface& surface, const Eigen::Vector2d& p_W,
   // pull whichever way the robot faces (so the diagonal of a too steep slope is not a way up)
   const double tilt_rad = std::atan(std::hypot(gx, gy));
   const double max_tilt_rad = std::max(config.max_pitch_deg, config.max_roll_deg) * kDegToRad;
-  const double worst = std::max({std::abs(pose.pitch_rad) / (config.max_pitch_deg * kDegToRad),
-                                 std::abs(pose.roll_rad) / (config.max_roll_deg * kDegToRad),
-                                 tilt_rad / max_tilt_rad, pose.step_m / config.max_step_m,
-                                 pose.belly_m / config.clearance_m});
+  const std::array<double, 7> ratios{std::abs(pose.pitch_rad) / (config.max_pitch_deg * kDegToRad),
+                                     std::abs(pose.roll_rad) / (config.max_roll_deg * kDegToRad),
+                                     tilt_rad / max_tilt_rad,
+                                     pose.step_m / config.max_step_m,
+                                     pose.front_step_m / config.max_front_step_m,
+                                     pose.drop_m / config.max_drop_m,
+                                     pose.belly_m / config.clearance_m};
+  const auto largest = std::max_element(ratios.begin(), ratios.end());
+  const double worst = *largest;
+  pose.limit = static_cast<RestingLimit>(largest - ratios.begin());
   pose.cost = std::clamp(worst, 0.0, 1.0);
   pose.traversable = worst < 1.0;
   pose.known = true;
@@ -126,16 +147,15 @@ PoseAssessment Assess(const RestingSurface& surface, const Eigen::Vector2d& p_W,
 }  // namespace
 
 double RestingSurface::HeightAt(const Eigen::Vector2d& p_W) const {
-  double z = common::InterpolateBilinear(geometry, ground_m, p_W);
-  if (const std::optional<Eigen::Vector2i> cell = geometry.CellIndex(p_W)) {
-    z += obstacle_m(cell->x(), cell->y());
-  }
-  return z;
+  const double ground = common::InterpolateBilinear(ground_geometry, ground_m, p_W);
+  const std::optional<Eigen::Vector2i> cell = obstacle_geometry.CellIndex(p_W);
+  // fmax: a NaN top (no obstacle) gives way to the ground
+  return cell ? std::fmax(ground, obstacle_top_m(cell->x(), cell->y())) : ground;
 }
 
 bool RestingSurface::Contains(const Eigen::Vector2d& p_W) const {
-  const Eigen::Vector2d low = geometry.origin_W;
-  const Eigen::Vector2d high = geometry.origin_W + geometry.Extent();
+  const Eigen::Vector2d low = ground_geometry.origin_W;
+  const Eigen::Vector2d high = ground_geometry.origin_W + ground_geometry.Extent();
   return (p_W.array() >= low.array()).all() && (p_W.array() <= high.array()).all();
 }
 
@@ -147,22 +167,15 @@ PoseAssessment AssessPose(const RestingSurface& surface, const Eigen::Vector2d& 
 std::string HeadingLayer(int k) { return fmt::format("traversability_h{:02d}", k); }
 
 common::GridLayers ComputePhysicalTruth(const common::GridGeometry& map_geometry,
-                                        const common::GridGeometry& world_geometry,
-                                        const Eigen::MatrixXf& ground_m,
-                                        const Eigen::MatrixXf& obstacle_m, const RestingBody& body,
+                                        const RestingSurface& surface, const RestingBody& body,
                                         const GroundTruthConfig& config) {
   std::vector<std::string> names{layers::kTraversability, layers::kElevation, kTraversableHeadings};
   for (int k = 0; k < config.headings; ++k) names.push_back(HeadingLayer(k));
   common::GridLayers truth(map_geometry, names);
-  const RestingSurface surface{world_geometry, ground_m, obstacle_m};
   const BodySamples samples(body);
-  // the rectangle rests the same way turned by half a turn (|pitch|, |roll|, steps and belly are
-  // symmetric), so with an even count the second half of the headings copies the first
-  const bool symmetric = config.headings % 2 == 0;
-  const int computed = symmetric ? config.headings / 2 : config.headings;
   Eigen::MatrixXf& best = truth.Layer(layers::kTraversability);
   Eigen::MatrixXf& count = truth.Layer(kTraversableHeadings);
-  for (int k = 0; k < computed; ++k) {
+  for (int k = 0; k < config.headings; ++k) {
     const double yaw = 2.0 * M_PI * k / config.headings;
     Eigen::MatrixXf& layer = truth.Layer(HeadingLayer(k));
     for (int mx = 0; mx < map_geometry.num_x; ++mx) {
@@ -173,7 +186,6 @@ common::GridLayers ComputePhysicalTruth(const common::GridGeometry& map_geometry
         layer(mx, my) = static_cast<float>(pose.cost);
       }
     }
-    if (symmetric) truth.Layer(HeadingLayer(k + computed)) = layer;
   }
   for (int mx = 0; mx < map_geometry.num_x; ++mx) {
     for (int my = 0; my < map_geometry.num_y; ++my) {

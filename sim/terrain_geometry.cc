@@ -1,7 +1,9 @@
 #include "sim/terrain_geometry.h"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace trav::sim {
@@ -77,6 +79,55 @@ Eigen::MatrixXf ObstacleHeightGrid(const TerrainWorld& world, double max_height_
     }
   }
   return heights;
+}
+
+ObstacleRaster ObstacleBandRaster(const TerrainWorld& world, double band_m, double resolution_m) {
+  ObstacleRaster raster{common::GridGeometry::Centered(world.geometry.Center(),
+                                                       world.geometry.Extent(), resolution_m),
+                        {}};
+  const common::GridGeometry& g = raster.geometry;
+  raster.top_m = Eigen::MatrixXf::Constant(g.num_x, g.num_y, std::nanf(""));
+  for (const Obstacle& obstacle : world.obstacles) {
+    if (obstacle.role != ObstacleRole::kSolid) continue;
+    // the cells under the shape's bounding box
+    const Eigen::Vector3d& size = obstacle.size;
+    Eigen::Vector3d half = Eigen::Vector3d::Zero();
+    switch (obstacle.shape) {
+      case ShapeType::kBox:
+        half = size;
+        break;
+      case ShapeType::kSphere:
+        half = Eigen::Vector3d::Constant(size[0]);
+        break;
+      case ShapeType::kCylinder:
+        half = Eigen::Vector3d(size[0], size[0], size[1]);
+        break;
+      case ShapeType::kCapsule:
+        half = Eigen::Vector3d(size[0], size[0], size[1] + size[0]);
+        break;
+    }
+    const Eigen::Vector2d reach = (obstacle.X_WO.linear().cwiseAbs() * half).head<2>();
+    const Eigen::Vector2d centre = obstacle.X_WO.translation().head<2>();
+    const Eigen::Vector2d low = (centre - reach - g.origin_W) / g.resolution_m;
+    const Eigen::Vector2d high = (centre + reach - g.origin_W) / g.resolution_m;
+    const int x0 = std::max(0, static_cast<int>(std::floor(low.x())));
+    const int y0 = std::max(0, static_cast<int>(std::floor(low.y())));
+    const int x1 = std::min(g.num_x - 1, static_cast<int>(std::ceil(high.x())));
+    const int y1 = std::min(g.num_y - 1, static_cast<int>(std::ceil(high.y())));
+    for (int ix = x0; ix <= x1; ++ix) {
+      for (int iy = y0; iy <= y1; ++iy) {
+        const Eigen::Vector2d p = g.CellCenter(ix, iy);
+        const std::optional<std::pair<double, double>> extent = common::VerticalExtent(obstacle, p);
+        if (!extent) continue;
+        const double ground = common::InterpolateBilinear(world.geometry, world.height_m, p);
+        if (extent->second <= ground || extent->first >= ground + band_m) continue;
+        const auto top = static_cast<float>(std::min(extent->second, ground + band_m));
+        // fmax: NaN (none yet) gives way to a number
+        raster.top_m(ix, iy) = std::fmax(raster.top_m(ix, iy), top);
+      }
+    }
+  }
+  return raster;
 }
 
 lidar::RaySceneDescription RaySceneOf(const TerrainWorld& world,

@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "common/grid.h"
 #include "common/point_cloud.h"
 #include "sim/lidar/ray_scene.h"
 #include "sim/moving_obstacles.h"
@@ -25,6 +26,20 @@ common::PointCloud DenseCloud(const TerrainWorld& world, double spacing_m);
 /// such as tree crowns and ceilings, do not touch the robot), 0 where there is none. Surfaces are
 /// sampled every half cell. Input of the ground-truth traversability.
 Eigen::MatrixXf ObstacleHeightGrid(const TerrainWorld& world, double max_height_m = 1.0);
+
+/// A grid of obstacle tops finer than the world's height field.
+struct ObstacleRaster {
+  common::GridGeometry geometry;
+  Eigen::MatrixXf top_m;  ///< (num_x, num_y) of `geometry`: height in W [m], NaN where none
+};
+
+/// Height in W [m] of the highest solid obstacle material within `band_m` above the ground, on the
+/// vertical line through each centre of a grid over the world with cells of `resolution_m` (exact:
+/// common::VerticalExtent, the ground bilinear); NaN where there is none.
+/// Material wholly above the band (a table top or a crown above the robot) is left out: the robot
+/// passes under it. Input of the physical ground truth (mapping::ComputePhysicalTruth), with the
+/// robot's height as the band.
+ObstacleRaster ObstacleBandRaster(const TerrainWorld& world, double band_m, double resolution_m);
 
 /// What the LiDAR sees of the world: the ground at full height-field resolution (object 0), every
 /// obstacle as a primitive (objects 1.., in the order of `world.obstacles`), tree crowns and

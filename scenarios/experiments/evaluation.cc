@@ -22,7 +22,6 @@
 #include "common/stopwatch.h"
 #include "common/yaml_reader.h"
 #include "mapping/lidar_odometry.h"
-#include "mapping/physical_truth.h"
 #include "mapping/traversability_mapper.h"
 #include "scenarios/experiments/eval_report.h"
 #include "scenarios/experiments/job_array.h"
@@ -767,10 +766,8 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   const RunSummary drive = RunLoop(&loop, {&recorder});
   const ScoringTruth truth =
       options.truth == kPhysicalTruth
-          ? ScoringTruth{mapping::ComputePhysicalTruth(
-                             routable->geometry(), loop.world().geometry, loop.world().height_m,
-                             loop.obstacle_heights(), mapping::RestingBody{},
-                             scenario.ground_truth),
+          ? ScoringTruth{WorldPhysicalTruth(routable->geometry(), loop.world(),
+                                            scenario.ground_truth),
                          1.0}
           : ScoringTruth{*routable, scenario.planner.search.lethal_threshold};
 

@@ -13,6 +13,7 @@
 #include "common/input_error.h"
 #include "common/statistics.h"
 #include "mapping/ground_truth.h"
+#include "mapping/physical_truth.h"
 #include "planner/astar.h"
 #include "renders/image.h"
 #include "scenarios/run/output_folder.h"
@@ -140,6 +141,21 @@ common::GridLayers WorldGroundTruth(const Scenario& scenario, const sim::Terrain
       world.geometry.Center(), world.geometry.Extent(), scenario.mapping.area.resolution_m);
   return mapping::ComputeGroundTruth(geometry, world.geometry, world.height_m, obstacle_heights,
                                      scenario.mapping, scenario.ground_truth);
+}
+
+sim::ObstacleRaster RestingObstacles(const sim::TerrainWorld& world) {
+  return sim::ObstacleBandRaster(world, mapping::RestingBody{}.height_m,
+                                 mapping::kObstacleOutlineResolution_m);
+}
+
+common::GridLayers WorldPhysicalTruth(const common::GridGeometry& map_geometry,
+                                      const sim::TerrainWorld& world,
+                                      const mapping::GroundTruthConfig& config) {
+  const sim::ObstacleRaster obstacles = RestingObstacles(world);
+  return mapping::ComputePhysicalTruth(
+      map_geometry,
+      mapping::RestingSurface{world.geometry, world.height_m, obstacles.geometry, obstacles.top_m},
+      mapping::RestingBody{}, config);
 }
 
 common::GridLayers ScenarioGroundTruth(const Scenario& scenario) {

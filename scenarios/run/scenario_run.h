@@ -20,6 +20,7 @@
 #include "scenarios/run/run_metrics.h"
 #include "scenarios/run/scenario.h"
 #include "sim/terrain.h"
+#include "sim/terrain_geometry.h"
 
 namespace trav::scenarios {
 
@@ -184,6 +185,17 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
 /// the world's obstacle heights (sim::ObstacleHeightGrid).
 common::GridLayers WorldGroundTruth(const Scenario& scenario, const sim::TerrainWorld& world,
                                     const Eigen::MatrixXf& obstacle_heights);
+
+/// The obstacles of `world` as the physical ground truth rests the robot on them: the material
+/// within the Scout Mini's height above the ground, outlined every
+/// mapping::kObstacleOutlineResolution_m (sim::ObstacleBandRaster).
+sim::ObstacleRaster RestingObstacles(const sim::TerrainWorld& world);
+
+/// The physical ground truth (mapping::ComputePhysicalTruth, docs/ground-truth.md) of `world` on
+/// `map_geometry`: the Scout Mini resting on its ground and RestingObstacles.
+common::GridLayers WorldPhysicalTruth(const common::GridGeometry& map_geometry,
+                                      const sim::TerrainWorld& world,
+                                      const mapping::GroundTruthConfig& config);
 
 /// The ground truth of the scenario's world, generated from its terrain for its start and goal.
 common::GridLayers ScenarioGroundTruth(const Scenario& scenario);

@@ -10,11 +10,11 @@
 #include <nlohmann/json.hpp>
 
 #include "common/enum_names.h"
-#include "mapping/physical_truth.h"
 #include "mapping/traversability_mapper.h"
 #include "renders/image.h"
 #include "renders/overlay.h"
 #include "scenarios/run/pcd_io.h"
+#include "scenarios/run/scenario_run.h"
 #include "sim/terrain_geometry.h"
 
 namespace trav::scenarios {
@@ -124,13 +124,10 @@ common::GridGeometry WriteGroundTruth(const sim::TerrainWorld& world,
                                       const OutputFolder& folder) {
   const common::GridGeometry map_geometry = common::GridGeometry::Centered(
       world.geometry.Center(), world.geometry.Extent(), score.area.resolution_m);
-  const Eigen::MatrixXf obstacle_heights = sim::ObstacleHeightGrid(world);
   const common::GridLayers geometric = mapping::ComputeGroundTruth(
-      map_geometry, world.geometry, world.height_m, obstacle_heights, score, config);
+      map_geometry, world.geometry, world.height_m, sim::ObstacleHeightGrid(world), score, config);
   WriteCostLayer(geometric.Layer(mapping::layers::kTraversability), "ground_truth", folder);
-  const common::GridLayers physical =
-      mapping::ComputePhysicalTruth(map_geometry, world.geometry, world.height_m, obstacle_heights,
-                                    mapping::RestingBody{}, config);
+  const common::GridLayers physical = WorldPhysicalTruth(map_geometry, world, config);
   WriteCostLayer(physical.Layer(mapping::layers::kTraversability), "physical_truth", folder);
   return map_geometry;
 }

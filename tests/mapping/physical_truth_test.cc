@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -29,22 +30,28 @@ Eigen::MatrixXf Sampled(const std::function<double(double, double)>& height) {
 }
 
 const Eigen::MatrixXf kFlat = Sampled([](double, double) { return 0.0; });
+// Obstacle tops: none anywhere.
+const Eigen::MatrixXf kNoObstacles = Sampled([](double, double) { return std::nan(""); });
 
 // A plane rising along +x at `angle_deg`.
 Eigen::MatrixXf Slope(double angle_deg) {
   return Sampled([angle_deg](double x, double) { return std::tan(angle_deg * kDeg) * x; });
 }
 
+common::GridLayers Truth(const Eigen::MatrixXf& ground, const Eigen::MatrixXf& obstacles) {
+  return ComputePhysicalTruth(kMap, RestingSurface{kWorld, ground, kWorld, obstacles},
+                              RestingBody{}, GroundTruthConfig{});
+}
+
 PoseAssessment At(const Eigen::MatrixXf& ground, const Eigen::MatrixXf& obstacles, double x,
                   double yaw_deg) {
-  const RestingSurface surface{kWorld, ground, obstacles};
+  const RestingSurface surface{kWorld, ground, kWorld, obstacles};
   return AssessPose(surface, Eigen::Vector2d(x, 0.0), yaw_deg * kDeg, RestingBody{},
                     GroundTruthConfig{});
 }
 
 TEST(PhysicalTruthTest, FlatGroundIsFreeAtEveryHeadingAndTheRimIsUnknown) {
-  const common::GridLayers truth =
-      ComputePhysicalTruth(kMap, kWorld, kFlat, kFlat, RestingBody{}, GroundTruthConfig{});
+  const common::GridLayers truth = Truth(kFlat, kNoObstacles);
   const Eigen::MatrixXf& cost = truth.Layer(layers::kTraversability);
   EXPECT_EQ(cost(15, 15), 0.0f);
   EXPECT_EQ(truth.Layer(kTraversableHeadings)(15, 15), 16.0f);
@@ -57,71 +64,101 @@ TEST(PhysicalTruthTest, FlatGroundIsFreeAtEveryHeadingAndTheRimIsUnknown) {
 
 TEST(PhysicalTruthTest, AFifteenDegreeSlopeIsTraversableAlongAndAcross) {
   const Eigen::MatrixXf ground = Slope(15.0);
-  const PoseAssessment up = At(ground, kFlat, 0.0, 0.0);
+  const PoseAssessment up = At(ground, kNoObstacles, 0.0, 0.0);
   EXPECT_NEAR(up.pitch_rad, 15.0 * kDeg, 1e-4);
   EXPECT_NEAR(up.roll_rad, 0.0, 1e-6);
   EXPECT_NEAR(up.cost, 15.0 / 40.0, 1e-3);
-  EXPECT_NEAR(up.step_m, 0.0, 1e-5);
+  // the rise over a wheel's patch (2 r tan 15 deg) is no step the robot cannot take
+  EXPECT_NEAR(up.step_m, 2.0 * 0.0875 * std::tan(15.0 * kDeg), 1e-5);
   EXPECT_TRUE(up.traversable);
-  const PoseAssessment across = At(ground, kFlat, 0.0, 90.0);
+  const PoseAssessment across = At(ground, kNoObstacles, 0.0, 90.0);
   EXPECT_NEAR(std::abs(across.roll_rad), 15.0 * kDeg, 1e-4);
   EXPECT_NEAR(across.pitch_rad, 0.0, 1e-6);
   EXPECT_TRUE(across.traversable);
-  const common::GridLayers truth =
-      ComputePhysicalTruth(kMap, kWorld, ground, kFlat, RestingBody{}, GroundTruthConfig{});
+  const common::GridLayers truth = Truth(ground, kNoObstacles);
   EXPECT_EQ(truth.Layer(kTraversableHeadings)(15, 15), 16.0f);
   EXPECT_NEAR(truth.Layer(layers::kTraversability)(15, 15), 15.0 / 40.0, 1e-3);
 }
 
 TEST(PhysicalTruthTest, ASlopePastTheLimitIsUntraversableAtEveryHeading) {
-  const common::GridLayers truth =
-      ComputePhysicalTruth(kMap, kWorld, Slope(42.0), kFlat, RestingBody{}, GroundTruthConfig{});
+  const common::GridLayers truth = Truth(Slope(42.0), kNoObstacles);
   EXPECT_EQ(truth.Layer(layers::kTraversability)(15, 15), 1.0f);
   EXPECT_EQ(truth.Layer(kTraversableHeadings)(15, 15), 0.0f);
   // 38 deg is within both limits
-  const common::GridLayers steep =
-      ComputePhysicalTruth(kMap, kWorld, Slope(38.0), kFlat, RestingBody{}, GroundTruthConfig{});
+  const common::GridLayers steep = Truth(Slope(38.0), kNoObstacles);
   EXPECT_EQ(steep.Layer(kTraversableHeadings)(15, 15), 16.0f);
 }
 
-// A drive along +x over a step at x = 0 (every pose 0.05 m apart over 1.2 m, centred on the edge).
-bool DriveCrossesStep(double height_m) {
-  const Eigen::MatrixXf ground =
-      Sampled([height_m](double x, double) { return x > 0.0 ? height_m : 0.0; });
-  for (double x = -0.6; x <= 0.6; x += 0.05) {
-    if (!At(ground, kFlat, x, 0.0).traversable) return false;
-  }
-  return true;
+// A step at x = 0, `height_m` higher for x > 0 (the height field's ramp from x = 0 to 0.1 m, as
+// MuJoCo's).
+Eigen::MatrixXf Step(double height_m) {
+  return Sampled([height_m](double x, double) { return x > 0.0 ? height_m : 0.0; });
 }
 
-TEST(PhysicalTruthTest, AStepPastTheMeasuredHeightIsNotCrossedOneBelowIs) {
-  EXPECT_TRUE(DriveCrossesStep(0.10));
-  EXPECT_TRUE(DriveCrossesStep(0.15));
-  EXPECT_FALSE(DriveCrossesStep(0.17));
-  EXPECT_FALSE(DriveCrossesStep(0.30));
-  // the front wheels reach the edge (the height field's ramp from x = 0 to 0.1 m, as MuJoCo's)
-  // with the robot still level: the largest step of the drive is nearly the whole height
-  const Eigen::MatrixXf ground = Sampled([](double x, double) { return x > 0.0 ? 0.2 : 0.0; });
-  double largest_step_m = 0.0;
-  for (double x = -0.6; x <= 0.6; x += 0.01) {
-    largest_step_m = std::max(largest_step_m, At(ground, kFlat, x, 0.0).step_m);
+// The poses of a drive across the step, up it (+x) or down it (-x), every 0.01 m over 1.2 m
+// centred on the edge.
+std::vector<PoseAssessment> DriveOverStep(double height_m, bool up) {
+  const Eigen::MatrixXf ground = Step(height_m);
+  std::vector<PoseAssessment> poses;
+  for (int i = 0; i <= 120; ++i) {
+    const double x = (up ? -0.6 : 0.6) + (up ? 0.01 : -0.01) * i;
+    poses.push_back(At(ground, kNoObstacles, x, up ? 0.0 : 180.0));
   }
-  EXPECT_GT(largest_step_m, 0.18);
-  EXPECT_LE(largest_step_m, 0.2);
+  return poses;
+}
+
+bool Crosses(const std::vector<PoseAssessment>& poses) {
+  return std::all_of(poses.begin(), poses.end(),
+                     [](const PoseAssessment& pose) { return pose.traversable; });
+}
+
+TEST(PhysicalTruthTest, StepsUpAndDownAgainstTheMeasuredLimits) {
+  // up: the robot climbs 0.16 m (its rear wheels), not 0.17 m
+  EXPECT_TRUE(Crosses(DriveOverStep(0.10, true)));
+  EXPECT_TRUE(Crosses(DriveOverStep(0.15, true)));
+  EXPECT_FALSE(Crosses(DriveOverStep(0.17, true)));
+  EXPECT_FALSE(Crosses(DriveOverStep(0.30, true)));
+  // down: a drop of 0.27 m tilts it 45 deg; resting across the edge of a 0.2 m drop its belly
+  // touches the corner (quasi-static: at speed the front wheels fly clear)
+  EXPECT_TRUE(Crosses(DriveOverStep(0.10, false)));
+  EXPECT_FALSE(Crosses(DriveOverStep(0.20, false)));
+  EXPECT_FALSE(Crosses(DriveOverStep(0.30, false)));
+  double deepest = 0.0;
+  for (const PoseAssessment& pose : DriveOverStep(0.30, false)) {
+    deepest = std::max(deepest, pose.drop_m);
+    EXPECT_EQ(pose.step_m + pose.front_step_m, 0.0);
+  }
+  EXPECT_NEAR(deepest, 0.30, 1e-6);
+  // up 0.2 m: the front wheels get onto it (0.2 of 0.22 m), the rear wheels do not (0.16 m)
+  double front = 0.0, rear = 0.0, drop = 0.0;
+  bool front_on_edge_is_traversable = false;
+  for (const PoseAssessment& pose : DriveOverStep(0.20, true)) {
+    front = std::max(front, pose.front_step_m);
+    rear = std::max(rear, pose.step_m);
+    drop = std::max(drop, pose.drop_m);
+    if (pose.front_step_m > 0.15 && pose.step_m == 0.0) {
+      front_on_edge_is_traversable = pose.traversable;
+    }
+  }
+  EXPECT_GT(front, 0.18);
+  EXPECT_LE(front, 0.2 + 1e-6);
+  EXPECT_GT(rear, 0.18);
+  EXPECT_LT(drop, 0.02);
+  EXPECT_TRUE(front_on_edge_is_traversable);
   // parallel to the edge, on it, the robot stands with one side up: 0.2 m over the track is within
-  // the roll limit, and no wheel straddles the edge
-  const PoseAssessment along = At(ground, kFlat, 0.0, 90.0);
+  // the roll limit, and no wheel climbs
+  const PoseAssessment along = At(Step(0.2), kNoObstacles, 0.0, 90.0);
   EXPECT_NEAR(std::abs(along.roll_rad), std::atan(0.2 / 0.49), 0.03);
+  EXPECT_LT(along.step_m + along.front_step_m, 1e-9);
 }
 
 TEST(PhysicalTruthTest, ABoxTallerThanTheBellyClearanceBetweenTheWheelsIsNotTraversable) {
   auto box = [](double height_m) {
     return Sampled([height_m](double x, double y) {
-      return std::abs(x) <= 0.1 && std::abs(y) <= 0.1 ? height_m : 0.0;
+      return std::abs(x) <= 0.1 && std::abs(y) <= 0.1 ? height_m : std::nan("");
     });
   };
-  const common::GridLayers tall =
-      ComputePhysicalTruth(kMap, kWorld, kFlat, box(0.15), RestingBody{}, GroundTruthConfig{});
+  const common::GridLayers tall = Truth(kFlat, box(0.15));
   EXPECT_EQ(tall.Layer(kTraversableHeadings)(15, 15), 0.0f);
   EXPECT_EQ(tall.Layer(layers::kTraversability)(15, 15), 1.0f);
   // a low one passes under the belly (0.08 of 0.115 m)
@@ -131,20 +168,19 @@ TEST(PhysicalTruthTest, ABoxTallerThanTheBellyClearanceBetweenTheWheelsIsNotTrav
   EXPECT_NEAR(low.cost, 0.08 / 0.115, 1e-5);
 }
 
-TEST(PhysicalTruthTest, HeadingsHalfATurnApartAgree) {
+TEST(PhysicalTruthTest, EachHeadingsLayerIsItsPose) {
   const Eigen::MatrixXf ground = Sampled([](double x, double y) {
     return 0.1 * std::sin(3.0 * x) * std::cos(2.0 * y) + (x > 1.0 ? 0.12 : 0.0);
   });
-  const common::GridLayers truth =
-      ComputePhysicalTruth(kMap, kWorld, ground, kFlat, RestingBody{}, GroundTruthConfig{});
-  for (int k = 0; k < 8; ++k) {
+  const common::GridLayers truth = Truth(ground, kNoObstacles);
+  const RestingSurface surface{kWorld, ground, kWorld, kNoObstacles};
+  for (int k = 0; k < 16; ++k) {
     for (const auto& [mx, my] : {std::pair{10, 12}, std::pair{18, 15}, std::pair{20, 9}}) {
-      const float computed = truth.Layer(HeadingLayer(k))(mx, my);
-      const RestingSurface surface{kWorld, ground, kFlat};
-      const PoseAssessment back =
-          AssessPose(surface, kMap.CellCenter(mx, my), M_PI + 2.0 * M_PI * k / 16.0, RestingBody{},
+      const PoseAssessment pose =
+          AssessPose(surface, kMap.CellCenter(mx, my), 2.0 * M_PI * k / 16.0, RestingBody{},
                      GroundTruthConfig{});
-      EXPECT_NEAR(computed, back.cost, 1e-5) << "heading " << k << " cell " << mx << "," << my;
+      EXPECT_FLOAT_EQ(truth.Layer(HeadingLayer(k))(mx, my), static_cast<float>(pose.cost))
+          << "heading " << k << " cell " << mx << "," << my;
     }
   }
 }

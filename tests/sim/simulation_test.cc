@@ -16,6 +16,7 @@
 
 #include "common/input_error.h"
 #include "controller/skid_steer.h"
+#include "mapping/physical_truth.h"
 
 namespace trav::sim {
 namespace {
@@ -292,6 +293,37 @@ TEST(RobotModelTest, TheFootprintHoldsTheWheelsAndIsThePlannersDefault) {
   // the planners' default is this robot's footprint, so that they cannot drift apart
   EXPECT_NEAR(common::Footprint{}.half_length_m, footprint.half_length_m, 2e-3);
   EXPECT_NEAR(common::Footprint{}.half_width_m, footprint.half_width_m, 2e-3);
+}
+
+TEST(RobotModelTest, ThePhysicalTruthsRestingBodyIsTheModelsWheelsAndChassis) {
+  char error[1000] = "";
+  mjModel* model = mj_loadXML(kRobotModel.c_str(), nullptr, error, sizeof(error));
+  ASSERT_NE(model, nullptr) << error;
+  mjData* data = mj_makeData(model);
+  mj_forward(model, data);
+  const mapping::RestingBody body;
+  const int base = mj_name2id(model, mjOBJ_BODY, "base");
+  const int wheel = mj_name2id(model, mjOBJ_GEOM, "front_left_wheel");
+  const int chassis = mj_name2id(model, mjOBJ_GEOM, "chassis");
+  ASSERT_GE(base, 0);
+  ASSERT_GE(wheel, 0);
+  ASSERT_GE(chassis, 0);
+  // the wheel centre in the base frame (the base is unrotated in the model's pose)
+  for (int axis = 0; axis < 2; ++axis) {
+    const double offset = data->geom_xpos[3 * wheel + axis] - data->xpos[3 * base + axis];
+    EXPECT_NEAR(std::abs(offset), axis == 0 ? body.wheel_x_m : body.wheel_y_m, 1e-9);
+  }
+  EXPECT_DOUBLE_EQ(model->geom_size[3 * wheel], body.wheel_radius_m);
+  EXPECT_DOUBLE_EQ(model->geom_size[3 * wheel + 1], body.wheel_half_width_m);
+  EXPECT_DOUBLE_EQ(model->geom_size[3 * chassis], body.chassis_half_length_m);
+  EXPECT_DOUBLE_EQ(model->geom_size[3 * chassis + 1], body.chassis_half_width_m);
+  // the belly's height above the wheels' lowest points: the truth's clearance
+  const double belly_above_base =
+      model->geom_pos[3 * chassis + 2] - model->geom_size[3 * chassis + 2];
+  EXPECT_NEAR(belly_above_base + body.wheel_radius_m, mapping::GroundTruthConfig{}.clearance_m,
+              1e-9);
+  mj_deleteData(data);
+  mj_deleteModel(model);
 }
 
 TEST(SimulationContactTest, ARestingRobotTouchesTheGroundWithItsFourWheelsOnly) {
