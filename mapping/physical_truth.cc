@@ -46,6 +46,7 @@ struct BodySamples {
   std::array<std::vector<BodySample>, 4> wheels;
   std::vector<BodySample> belly;
   std::size_t across{0};
+  double reach_m{0.0};  // the farthest sample from B's origin
 
   explicit BodySamples(const RestingBody& body) {
     const double r = body.wheel_radius_m;
@@ -65,6 +66,9 @@ struct BodySamples {
         belly.push_back({Eigen::Vector2d(x, y), 0.0});
       }
     }
+    for (const auto* part : {&wheels[0], &wheels[1], &wheels[2], &wheels[3], &belly}) {
+      for (const BodySample& s : *part) reach_m = std::max(reach_m, s.p_B.norm());
+    }
   }
 };
 
@@ -73,15 +77,14 @@ PoseAssessment Assess(const RestingSurface& surface, const Eigen::Vector2d& p_W,
                       const GroundTruthConfig& config) {
   const Eigen::Matrix2d R_WB = Eigen::Rotation2Dd(yaw).toRotationMatrix();
   PoseAssessment pose;
+  if (!surface.Contains(p_W, samples.reach_m)) return pose;
   // the surface under every sample, and where each wheel's rim first touches it
   std::array<std::vector<double>, 4> wheel_heights;
   std::array<double, 4> contact{};
   for (std::size_t w = 0; w < 4; ++w) {
     double axle = -std::numeric_limits<double>::infinity();
     for (const BodySample& s : samples.wheels[w]) {
-      const Eigen::Vector2d q_W = p_W + R_WB * s.p_B;
-      if (!surface.Contains(q_W)) return pose;
-      const double z = surface.HeightAt(q_W);
+      const double z = surface.HeightAt(p_W + R_WB * s.p_B);
       wheel_heights[w].push_back(z);
       axle = std::max(axle, z + s.rim_m);
     }
@@ -118,9 +121,7 @@ PoseAssessment Assess(const RestingSurface& surface, const Eigen::Vector2d& p_W,
   }
   pose.belly_m = -std::numeric_limits<double>::infinity();
   for (const BodySample& s : samples.belly) {
-    const Eigen::Vector2d q_W = p_W + R_WB * s.p_B;
-    if (!surface.Contains(q_W)) return pose;
-    pose.belly_m = std::max(pose.belly_m, residual(s.p_B, surface.HeightAt(q_W)));
+    pose.belly_m = std::max(pose.belly_m, residual(s.p_B, surface.HeightAt(p_W + R_WB * s.p_B)));
   }
   pose.pitch_rad = std::atan(gx);
   pose.roll_rad = std::atan(gy);
@@ -146,17 +147,46 @@ PoseAssessment Assess(const RestingSurface& surface, const Eigen::Vector2d& p_W,
 
 }  // namespace
 
+RestingSurface::RestingSurface(const common::GridGeometry& ground_geometry,
+                               const Eigen::MatrixXf& ground_m,
+                               const common::GridGeometry& obstacle_geometry,
+                               const Eigen::MatrixXf& obstacle_top_m)
+    : ground_geometry_(ground_geometry),
+      ground_m_(ground_m),
+      obstacle_geometry_(obstacle_geometry),
+      obstacle_top_m_(obstacle_top_m),
+      ground_cells_per_m_(1.0 / ground_geometry.resolution_m),
+      obstacle_cells_per_m_(1.0 / obstacle_geometry.resolution_m) {}
+
+// The truth looks the surface up some 300 times per pose, 16 poses per cell: common::
+// InterpolateBilinear and GridGeometry::CellIndex (a division, std::lround and an optional each)
+// took 70 % of the time, so the lookups are written out here with the inverse resolutions.
 double RestingSurface::HeightAt(const Eigen::Vector2d& p_W) const {
-  const double ground = common::InterpolateBilinear(ground_geometry, ground_m, p_W);
-  const std::optional<Eigen::Vector2i> cell = obstacle_geometry.CellIndex(p_W);
+  const common::GridGeometry& g = ground_geometry_;
+  const double fx = std::clamp((p_W.x() - g.origin_W.x()) * ground_cells_per_m_, 0.0,
+                               static_cast<double>(g.num_x - 1));
+  const double fy = std::clamp((p_W.y() - g.origin_W.y()) * ground_cells_per_m_, 0.0,
+                               static_cast<double>(g.num_y - 1));
+  const int x0 = std::min(static_cast<int>(fx), g.num_x - 2);
+  const int y0 = std::min(static_cast<int>(fy), g.num_y - 2);
+  const double tx = fx - x0, ty = fy - y0;
+  const double bottom = (1 - tx) * ground_m_(x0, y0) + tx * ground_m_(x0 + 1, y0);
+  const double top = (1 - tx) * ground_m_(x0, y0 + 1) + tx * ground_m_(x0 + 1, y0 + 1);
+  const double ground = (1 - ty) * bottom + ty * top;
+  const common::GridGeometry& o = obstacle_geometry_;
+  // the nearest cell centre (p is never far below the origin: callers check Contains)
+  const int ix = static_cast<int>((p_W.x() - o.origin_W.x()) * obstacle_cells_per_m_ + 0.5);
+  const int iy = static_cast<int>((p_W.y() - o.origin_W.y()) * obstacle_cells_per_m_ + 0.5);
+  if (!o.Contains(ix, iy)) return ground;
   // fmax: a NaN top (no obstacle) gives way to the ground
-  return cell ? std::fmax(ground, obstacle_top_m(cell->x(), cell->y())) : ground;
+  return std::fmax(ground, obstacle_top_m_(ix, iy));
 }
 
-bool RestingSurface::Contains(const Eigen::Vector2d& p_W) const {
-  const Eigen::Vector2d low = ground_geometry.origin_W;
-  const Eigen::Vector2d high = ground_geometry.origin_W + ground_geometry.Extent();
-  return (p_W.array() >= low.array()).all() && (p_W.array() <= high.array()).all();
+bool RestingSurface::Contains(const Eigen::Vector2d& p_W, double radius_m) const {
+  const Eigen::Vector2d low = ground_geometry_.origin_W;
+  const Eigen::Vector2d high = ground_geometry_.origin_W + ground_geometry_.Extent();
+  return (p_W.array() - radius_m >= low.array()).all() &&
+         (p_W.array() + radius_m <= high.array()).all();
 }
 
 PoseAssessment AssessPose(const RestingSurface& surface, const Eigen::Vector2d& p_W, double yaw,

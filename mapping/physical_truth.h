@@ -34,17 +34,26 @@ constexpr double kObstacleOutlineResolution_m = 0.025;
 /// samples, as MuJoCo's height field), and where an obstacle stands the height of its top on
 /// `obstacle_geometry` (constant over each cell, NaN where there is none: a grid finer than the
 /// ground's keeps the obstacles' outlines, sim::ObstacleBandRaster).
-struct RestingSurface {
-  const common::GridGeometry& ground_geometry;
-  const Eigen::MatrixXf& ground_m;
-  const common::GridGeometry& obstacle_geometry;
-  const Eigen::MatrixXf& obstacle_top_m;
+class RestingSurface {
+ public:
+  /// Keeps references: the grids must outlive the surface.
+  RestingSurface(const common::GridGeometry& ground_geometry, const Eigen::MatrixXf& ground_m,
+                 const common::GridGeometry& obstacle_geometry,
+                 const Eigen::MatrixXf& obstacle_top_m);
 
-  /// Height of the surface at p_W [m]: the higher of the ground and an obstacle's top; the
-  /// ground grid's border value outside it.
+  /// Height of the surface at p_W [m]: the higher of the ground (bilinear, clamped to the grid's
+  /// border) and an obstacle's top at the obstacle cell holding p_W.
   double HeightAt(const Eigen::Vector2d& p_W) const;
-  /// True if p_W lies within the ground grid's extent.
-  bool Contains(const Eigen::Vector2d& p_W) const;
+  /// True if the disc of `radius_m` about p_W lies within the ground grid's extent.
+  bool Contains(const Eigen::Vector2d& p_W, double radius_m) const;
+
+ private:
+  const common::GridGeometry& ground_geometry_;
+  const Eigen::MatrixXf& ground_m_;
+  const common::GridGeometry& obstacle_geometry_;
+  const Eigen::MatrixXf& obstacle_top_m_;
+  double ground_cells_per_m_;
+  double obstacle_cells_per_m_;
 };
 
 /// The limit a pose comes closest to (or violates most).
@@ -100,8 +109,8 @@ std::string HeadingLayer(int k);
 /// cell and each of `config.headings` headings, AssessPose on `surface` at the cell's centre.
 /// Layers: `traversability` (the cost at the best heading; 1: no heading is traversable), one
 /// HeadingLayer per heading, `elevation` (the surface at the centre) and `traversable_headings`
-/// (how many headings are traversable). Cells where the robot would stand partly off the world are
-/// NaN. No mapper's terms or weights enter it.
+/// (how many headings are traversable). Cells where the robot at some heading would reach off the
+/// world are NaN. No mapper's terms or weights enter it.
 common::GridLayers ComputePhysicalTruth(const common::GridGeometry& map_geometry,
                                         const RestingSurface& surface, const RestingBody& body,
                                         const GroundTruthConfig& config);

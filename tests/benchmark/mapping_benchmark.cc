@@ -14,7 +14,9 @@
 
 #include "mapping/baselines.h"
 #include "mapping/fsgp_bgk_mapper.h"
+#include "mapping/ground_truth.h"
 #include "mapping/lidar_odometry.h"
+#include "mapping/physical_truth.h"
 #include "sim/lidar/lidar_emulator.h"
 #include "sim/terrain_geometry.h"
 
@@ -189,3 +191,51 @@ BENCHMARK(BM_LidarOdometryScan)->Unit(benchmark::kMillisecond);
 }  // namespace
 
 BENCHMARK_MAIN();
+
+namespace {
+
+// The two ground truths of a 50 x 50 m forest on the 0.2 m map (docs/ground-truth.md), each with
+// the obstacle grid it reads: the geometric one (the score formula over 0.3 m neighbourhoods) and
+// the physical one (the robot resting at 16 headings on a 2.5 cm obstacle outline). CPU time.
+const trav::sim::TerrainWorld& TruthWorld() {
+  static const trav::sim::TerrainWorld world = [] {
+    trav::sim::TerrainConfig config;
+    config.type = trav::sim::TerrainType::kForest;
+    config.seed = 7;
+    return trav::sim::GenerateTerrain(config);
+  }();
+  return world;
+}
+
+trav::common::GridGeometry TruthMap(const trav::sim::TerrainWorld& world) {
+  return trav::common::GridGeometry::Centered(world.geometry.Center(), world.geometry.Extent(),
+                                              0.2);
+}
+
+void BM_GeometricTruth(benchmark::State& state) {
+  const trav::sim::TerrainWorld& world = TruthWorld();
+  for (auto _ : state) {
+    const trav::common::GridLayers truth = trav::mapping::ComputeGroundTruth(
+        TruthMap(world), world.geometry, world.height_m, trav::sim::ObstacleHeightGrid(world),
+        trav::mapping::FsgpConfig{}, trav::mapping::GroundTruthConfig{});
+    benchmark::DoNotOptimize(truth.geometry().num_x);
+  }
+}
+BENCHMARK(BM_GeometricTruth)->Unit(benchmark::kMillisecond);
+
+void BM_PhysicalTruth(benchmark::State& state) {
+  const trav::sim::TerrainWorld& world = TruthWorld();
+  for (auto _ : state) {
+    const trav::sim::ObstacleRaster obstacles = trav::sim::ObstacleBandRaster(
+        world, trav::mapping::RestingBody{}.height_m, trav::mapping::kObstacleOutlineResolution_m);
+    const trav::common::GridLayers truth = trav::mapping::ComputePhysicalTruth(
+        TruthMap(world),
+        trav::mapping::RestingSurface{world.geometry, world.height_m, obstacles.geometry,
+                                      obstacles.top_m},
+        trav::mapping::RestingBody{}, trav::mapping::GroundTruthConfig{});
+    benchmark::DoNotOptimize(truth.geometry().num_x);
+  }
+}
+BENCHMARK(BM_PhysicalTruth)->Unit(benchmark::kMillisecond);
+
+}  // namespace

@@ -56,10 +56,11 @@ TEST(PhysicalTruthTest, FlatGroundIsFreeAtEveryHeadingAndTheRimIsUnknown) {
   EXPECT_EQ(cost(15, 15), 0.0f);
   EXPECT_EQ(truth.Layer(kTraversableHeadings)(15, 15), 16.0f);
   EXPECT_EQ(truth.Layer(HeadingLayer(5))(15, 15), 0.0f);
-  // a robot centred on the border cell would stand half off the world
+  // a robot centred on the border cell would stand half off the world; so would one 0.4 m in
+  // turned across the corner (its wheels' outer corners are 0.42 m from its centre)
   EXPECT_TRUE(std::isnan(cost(0, 15)));
-  EXPECT_TRUE(std::isnan(cost(1, 15)));  // 0.2 m in: the wheels (0.31 m) still reach out
-  EXPECT_FALSE(std::isnan(cost(2, 15)));
+  EXPECT_TRUE(std::isnan(cost(2, 15)));
+  EXPECT_FALSE(std::isnan(cost(3, 15)));
 }
 
 TEST(PhysicalTruthTest, AFifteenDegreeSlopeIsTraversableAlongAndAcross) {
