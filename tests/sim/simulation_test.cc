@@ -164,6 +164,59 @@ TEST(SimulationTest, ClimbsSixteenCentimetresAtOneMetrePerSecondButNotSeventeen)
   EXPECT_LT(DriveAtStep(0.17).X_WB.translation().x(), 0.5);
 }
 
+// Drives at 1 m/s onto a step at x = 0 from 1.5 m before it (up) or off it from 1.5 m behind its
+// edge (down) for 6 s: the largest tilt from upright [deg], and how far past the edge the front and
+// rear axles got [m].
+struct StepPass {
+  double max_tilt_deg{0.0};
+  double front_past_m{-1e9};
+  double rear_past_m{0.0};
+};
+StepPass PassStep(double step_height_m, bool up) {
+  TerrainConfig config;
+  config.type = TerrainType::kStep;
+  config.size_m = {20, 10};
+  config.step.height_m = step_height_m;
+  config.step.x_m = 0.0;
+  common::Pose2 start;
+  start.position = Eigen::Vector2d(up ? -1.5 : 1.5, 0.0);
+  start.yaw = up ? 0.0 : M_PI;
+  Simulation sim(GenerateTerrain(config), start, Options());
+  Drive(&sim, {1.0, 0.0});
+  const double sign = up ? 1.0 : -1.0;
+  StepPass pass;
+  for (int i = 0; i < static_cast<int>(6.0 / sim.timestep()); ++i) {
+    sim.Step();
+    const Eigen::Isometry3d X_WB = sim.State().X_WB;
+    pass.max_tilt_deg = std::max(
+        pass.max_tilt_deg, std::acos(std::clamp(X_WB.linear()(2, 2), -1.0, 1.0)) * 180 / M_PI);
+    pass.front_past_m =
+        std::max(pass.front_past_m, sign * (X_WB * Eigen::Vector3d(0.2255, 0, 0)).x());
+    pass.rear_past_m = sign * (X_WB * Eigen::Vector3d(-0.2255, 0, 0)).x();
+  }
+  return pass;
+}
+
+// The physical ground truth's step limits (docs/ground-truth.md): pushed by the rear wheels the
+// front wheels get onto 0.22 m (the rear ones stay below) and the robot rears over at 0.25 m;
+// driving off a step tilts it less than 45 deg from 0.26 m, 45 deg from 0.27 m (the limit) and
+// more from 0.28 m.
+TEST(SimulationTest, TheFrontWheelsGetOntoTwentyTwoCentimetresAndTheRobotRearsOverAtTwentyFive) {
+  const StepPass onto = PassStep(0.22, true);
+  EXPECT_GT(onto.front_past_m, 0.1);
+  EXPECT_LT(onto.rear_past_m, 0.0);
+  EXPECT_LT(onto.max_tilt_deg, 45.0);
+  EXPECT_GT(PassStep(0.25, true).max_tilt_deg, 90.0);
+}
+
+TEST(SimulationTest, DrivingOffTwentySevenCentimetresTiltsItAboutFortyFiveDegrees) {
+  const StepPass low = PassStep(0.26, false);
+  EXPECT_GT(low.rear_past_m, 1.0);
+  EXPECT_LT(low.max_tilt_deg, 45.0);
+  EXPECT_NEAR(PassStep(0.27, false).max_tilt_deg, 45.0, 0.5);
+  EXPECT_GT(PassStep(0.28, false).max_tilt_deg, 45.0);
+}
+
 TEST(SimulationTest, RearsOnATenCentimetreStepAtFullSpeed) {
   double slow_pitch = 0.0, fast_pitch = 0.0;
   EXPECT_GT(DriveAtStep(0.10, 1.0, &slow_pitch).X_WB.translation().x(), 3.0);
