@@ -186,11 +186,32 @@ TEST_F(EvaluationTest, RanksTheHazardsWithTheOracleAtOneAndAConstantAtOneHalf) {
     EXPECT_GE(d.high, d.mean) << d.metric;
   }
   const std::string md = ReadFile(root_ / "eval" / "results.md");
+  EXPECT_THAT(md, HasSubstr("Ground truth: **physical**"));
+  EXPECT_EQ(ReadJson(root_ / "eval" / "options.json").at("truth"), "physical");
   EXPECT_THAT(md, HasSubstr("## Finding hazards"));
   EXPECT_THAT(md, HasSubstr("## Paired differences"));
   const nlohmann::json scene = ReadJson(root_ / "eval" / "scenes" / "flat-5.json");
   EXPECT_EQ(scene.at("route").at("length_m"), 6.0);
   EXPECT_GE(scene.at("route").at("draws"), 1);
+}
+
+// The geometric truth on request: its own threshold (the planner's lethal cost) makes the crate's
+// cells the hazards, so the oracle still ranks them perfectly; evaluations written before the
+// physical truth existed read back as geometric.
+TEST_F(EvaluationTest, TheGeometricTruthIsAFlagAwayAndOlderFoldersReadAsIt) {
+  const CommandResult run = RunTrav(
+      "eval --out " + (root_ / "eval").string() +
+      " --terrains flat --scenes 1 --seed 5 --frames 6 --jobs 1 --route-length 6 --no-ablation"
+      " --methods fsgp-bgk --truth geometric --set 'terrain.boxes=[{name: crate, centre: [0, 0],"
+      " half_extents: [0.4, 0.4], height: 1}]'");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(ReadFile(root_ / "eval" / "results.md"), HasSubstr("Ground truth: **geometric**"));
+  const nlohmann::json results = ReadJson(root_ / "eval" / "results.json");
+  EXPECT_EQ(Record(results, "ground-truth").auroc, 1.0);
+  nlohmann::json options = ReadJson(root_ / "eval" / "options.json");
+  EXPECT_EQ(options.at("truth"), "geometric");
+  options.erase("truth");
+  EXPECT_EQ(EvalOptionsFromJson(options, "options.json").truth, "geometric");
 }
 
 // The ablations of the paper's contributions: the fixed-gain filter fuses with FSGP-BGK's own mean
@@ -366,6 +387,7 @@ TEST_F(EvaluationTest, BadArgumentsExitWithTwoAndWriteNothing) {
       {"--jobs 0", "--jobs"},
       {"--inducing 5", "--inducing"},
       {"--frames x", "--frames"},
+      {"--truth magic", "--truth"},
   };
   for (const auto& [arguments, named] : cases) {
     const CommandResult run = RunTrav("eval" + out + " " + arguments);
