@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "mapping/traversability_mapper.h"
+#include "tests/mapping/sampled_grid.h"
 
 namespace trav::mapping {
 namespace {
@@ -19,14 +20,7 @@ const common::GridGeometry kMap =
     common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(6, 6), 0.2);
 
 Eigen::MatrixXf Sampled(const std::function<double(double, double)>& height) {
-  Eigen::MatrixXf h(kWorld.num_x, kWorld.num_y);
-  for (int ix = 0; ix < kWorld.num_x; ++ix) {
-    for (int iy = 0; iy < kWorld.num_y; ++iy) {
-      const Eigen::Vector2d p = kWorld.CellCenter(ix, iy);
-      h(ix, iy) = static_cast<float>(height(p.x(), p.y()));
-    }
-  }
-  return h;
+  return test_util::Sampled(kWorld, height);
 }
 
 const Eigen::MatrixXf kFlat = Sampled([](double, double) { return 0.0; });

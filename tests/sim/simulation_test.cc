@@ -123,18 +123,23 @@ TEST(SimulationTest, ClimbsATwentyDegreeSlope) {
   EXPECT_NEAR(common::ToRollPitchYaw(dut.State().X_WB.linear()).pitch, -20.0 * M_PI / 180.0, 0.05);
 }
 
-// Drives at `speed_m_s` (1 m/s) toward a step at x = 0 from x = -3 for 8 s and returns the final
-// state; the largest pitch on the way (before x = 6) in `max_pitch_rad` if given.
-common::RobotState DriveAtStep(double step_height_m, double speed_m_s = 1.0,
-                               double* max_pitch_rad = nullptr) {
+// A 20 x 10 m world with a step of `step_height_m` at x = 0 (higher for x > 0).
+TerrainWorld StepWorld(double step_height_m) {
   TerrainConfig config;
   config.type = TerrainType::kStep;
   config.size_m = {20, 10};
   config.step.height_m = step_height_m;
   config.step.x_m = 0.0;
+  return GenerateTerrain(config);
+}
+
+// Drives at `speed_m_s` (1 m/s) toward a step at x = 0 from x = -3 for 8 s and returns the final
+// state; the largest pitch on the way (before x = 6) in `max_pitch_rad` if given.
+common::RobotState DriveAtStep(double step_height_m, double speed_m_s = 1.0,
+                               double* max_pitch_rad = nullptr) {
   common::Pose2 start;
   start.position = Eigen::Vector2d(-3.0, 0.0);
-  Simulation sim(GenerateTerrain(config), start, Options());
+  Simulation sim(StepWorld(step_height_m), start, Options());
   Drive(&sim, {speed_m_s, 0.0});
   double pitch = 0.0;
   for (int i = 0; i < static_cast<int>(8.0 / sim.timestep()); ++i) {
@@ -173,15 +178,10 @@ struct StepPass {
   double rear_past_m{0.0};
 };
 StepPass PassStep(double step_height_m, bool up) {
-  TerrainConfig config;
-  config.type = TerrainType::kStep;
-  config.size_m = {20, 10};
-  config.step.height_m = step_height_m;
-  config.step.x_m = 0.0;
   common::Pose2 start;
   start.position = Eigen::Vector2d(up ? -1.5 : 1.5, 0.0);
   start.yaw = up ? 0.0 : M_PI;
-  Simulation sim(GenerateTerrain(config), start, Options());
+  Simulation sim(StepWorld(step_height_m), start, Options());
   Drive(&sim, {1.0, 0.0});
   const double sign = up ? 1.0 : -1.0;
   StepPass pass;
