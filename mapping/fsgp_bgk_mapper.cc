@@ -64,7 +64,8 @@ void FsgpBgkMapper::StandardiseInputs(const TrainingSet& training) {
 }
 
 double BgkUpdate(double m_pre, double variance_pre, double t_s, double decay_rate, double epsilon,
-                 double fixed_gain, float* m, float* variance, float* t0_s) {
+                 double fixed_gain, float* m, float* variance, float* t0_s,
+                 double variance_reference) {
   if (std::isnan(*m)) {
     *m = static_cast<float>(m_pre);
     *variance = static_cast<float>(variance_pre);
@@ -72,7 +73,12 @@ double BgkUpdate(double m_pre, double variance_pre, double t_s, double decay_rat
     return std::numeric_limits<double>::quiet_NaN();
   }
   const double w_t = std::exp(-decay_rate * (t_s - *t0_s));
-  const double w_sigma = fixed_gain > 0.0 ? fixed_gain : 1.0 / (*variance + epsilon);
+  double w_sigma = 1.0 / (*variance + epsilon);
+  if (fixed_gain > 0.0) {
+    w_sigma = fixed_gain;
+  } else if (variance_reference > 0.0) {
+    w_sigma = 1.0 / (epsilon * (*variance / variance_reference + 1.0));
+  }
   *m = static_cast<float>((w_t * w_sigma * *m + m_pre) / (w_t * w_sigma + 1.0));
   *variance = static_cast<float>((w_t * *variance + variance_pre) / (w_t + 1.0));
   *t0_s = static_cast<float>(t_s);
@@ -297,6 +303,9 @@ double FsgpBgkMapper::Fuse(double t_s) {
   Eigen::MatrixXf& fused = fused_.Layer(kFused);
   Eigen::MatrixXf& fused_variance = map_.Layer(layers::kTraversabilityVariance);
   Eigen::MatrixXf& last = map_.Layer(layers::kLastObserved);
+  // the frame's mean predicted variance: the reference of the normalised uncertainty weight
+  const double variance_reference =
+      config_.normalise_variance && variances.size() > 0 ? variances.mean() : 0.0;
   for (std::size_t k = 0; k < prediction.cells.size(); ++k) {
     const auto s = static_cast<Eigen::Index>(k);
     const Eigen::Vector2i& cell = prediction.cells[k];
@@ -314,7 +323,7 @@ double FsgpBgkMapper::Fuse(double t_s) {
     if (config_.fuse) {
       const double w_sigma =
           BgkUpdate(score, variance, t_s, config_.decay_rate, config_.variance_epsilon,
-                    config_.fixed_gain, &m_cell, &v_cell, &t_cell);
+                    config_.fixed_gain, &m_cell, &v_cell, &t_cell, variance_reference);
       if (!std::isnan(w_sigma)) {
         weight_sum += w_sigma;
         ++weights;

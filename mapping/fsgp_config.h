@@ -121,6 +121,11 @@ struct FsgpConfig {
   /// > 0: a fixed-gain filter, w_sigma = fixed_gain whatever the variance (the ablation of BGK's
   /// uncertainty weighting); 0: BGK.
   double fixed_gain{0.0};
+  /// true: the uncertainty weight relative to the frame's mean predicted variance (BgkUpdate's
+  /// variance_reference), so that it varies with the variance around 1 / (2 eps) however small the
+  /// GP's variances are (with the plain weight they are far below eps and every cell weighs 1 /
+  /// eps alike, docs/evaluation.md).
+  bool normalise_variance{false};
   double smoothing_sigma_m{0.2};  ///< Gaussian smoothing [m] (0: none)
   double smoothing_radius_m{0.4};
   int accumulate_frames{1};  ///< FSGP-Accumulation: frames of clouds fed together (1: off)
@@ -161,6 +166,7 @@ struct FsgpConfig {
     a->Field("decay_rate", &decay_rate, {0, 100});
     a->Field("variance_epsilon", &variance_epsilon, {1e-09, 10});
     a->Field("fixed_gain", &fixed_gain, {0, 1e6});
+    a->Field("normalise_variance", &normalise_variance);
     a->Field("smoothing_sigma", &smoothing_sigma_m, {0, 5});
     a->Field("smoothing_radius", &smoothing_radius_m, {0, 10});
     a->Field("accumulate_frames", &accumulate_frames, {1, 100});

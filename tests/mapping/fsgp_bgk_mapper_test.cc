@@ -446,6 +446,31 @@ TEST(BgkUpdateTest, AFixedGainWeighsEveryCellAlike) {
   EXPECT_NEAR(BgkUpdate(0.2, 0.01, 5.0, 0.01, 0.1, 0.0, &bgk_m, &bgk_v, &bgk_t), 1.0 / 0.6, 1e-9);
 }
 
+// The normalised weight takes the variance relative to a reference: GP variances far below eps
+// (where the plain weight is 1 / eps for every cell) still weigh a certain cell above an uncertain
+// one, 1 / (2 eps) at the reference.
+TEST(BgkUpdateTest, TheNormalisedWeightActsOnSmallVariances) {
+  constexpr double kEps = 0.1, kReference = 0.002;
+  float at_m = 0.8f, at_v = 0.002f, at_t = 5.0f;
+  float certain_m = 0.8f, certain_v = 0.0005f, certain_t = 5.0f;
+  float vague_m = 0.8f, vague_v = 0.006f, vague_t = 5.0f;
+  EXPECT_NEAR(BgkUpdate(0.2, 0.002, 5.0, 0.01, kEps, 0.0, &at_m, &at_v, &at_t, kReference),
+              1.0 / (2.0 * kEps), 1e-6);
+  EXPECT_NEAR(
+      BgkUpdate(0.2, 0.002, 5.0, 0.01, kEps, 0.0, &certain_m, &certain_v, &certain_t, kReference),
+      1.0 / (kEps * (0.0005 / kReference + 1.0)), 1e-5);
+  EXPECT_NEAR(BgkUpdate(0.2, 0.002, 5.0, 0.01, kEps, 0.0, &vague_m, &vague_v, &vague_t, kReference),
+              1.0 / (kEps * (0.006 / kReference + 1.0)), 1e-5);
+  // the certain cell keeps more of its 0.8, the uncertain one moves more toward the new 0.2
+  EXPECT_GT(certain_m, at_m);
+  EXPECT_LT(vague_m, at_m);
+  // the plain weight barely tells them apart: 1 / 0.1005 against 1 / 0.106
+  float plain_certain_m = 0.8f, plain_certain_v = 0.0005f, plain_certain_t = 5.0f;
+  EXPECT_NEAR(BgkUpdate(0.2, 0.002, 5.0, 0.01, kEps, 0.0, &plain_certain_m, &plain_certain_v,
+                        &plain_certain_t),
+              1.0 / 0.1005, 1e-3);
+}
+
 // The mapper reports the weight its fusion used: the uncertainty weight 1 / (sigma^2 + eps) by
 // default, exactly the fixed gain when one is set; no weight on the first frame (nothing to fuse).
 TEST(FsgpBgkMapperTest, ReportsTheFusionWeightAndTakesAFixedGain) {
