@@ -210,6 +210,24 @@ TEST_F(EvaluationTest, TheGeometricTruthIsAFlagAwayAndOlderFoldersReadAsIt) {
   EXPECT_EQ(Record(results, "ground-truth").auroc, 1.0);
   nlohmann::json options = ReadJson(root_ / "eval" / "options.json");
   EXPECT_EQ(options.at("truth"), "geometric");
+  // the flag changes what is scored: on a forest the two truths call different cells untraversable
+  // (the physical one only where no heading of the robot fits, the geometric one every cell with a
+  // trunk or a steep patch), on the same frames
+  auto forest_hazards = [&](const std::string& folder, const std::string& truth) {
+    const CommandResult forest =
+        RunTrav("eval --out " + (root_ / folder).string() +
+                " --terrains forest --scenes 1 --frames 10 --jobs 1 --no-ablation --methods "
+                "fsgp-bgk" +
+                truth);
+    EXPECT_EQ(forest.exit_code, 0) << forest.output;
+    return ReadJson(root_ / folder / "scenes" / "forest-1.json")
+        .at("methods")
+        .at("fsgp-bgk")
+        .at("hazard_cells")
+        .get<int>();
+  };
+  EXPECT_NE(forest_hazards("forest_geometric", " --truth geometric"),
+            forest_hazards("forest_physical", ""));
   options.erase("truth");
   EXPECT_EQ(EvalOptionsFromJson(options, "options.json").truth, "geometric");
 }
