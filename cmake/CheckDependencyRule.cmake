@@ -17,11 +17,11 @@ set(rules
   "sim/lidar|common sim/lidar|embree3"
   "sim/actors|common sim|"
   "renders|common sim renders|mujoco GL EGL png.h"
-  "scenarios/run|common controller mapping planner sim renders scenarios/run|pcl"
+  "scenarios/run|common controller mapping planner sim renders scenarios/run|pcl mcap"
   "scenarios/experiments|common controller mapping planner scenarios/run scenarios/experiments|nlopt.hpp"
   "scenarios/cli|common scenarios/run scenarios/experiments scenarios/cli|CLI")
 # System headers owned by one folder: nobody else includes them.
-set(owned_system_headers mujoco embree3 ompl ceres pcl nlopt.hpp GL EGL png.h CLI lbfgs.h)
+set(owned_system_headers mujoco embree3 ompl ceres pcl nlopt.hpp GL EGL png.h CLI lbfgs.h mcap)
 
 set(violations "")
 foreach(rule IN LISTS rules)

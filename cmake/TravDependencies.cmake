@@ -12,3 +12,5 @@ find_path(TRAV_OSMESA_INCLUDE_DIR GL/osmesa.h REQUIRED)
 find_path(TRAV_EGL_INCLUDE_DIR EGL/egl.h REQUIRED)
 # liblbfgs (Debian liblbfgs-dev) ships no CMake config
 find_library(TRAV_LBFGS_LIBRARY lbfgs REQUIRED)
+# libzstd (Debian libzstd-dev) compresses run.mcap's chunks; its CMake config is not packaged
+find_library(TRAV_ZSTD_LIBRARY zstd REQUIRED)

@@ -48,6 +48,29 @@ void ValidateMpcConfig(const MpcConfig& c) {
 
 std::string CeresVersion() { return CERES_VERSION_STRING; }
 
+namespace {
+
+// The share of a command the achieved input takes on in one step (first-order lag; 1: none).
+double LagFactor(const MpcConfig& c) {
+  return c.actuator_time_constant_s > 0.0 ? std::min(1.0, c.step_s / c.actuator_time_constant_s)
+                                          : 1.0;
+}
+
+// One step of the horizon's model, shared by the cost and the predicted states: the achieved
+// inputs lag the command, then the unicycle moves by the midpoint rule.
+template <typename T>
+void StepModel(double step_s, double lag, const T command[2], T achieved[2], T* x, T* y, T* yaw) {
+  using std::cos;
+  using std::sin;
+  for (int j = 0; j < 2; ++j) achieved[j] += lag * (command[j] - achieved[j]);
+  const T mid_yaw = *yaw + 0.5 * step_s * achieved[1];
+  *x += step_s * achieved[0] * cos(mid_yaw);
+  *y += step_s * achieved[0] * sin(mid_yaw);
+  *yaw += step_s * achieved[1];
+}
+
+}  // namespace
+
 // The horizon's data, shared by the cost functor and the controller; the Ceres problem is built
 // once and reused by every solve (only the data and the initial inputs change).
 struct MpcController::Problem {
@@ -71,19 +94,13 @@ struct MpcController::Problem {
     const Eigen::Vector2d r = c.input_weights.cwiseSqrt();
     const Eigen::Vector2d rd = c.rate_weights.cwiseSqrt();
     const double limits[2] = {c.max_acceleration_m_s2, c.max_yaw_acceleration_rad_s2};
-    const double lag = c.actuator_time_constant_s > 0.0
-                           ? std::min(1.0, c.step_s / c.actuator_time_constant_s)
-                           : 1.0;
+    const double lag = LagFactor(c);
     T x(x0[0]), y(x0[1]), yaw(x0[2]);
     T achieved[2] = {T(achieved0[0]), T(achieved0[1])};
     T* out = residuals;
     for (int k = 0; k < c.horizon; ++k) {
       const T command[2] = {u[2 * k], u[2 * k + 1]};
-      for (int j = 0; j < 2; ++j) achieved[j] += lag * (command[j] - achieved[j]);
-      const T mid_yaw = yaw + 0.5 * c.step_s * achieved[1];
-      x += c.step_s * achieved[0] * cos(mid_yaw);
-      y += c.step_s * achieved[0] * sin(mid_yaw);
-      yaw += c.step_s * achieved[1];
+      StepModel(c.step_s, lag, command, achieved, &x, &y, &yaw);
       *out++ = q[0] * (x - reference_states(0, k));
       *out++ = q[1] * (y - reference_states(1, k));
       *out++ = q[2] * (yaw - reference_states(2, k));
@@ -204,16 +221,31 @@ MpcResult MpcController::Solve(const MpcState& state, const common::Trajectory& 
     result.status = MpcStatus::kFailed;
     result.command = Limit(common::Twist2{});
     warm_ = false;
+    predicted_states_W_.resize(3, 0);
   } else {
     result.status = summary.termination_type == ceres::CONVERGENCE ? MpcStatus::kSolved
                                                                    : MpcStatus::kIterationLimit;
     for (int k = 0; k < n; ++k) inputs_.col(k) << p.inputs[2 * k], p.inputs[2 * k + 1];
     result.command = Limit(common::Twist2{inputs_(0, 0), inputs_(1, 0)});
     warm_ = true;
+    PredictStates();
   }
   last_command_ = result.command;
   result.solve_time_s = start.ElapsedSeconds();
   return result;
+}
+
+void MpcController::PredictStates() {
+  const Problem& p = *problem_;
+  const double lag = LagFactor(config_);
+  double x = p.x0[0], y = p.x0[1], yaw = p.x0[2];
+  double achieved[2] = {p.achieved0[0], p.achieved0[1]};
+  predicted_states_W_.resize(3, config_.horizon);
+  for (int k = 0; k < config_.horizon; ++k) {
+    const double command[2] = {inputs_(0, k), inputs_(1, k)};
+    StepModel(config_.step_s, lag, command, achieved, &x, &y, &yaw);
+    predicted_states_W_.col(k) << x, y, yaw;
+  }
 }
 
 }  // namespace trav::controller

@@ -109,13 +109,19 @@ class MpcController {
 
   /// The predicted inputs of the last solve, (v, omega) per step.
   const Eigen::Matrix2Xd& predicted_inputs() const { return inputs_; }
+  /// The states (x [m], y [m], yaw [rad] in W) the last solve predicts at the end of each step
+  /// of its horizon under its inputs; empty before the first solve and after a failed one.
+  const Eigen::Matrix3Xd& predicted_states_W() const { return predicted_states_W_; }
 
  private:
   struct Problem;
+  // Rolls the model out from the solve's state under `inputs_` into predicted_states_W_.
+  void PredictStates();
   common::Twist2 Limit(const common::Twist2& command) const;
   MpcConfig config_;
   std::unique_ptr<Problem> problem_;
   Eigen::Matrix2Xd inputs_;
+  Eigen::Matrix3Xd predicted_states_W_;
   common::Twist2 last_command_{};
   bool warm_{false};
 };

@@ -50,6 +50,10 @@ class MpcTracker {
   TrackingMetrics Metrics() const;
 
   const common::Trajectory& reference() const { return reference_; }
+  /// Solves so far.
+  int solves() const { return static_cast<int>(solve_times_ms_.size()); }
+  /// The MPC's predicted states of its latest solve (MpcController::predicted_states_W).
+  const Eigen::Matrix3Xd& predicted_states_W() const { return mpc_.predicted_states_W(); }
 
  private:
   MpcController mpc_;

@@ -67,6 +67,18 @@ enum class ReplanReason {
   kStalled,  ///< the plan says move, the robot has not for a second
 };
 
+/// The names of ReplanReason's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<ReplanReason>, 7> kReplanReasonNames{{
+    {ReplanReason::kNone, "none"},
+    {ReplanReason::kFirst, "first"},
+    {ReplanReason::kPeriodic, "periodic"},
+    {ReplanReason::kNewLethalCells, "new-lethal-cells"},
+    {ReplanReason::kDeviation, "deviation"},
+    {ReplanReason::kSafetyStop, "safety-stop"},
+    {ReplanReason::kStalled, "stalled"},
+}};
+constexpr const auto& EnumNames(ReplanReason) { return kReplanReasonNames; }
+
 /// What the navigator did in one control tick.
 struct NavigatorTick {
   common::Twist2 command;                    ///< the body twist to apply
@@ -105,6 +117,9 @@ class Navigator {
 
   /// The trajectory being tracked (empty before the first plan).
   const common::Trajectory& trajectory() const { return trajectory_; }
+
+  /// The MPC tracker of the trajectory (its latest predicted horizon).
+  const controller::MpcTracker& tracker() const { return tracker_; }
 
   /// The latest plan's waypoints (A* simplified) [m].
   const std::vector<Eigen::Vector2d>& waypoints_W() const { return waypoints_W_; }

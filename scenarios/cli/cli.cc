@@ -76,7 +76,8 @@ void AddScenarioOptions(CLI::App* command, ScenarioOptions* options) {
   AddSetOption(command, &options->sets, "the scenario");
 }
 
-Scenario ResolveScenario(const ScenarioOptions& options, std::optional<bool> video) {
+Scenario ResolveScenario(const ScenarioOptions& options, std::optional<bool> video,
+                         std::optional<bool> mcap) {
   common::YamlDocument document =
       options.path.empty()
           ? common::YamlDocument::Parse(DefaultScenarioYaml(), "<built-in default>")
@@ -84,6 +85,7 @@ Scenario ResolveScenario(const ScenarioOptions& options, std::optional<bool> vid
   ApplyOverrides(options.sets, &document);
   if (options.seed) document.Set("terrain.seed", std::to_string(*options.seed));
   if (video) document.Set("video.enabled", *video ? "true" : "false");
+  if (mcap) document.Set("output.mcap", *mcap ? "true" : "false");
   if (options.out) document.SetString("output.dir", *options.out);
   return LoadScenario(document);
 }

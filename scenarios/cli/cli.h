@@ -69,8 +69,9 @@ void AddSetOption(CLI::App* command, std::vector<std::string>* sets, const std::
 const CLI::Validator& SeedValidator();
 
 /// The scenario of the options: the file (or the built-in default) with --set, --seed, --out and
-/// the video choice applied. @throws common::InputError on bad input.
-Scenario ResolveScenario(const ScenarioOptions& options, std::optional<bool> video);
+/// the video and MCAP choices applied. @throws common::InputError on bad input.
+Scenario ResolveScenario(const ScenarioOptions& options, std::optional<bool> video,
+                         std::optional<bool> mcap = std::nullopt);
 
 /// The robot model file of a scenario, checked before anything is written.
 /// @throws common::InputError if it is not a robot model trav can drive.

@@ -10,6 +10,7 @@
 #include "common/enum_names.h"
 #include "common/input_error.h"
 #include "scenarios/cli/cli.h"
+#include "scenarios/run/mcap_recorder.h"
 
 namespace trav::scenarios::cli {
 namespace {
@@ -17,6 +18,7 @@ namespace {
 struct RunFlags {
   ScenarioOptions scenario;
   std::optional<bool> video;
+  std::optional<bool> mcap;
   bool record_clouds{false};
 };
 
@@ -35,7 +37,7 @@ void InjectFault(TestFault fault) {
 }
 
 int Run(const RunFlags& flags) {
-  const Scenario scenario = ResolveScenario(flags.scenario, flags.video);
+  const Scenario scenario = ResolveScenario(flags.scenario, flags.video, flags.mcap);
   InjectFault(scenario.test_fault);
   RunOptions run_options;
   run_options.record_clouds = flags.record_clouds;
@@ -56,6 +58,7 @@ int Run(const RunFlags& flags) {
   if (summary.video_frames > 0) {
     std::printf("video:   %s/video.mp4 (%d frames)\n", out.c_str(), summary.video_frames);
   }
+  if (summary.mcap) std::printf("mcap:    %s/%s (Foxglove)\n", out.c_str(), kMcapFileName);
   return summary.outcome == scenario.expected_outcome ? kExitExpected : kExitOtherOutcome;
 }
 
@@ -71,6 +74,11 @@ Command AddRunCommand(CLI::App* app) {
       "--video", [flags] { flags->video = true; }, "Record video.mp4 (overrides video.enabled)");
   run->add_flag_callback(
       "--no-video", [flags] { flags->video = false; }, "Do not record a video");
+  run->add_flag_callback(
+      "--mcap", [flags] { flags->mcap = true; },
+      "Write run.mcap for Foxglove (overrides output.mcap, docs/foxglove.md)");
+  run->add_flag_callback(
+      "--no-mcap", [flags] { flags->mcap = false; }, "Do not write run.mcap");
   run->add_flag("--record-clouds", flags->record_clouds,
                 "Write every LiDAR frame as clouds/frame_NNNNNN.pcd");
   return {run, [flags] { return Run(*flags); }};

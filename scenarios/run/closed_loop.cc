@@ -167,7 +167,7 @@ ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& option
   if (lidar_ && scenario.pose_noise.method == sim::LocalizationMethod::kScanMatching) {
     // O is where the sensor starts; the sensor's mount is fixed on the base
     const Eigen::Isometry3d X_WB = simulation_->State().X_WB;
-    X_BL_odometry_ = X_BL_ ? *X_BL_ : Eigen::Isometry3d(X_WB.inverse() * simulation_->LidarPose());
+    X_BL_odometry_ = lidar_mount_B();
     odometry_ =
         std::make_unique<mapping::LidarOdometry>(scenario.lidar_odometry, X_WB * X_BL_odometry_);
   }
@@ -321,6 +321,11 @@ void ClosedLoop::RegisterScan() {
   times_.Add("localization", start.ElapsedMilliseconds());
   last_scan_pose_ = ScanPose{X_OL * X_BL_odometry_.inverse(), state_.X_WB};
   estimate_.X_WB = last_scan_pose_->X_OB;
+}
+
+Eigen::Isometry3d ClosedLoop::lidar_mount_B() const {
+  return X_BL_ ? *X_BL_
+               : Eigen::Isometry3d(simulation_->State().X_WB.inverse() * simulation_->LidarPose());
 }
 
 Eigen::Isometry3d ClosedLoop::OdometryFromWorld() const {

@@ -129,6 +129,12 @@ class ClosedLoop {
   /// The world's obstacle heights (sim::ObstacleHeightGrid), computed once when first needed.
   const Eigen::MatrixXf& obstacle_heights() const;
 
+  /// The LiDAR's mount X_BL: the scenario's `lidar.mount`, else the robot model's lidar site.
+  Eigen::Isometry3d lidar_mount_B() const;
+
+  /// X_OW: the odometry frame O of this step's pose estimate from W (identity for true poses).
+  Eigen::Isometry3d OdometryFromWorld() const;
+
   /// The robot's true state at the start of the coming step, or after the last one.
   const common::RobotState& state() const { return state_; }
   /// The pose estimate the stack uses this step (its X_WB is the base in the odometry frame O).
@@ -182,8 +188,6 @@ class ClosedLoop {
   // false when the frame limit is reached
   bool Scan();
   void MapPendingFrames();
-  // X_OW: the odometry frame O of this step's pose estimate from W (identity for true poses).
-  Eigen::Isometry3d OdometryFromWorld() const;
   // This step's pose estimate: the pose noise model's, or with scan-matching the pose of the last
   // registered scan carried on by the motion since.
   common::RobotState EstimatePose();

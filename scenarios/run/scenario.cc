@@ -324,7 +324,10 @@ void VisitScenario(Archive* a, Scenario* s) {
   });
   a->Map("ground_truth", &s->ground_truth);
   a->Map("video", &s->video);
-  a->Map("output", [s](Archive& o) { o.Field("dir", &s->output_dir); });
+  a->Map("output", [s](Archive& o) {
+    o.Field("dir", &s->output_dir);
+    o.Field("mcap", &s->mcap);
+  });
   a->Enum("expect", &s->expected_outcome);
 }
 

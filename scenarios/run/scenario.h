@@ -157,6 +157,7 @@ struct Scenario {
   mapping::GroundTruthConfig ground_truth{};    ///< scenario key `ground_truth`
   VideoSettings video{};
   std::string output_dir{"out/default"};
+  bool mcap{false};  ///< output.mcap: write run.mcap (scenarios/run/mcap_recorder.h)
   /// Exit code 0 iff the run ends this way; default: success in mode navigate, else completed.
   Outcome expected_outcome{Outcome::kCompleted};
   /// test_fault: makes `trav run` crash (abort) or hang instead of running, to test what runs

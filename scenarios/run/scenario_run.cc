@@ -16,6 +16,7 @@
 #include "mapping/physical_truth.h"
 #include "planner/astar.h"
 #include "renders/image.h"
+#include "scenarios/run/mcap_recorder.h"
 #include "scenarios/run/output_folder.h"
 #include "scenarios/run/plots.h"
 #include "scenarios/run/provenance.h"
@@ -300,12 +301,15 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   }
   std::optional<VideoRecorder> video;
   if (scenario.video.enabled) observers.push_back(&video.emplace(&loop, output_dir, &driven));
+  std::optional<McapRecorder> mcap;
+  if (scenario.mcap) observers.push_back(&mcap.emplace(loop, output_dir));
   std::optional<MapPathsWriter> map_paths;
   if (navigate) observers.push_back(&map_paths.emplace(output_dir, &driven));
 
   std::optional<common::GridLayers> final_map_truth;
   RunSummary summary = RunLoop(&loop, observers, progress, &final_map_truth);
   if (video) summary.video_frames = video->frames_written();
+  summary.mcap = mcap.has_value();
   if (navigate) summary.plots = PlotsJson(WriteRunPlots(output_dir));
   if (final_map_truth) {
     renders::WritePng(
@@ -412,6 +416,7 @@ void to_json(nlohmann::json& json, const RunSummary& s) {
           {"mujoco_warnings", s.mujoco_warnings},
           {"video", s.video_frames > 0 ? nlohmann::json("video.mp4") : nlohmann::json(nullptr)},
           {"video_frames", s.video_frames},
+          {"mcap", s.mcap ? nlohmann::json(kMcapFileName) : nlohmann::json(nullptr)},
           {"lidar_frames", s.lidar_frames},
           {"lidar_points_per_frame", s.lidar_points_per_frame},
           {"lidar_ms_per_frame", s.lidar_ms_per_frame},

@@ -113,6 +113,7 @@ struct RunSummary {
   int mujoco_warning_count{0};
   std::vector<std::string> mujoco_warnings;
   int video_frames{0};                 ///< 0 when video is off
+  bool mcap{false};                    ///< run.mcap was written
   int lidar_frames{0};                 ///< complete LiDAR frames (0 when the LiDAR is off)
   double lidar_points_per_frame{0.0};  ///< mean points per frame
   double lidar_ms_per_frame{0.0};      ///< mean wall time spent casting one frame's rays [ms]

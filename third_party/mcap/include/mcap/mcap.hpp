@@ -1,0 +1,4 @@
+#pragma once
+
+#include "reader.hpp"
+#include "writer.hpp"
