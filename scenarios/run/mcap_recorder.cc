@@ -170,9 +170,16 @@ struct McapRecorder::Log {
 
   bool Has(const std::string& topic) const { return channels.count(topic) > 0; }
 
-  void Write(const std::string& topic, double t_s, const json& message) {
+  // Writes `message`; with `data` its field "data" (base64: nothing to escape) is appended to
+  // the text rather than passed through the JSON writer, which would scan and copy it again.
+  void Write(const std::string& topic, double t_s, const json& message,
+             const std::string* data = nullptr) {
     Channel& channel = channels.at(topic);
-    const std::string text = message.dump();
+    std::string text = message.dump();
+    if (data != nullptr) {
+      text.pop_back();  // the closing brace
+      text.append(",\"data\":\"").append(*data).append("\"}");
+    }
     mcap::Message record;
     record.channelId = channel.id;
     record.sequence = channel.sequence++;
@@ -204,7 +211,8 @@ struct McapRecorder::Log {
   std::map<std::string, double> module_totals_ms;
   bool written_ok{true};
   int steps_per_sample{1};
-  int horizon_solves{0};                                  // MPC solves whose horizon is written
+  int horizon_solves{0};   // MPC solves whose horizon is written
+  double next_map_s{0.0};  // the first map update from this time is written [s]
   Eigen::Isometry3d X_BL{Eigen::Isometry3d::Identity()};  // the LiDAR's mount
 };
 
@@ -254,8 +262,9 @@ json MoversUpdate(double t_s, const char* frame, const std::string& id,
   return SceneUpdate(std::move(entity));
 }
 
-// The map's layers as float32 fields, cell (ix, iy) at row iy, column ix.
-json MapGrid(double t_s, const common::GridLayers& map) {
+// The map's layers as float32 fields, cell (ix, iy) at row iy, column ix; the data, base64, in
+// `data`.
+json MapGrid(double t_s, const common::GridLayers& map, std::string* data_base64) {
   const common::GridGeometry& g = map.geometry();
   const std::vector<std::string> names = map.LayerNames();
   const std::size_t cell_bytes = 4 * names.size();
@@ -271,6 +280,7 @@ json MapGrid(double t_s, const common::GridLayers& map) {
       }
     }
   }
+  *data_base64 = Base64(data.data(), data.size());
   Eigen::Isometry3d X_corner = Eigen::Isometry3d::Identity();
   X_corner.translation().head<2>() = g.origin_W - Eigen::Vector2d::Constant(0.5 * g.resolution_m);
   return {{"timestamp", Time(t_s)},
@@ -280,8 +290,7 @@ json MapGrid(double t_s, const common::GridLayers& map) {
           {"cell_size", {{"x", g.resolution_m}, {"y", g.resolution_m}}},
           {"row_stride", cell_bytes * g.num_x},
           {"cell_stride", cell_bytes},
-          {"fields", fields},
-          {"data", Base64(data.data(), data.size())}};
+          {"fields", fields}};
 }
 
 }  // namespace
@@ -385,19 +394,25 @@ void McapRecorder::OnLidarFrame(const ClosedLoop& /*loop*/, const lidar::LidarFr
   for (int f = 0; f < 5; ++f) {
     fields.push_back({{"name", names[f]}, {"offset", 4 * f}, {"type", kFloat32}});
   }
+  const std::string data_base64 = Base64(data.data(), data.size());
   log_->Write("/lidar/points", cloud.stamp_s,
               {{"timestamp", Time(cloud.stamp_s)},
                {"frame_id", kWorldFrame},
                {"pose", Pose(Eigen::Isometry3d::Identity())},
                {"point_stride", kStride},
-               {"fields", fields},
-               {"data", Base64(data.data(), data.size())}});
+               {"fields", fields}},
+              &data_base64);
 }
 
 void McapRecorder::OnMapUpdate(const ClosedLoop& loop) {
   if (loop.mapper() == nullptr) return;
+  Log& log = *log_;
   const double t_s = loop.state().time_s;
-  log_->Write("/map", t_s, MapGrid(t_s, loop.mapper()->map()));
+  if (t_s < log.next_map_s - 1e-9) return;
+  log.next_map_s = t_s + loop.scenario().mcap_map_period_s;
+  std::string data_base64;
+  const json grid = MapGrid(t_s, loop.mapper()->map(), &data_base64);
+  log.Write("/map", t_s, grid, &data_base64);
 }
 
 void McapRecorder::OnPhysicsStep(const ClosedLoop& loop, const LoopStep& step) {

@@ -21,8 +21,9 @@ inline constexpr char kMcapFileName[] = "run.mcap";
 /// - `/lidar/points` (foxglove.PointCloud): every LiDAR frame in `world`, each point placed with
 ///   its own sensor pose, with fields x, y, z, intensity (Livox reflectivity) and time (offset from
 ///   the frame's stamp [s]);
-/// - `/map` (foxglove.Grid): every map update in `odom`, each layer of the map a float32 field
-///   (NaN: unknown);
+/// - `/map` (foxglove.Grid): the map in `odom`, each of its layers a float32 field (NaN: unknown),
+///   at the first update and then at the first update `output.mcap_map_period` or more after the
+///   last one written (0: every update);
 /// - `/planner/path` and `/planner/trajectory` (foxglove.SceneUpdate): the A* waypoints and the
 ///   optimised trajectory of every plan; `/controller/horizon`: the MPC's predicted states of every
 ///   solve; `/movers/true` and `/movers/perceived`: discs with velocity arrows at 10 Hz; `/goal`;

@@ -327,6 +327,7 @@ void VisitScenario(Archive* a, Scenario* s) {
   a->Map("output", [s](Archive& o) {
     o.Field("dir", &s->output_dir);
     o.Field("mcap", &s->mcap);
+    o.Field("mcap_map_period", &s->mcap_map_period_s, {0.0, 60.0});
   });
   a->Enum("expect", &s->expected_outcome);
 }

@@ -158,6 +158,8 @@ struct Scenario {
   VideoSettings video{};
   std::string output_dir{"out/default"};
   bool mcap{false};  ///< output.mcap: write run.mcap (scenarios/run/mcap_recorder.h)
+  /// output.mcap_map_period: simulation time between two maps in run.mcap [s] (0: every update)
+  double mcap_map_period_s{0.5};
   /// Exit code 0 iff the run ends this way; default: success in mode navigate, else completed.
   Outcome expected_outcome{Outcome::kCompleted};
   /// test_fault: makes `trav run` crash (abort) or hang instead of running, to test what runs

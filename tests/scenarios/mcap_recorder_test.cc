@@ -116,7 +116,7 @@ moving_obstacles:
   - {name: pedestrian, shape: capsule, radius: 0.25, half_height: 0.85, motion: constant_velocity,
      start: [0, -5], velocity: [0, 1.0]}
 video: {enabled: false}
-output: {mcap: true}
+output: {mcap: true, mcap_map_period: 0}
 )",
                                                                        "mcap_run.yaml"));
     folder_ = new fs::path(fs::temp_directory_path() / ("trav_mcap_" + std::to_string(getpid())));
@@ -267,6 +267,24 @@ TEST_F(McapRecorderTest, PointCloudsAndGridsCarryTheirData) {
     EXPECT_NEAR(FloatAt(cells, i, cell_stride, offsets["elevation"]), 0.0f, 0.05f);
   }
   EXPECT_GT(known, 1000);
+}
+
+TEST_F(McapRecorderTest, TheShippedFoxgloveLayoutShowsTopicsAndFieldsTheFileHas) {
+  std::ifstream file(std::string(TRAV_SOURCE_DIR) + "/docs/foxglove-layout.json");
+  const nlohmann::json layout = nlohmann::json::parse(file);
+  const nlohmann::json& panels = layout.at("configById");
+  int topics = 0;
+  for (const auto& [topic, settings] : panels.at("3D!trav").at("topics").items()) {
+    EXPECT_EQ(topics_->count(topic), 1u) << topic;
+    ++topics;
+  }
+  EXPECT_EQ(topics, 8);
+  const nlohmann::json& timings = Get("/timings").messages.front();
+  for (const nlohmann::json& path : panels.at("Plot!timings").at("paths")) {
+    const std::string value = path.at("value");
+    ASSERT_EQ(value.rfind("/timings.", 0), 0u) << value;
+    EXPECT_TRUE(timings.contains(value.substr(std::string("/timings.").size()))) << value;
+  }
 }
 
 TEST_F(McapRecorderTest, TimesNeverGoBackOnAnyChannel) {
