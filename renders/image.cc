@@ -93,4 +93,63 @@ void WritePng16(const std::string& path, int width, int height,
   WriteRows(path, width, height, 16, PNG_COLOR_TYPE_GRAY, rows);
 }
 
+GrayImage16 ReadPng16(const std::string& path, std::size_t max_pixels) {
+  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
+  if (!file)
+    throw common::InputError(path, "", std::string("cannot read: ") + std::strerror(errno));
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (png == nullptr || info == nullptr) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw std::runtime_error("libpng: out of memory reading " + path);
+  }
+  GrayImage16 image;
+  std::vector<png_byte> bytes;
+  std::vector<png_bytep> rows;
+  // libpng reports errors by longjmp; nothing with a destructor is created between here and the
+  // end of reading
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw common::InputError(path, "", "not a readable PNG");
+  }
+  png_init_io(png, file.get());
+  png_read_info(png, info);
+  const int color_type = png_get_color_type(png, info);
+  const int bit_depth = png_get_bit_depth(png, info);
+  const std::size_t width = png_get_image_width(png, info);
+  const std::size_t height = png_get_image_height(png, info);
+  if (color_type != PNG_COLOR_TYPE_GRAY || width * height > max_pixels) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw common::InputError(path, "",
+                             color_type != PNG_COLOR_TYPE_GRAY
+                                 ? "must be a grayscale PNG without alpha (a heightmap)"
+                                 : "has more than " + std::to_string(max_pixels) + " pixels");
+  }
+  if (bit_depth < 8) png_set_expand_gray_1_2_4_to_8(png);
+  png_read_update_info(png, info);
+  const std::size_t row_bytes = png_get_rowbytes(png, info);
+  bytes.resize(row_bytes * height);
+  rows.resize(height);
+  for (std::size_t y = 0; y < height; ++y) rows[y] = bytes.data() + y * row_bytes;
+  png_read_image(png, rows.data());
+  png_read_end(png, nullptr);
+  png_destroy_read_struct(&png, &info, nullptr);
+
+  image.width = static_cast<int>(width);
+  image.height = static_cast<int>(height);
+  image.values.resize(width * height);
+  const bool sixteen = bit_depth == 16;
+  constexpr int kEightToSixteen = 257;  // 255 -> 65535
+  for (std::size_t y = 0; y < height; ++y) {
+    for (std::size_t x = 0; x < width; ++x) {
+      const png_byte* sample = rows[y] + (sixteen ? 2 * x : x);
+      // 16-bit samples are big-endian; lower depths were expanded to 8 bits (libpng scales 1 to
+      // 255)
+      const int value = sixteen ? (sample[0] << 8) | sample[1] : sample[0] * kEightToSixteen;
+      image.values[y * width + x] = static_cast<std::uint16_t>(value);
+    }
+  }
+  return image;
+}
+
 }  // namespace trav::renders

@@ -25,6 +25,24 @@ Image TraversabilityImage(const Eigen::MatrixXf& values);
 /// Writes an 8-bit RGB PNG. @throws std::runtime_error if the file cannot be written.
 void WritePng(const std::string& path, const Image& image);
 
+/// A grayscale image of 16-bit samples, rows top to bottom.
+struct GrayImage16 {
+  int width{0};
+  int height{0};
+  std::vector<std::uint16_t> values;  ///< width * height samples, row by row
+
+  std::uint16_t At(int x, int y) const {
+    return values[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
+                  static_cast<std::size_t>(x)];
+  }
+};
+
+/// Reads a grayscale PNG of 1 to 16 bits per sample (8-bit and lower samples scaled to the full
+/// 16-bit range, 255 -> 65535), as `trav terrain` writes heightmap.png. The PNG must hold at most
+/// `max_pixels` samples. @throws common::InputError naming the file if it is not a grayscale PNG
+/// (colour, alpha, palette) or cannot be read.
+GrayImage16 ReadPng16(const std::string& path, std::size_t max_pixels);
+
 /// Writes a 16-bit grayscale PNG of `width` x `height` values (rows top to bottom).
 /// @throws std::runtime_error if the file cannot be written.
 void WritePng16(const std::string& path, int width, int height,

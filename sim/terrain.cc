@@ -37,6 +37,33 @@ double Percentile(std::vector<double> values, double fraction) {
   return values[k];
 }
 
+// The heightmap's samples, spanning the world, interpolated bilinearly at every height sample;
+// a heightmap of the grid's own sample counts is copied exactly (u is then a whole number).
+void FillFromHeightmap(const HeightmapParams& heightmap, TerrainWorld* world) {
+  const Eigen::MatrixXf& source = heightmap.heights_m;
+  const common::GridGeometry& g = world->geometry;
+  auto position = [](int i, int n_grid, Eigen::Index n_source, Eigen::Index* i0, double* frac) {
+    const double u = n_grid > 1 ? static_cast<double>(i) * static_cast<double>(n_source - 1) /
+                                      static_cast<double>(n_grid - 1)
+                                : 0.0;
+    *i0 = std::min<Eigen::Index>(static_cast<Eigen::Index>(std::floor(u)), n_source - 2);
+    *frac = u - static_cast<double>(*i0);
+  };
+  for (int iy = 0; iy < g.num_y; ++iy) {
+    Eigen::Index j0;
+    double fy;
+    position(iy, g.num_y, source.cols(), &j0, &fy);
+    for (int ix = 0; ix < g.num_x; ++ix) {
+      Eigen::Index i0;
+      double fx;
+      position(ix, g.num_x, source.rows(), &i0, &fx);
+      const double low = (1.0 - fx) * source(i0, j0) + fx * source(i0 + 1, j0);
+      const double high = (1.0 - fx) * source(i0, j0 + 1) + fx * source(i0 + 1, j0 + 1);
+      world->height_m(ix, iy) = static_cast<float>((1.0 - fy) * low + fy * high);
+    }
+  }
+}
+
 // Test terrains: analytic height profiles along x. A height field can only ramp between two
 // samples, so every step edge also gets a riser box over that ramp: its face is vertical, as a real
 // curb or stair.
@@ -216,6 +243,17 @@ void ValidateTerrainConfig(const TerrainConfig& c) {
     common::RequireValue(c.step.height_m >= 0.0, "parameters.height", c.step.height_m,
                          "must be >= 0");
   }
+  if (c.type == TerrainType::kHeightmap) {
+    const Eigen::MatrixXf& heights = c.heightmap.heights_m;
+    const std::string file = common::QuotedExcerpt(c.heightmap.file);
+    if (heights.rows() < 2 || heights.cols() < 2) {
+      throw common::InputError("", "parameters.file",
+                               file + " must hold at least 2 x 2 height samples (required)");
+    }
+    if (!heights.allFinite()) {
+      throw common::InputError("", "parameters.file", file + " holds heights that are not finite");
+    }
+  }
   if (c.type == TerrainType::kStairs) {
     common::RequireValue(c.stairs.step_depth_m > 0.0, "parameters.step_depth",
                          c.stairs.step_depth_m, "must be > 0");
@@ -260,6 +298,9 @@ TerrainWorld GenerateTerrain(const TerrainConfig& config,
       break;
     case TerrainType::kIndoor:
       internal::GenerateIndoor(config, &random, &placer);
+      break;
+    case TerrainType::kHeightmap:
+      FillFromHeightmap(config.heightmap, &world);
       break;
   }
   constexpr double kSunk_m = 0.1;

@@ -17,10 +17,21 @@
 namespace trav::sim {
 
 /// Terrain families: the paper's five scene types plus test terrains.
-enum class TerrainType { kFlat, kSlope, kStep, kStairs, kHilly, kForest, kRuin, kRoad, kIndoor };
+enum class TerrainType {
+  kFlat,
+  kSlope,
+  kStep,
+  kStairs,
+  kHilly,
+  kForest,
+  kRuin,
+  kRoad,
+  kIndoor,
+  kHeightmap,
+};
 
 /// The names of TerrainType's values (common/enum_names.h).
-inline constexpr std::array<common::EnumName<TerrainType>, 9> kTerrainTypeNames{
+inline constexpr std::array<common::EnumName<TerrainType>, 10> kTerrainTypeNames{
     {{TerrainType::kFlat, "flat"},
      {TerrainType::kSlope, "slope"},
      {TerrainType::kStep, "step"},
@@ -29,7 +40,8 @@ inline constexpr std::array<common::EnumName<TerrainType>, 9> kTerrainTypeNames{
      {TerrainType::kForest, "forest"},
      {TerrainType::kRuin, "ruin"},
      {TerrainType::kRoad, "road"},
-     {TerrainType::kIndoor, "indoor"}}};
+     {TerrainType::kIndoor, "indoor"},
+     {TerrainType::kHeightmap, "heightmap"}}};
 constexpr const auto& EnumNames(TerrainType) { return kTerrainTypeNames; }
 
 /// Hilly ground (also the base of forest and ruin): fractal noise rescaled so that a chosen
@@ -135,6 +147,30 @@ struct IndoorParams {
   }
 };
 
+/// Ground from a file, such as the heightmap.png or heightmap.raw that `trav terrain` writes: its
+/// samples span the terrain's `size` (the first and last sample of a row on the world's borders)
+/// and are interpolated bilinearly onto the terrain's grid, so a file of the grid's own sample
+/// counts gives its heights exactly.
+struct HeightmapParams {
+  /// A grayscale PNG (16 bits, or fewer scaled to 16; top row = largest y, MuJoCo's convention)
+  /// or a `.raw` file of float32 heights [m] (little-endian, rows along +y from the smallest y).
+  /// A relative path is taken from the scenario file's folder.
+  std::string file;
+  std::array<double, 2> height_range_m{0.0, 1.0};  ///< PNG: the heights of 0 and of 65535 [m]
+  Eigen::Vector2d samples{0.0, 0.0};  ///< .raw: samples along x and y (whole numbers >= 2)
+  /// The file's heights [m], (samples along x, samples along y), column iy at increasing y. Read
+  /// by the scenario loader (scenarios/run/heightmap_file.h): sim reads no files.
+  Eigen::MatrixXf heights_m;
+
+  /// The keys of `terrain.parameters` for a heightmap (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("file", &file);
+    a->Field("height_range", &height_range_m, {-10000.0, 10000.0});
+    a->Field("samples", &samples, {0.0, 4096.0});
+  }
+};
+
 /// Test terrains.
 struct SlopeParams {
   double angle_deg{20.0};  ///< incline of the ramp rising along +x [deg], in [0, 60]
@@ -208,6 +244,7 @@ struct TerrainConfig {
   SlopeParams slope{};
   StepParams step{};
   StairsParams stairs{};
+  HeightmapParams heightmap{};
   std::vector<PlacedBox> boxes;  ///< added after generation, not kept clear of start and goal
 
   /// The keys of scenario section `terrain` (common/archive.h); `parameters` holds the keys of the
@@ -253,6 +290,9 @@ struct TerrainConfig {
       case TerrainType::kRuin:
         hilly.Serialize(a);
         ruin.Serialize(a);
+        break;
+      case TerrainType::kHeightmap:
+        heightmap.Serialize(a);
         break;
     }
   }

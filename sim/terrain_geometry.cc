@@ -152,6 +152,7 @@ float GroundReflectance(TerrainType type) {
   switch (type) {
     case TerrainType::kHilly:
     case TerrainType::kSlope:
+    case TerrainType::kHeightmap:
       return 0.5f;
     case TerrainType::kForest:
       return 0.25f;

@@ -15,6 +15,7 @@
 #include "common/archive.h"
 #include "common/enum_names.h"
 #include "common/input_error.h"
+#include "scenarios/run/heightmap_file.h"
 
 namespace trav::scenarios {
 namespace {
@@ -377,6 +378,9 @@ Scenario LoadScenario(const common::YamlDocument& document) {
   ReadArchive archive(document.Root());
   VisitScenario(&archive, &scenario);
   archive.Finish();
+  if (scenario.terrain.type == sim::TerrainType::kHeightmap) {
+    LoadHeightmapFile(document.source(), &scenario.terrain.heightmap);
+  }
   try {
     ValidateSections(scenario);
   } catch (const common::InputError& e) {

@@ -31,13 +31,14 @@ std::vector<fs::path> ScenarioFiles(const std::string& folder) {
 
 TEST(ShippedScenariosTest, EveryScenarioFileLoads) {
   int loaded = 0;
-  for (const char* folder : {"suite", "failing", "hard", "track", "stress", "barn"}) {
+  for (const char* folder :
+       {"suite", "failing", "hard", "track", "stress", "barn", "terrain_files"}) {
     for (const fs::path& file : ScenarioFiles(folder)) {
       EXPECT_NO_THROW(LoadScenario(common::YamlDocument::Load(file.string()))) << file;
       ++loaded;
     }
   }
-  EXPECT_GE(loaded, 300 + 9 + 3 + 4);
+  EXPECT_GE(loaded, 300 + 9 + 3 + 4 + 1);
 }
 
 TEST(ShippedScenariosTest, TheBarnWorldsKeepBarnsLayoutScaledToTheScoutMini) {

@@ -1,0 +1,96 @@
+#include "scenarios/run/heightmap_file.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+#include "common/input_error.h"
+#include "common/input_file.h"
+#include "renders/image.h"
+
+namespace trav::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr char kKey[] = "terrain.parameters.file";
+// The largest heightmap read [samples]: 4096 x 4096 (a 64 MB float32 file, common/input_file.h).
+constexpr std::size_t kMaxSamples = 4096u * 4096u;
+
+// `file` as a path: relative ones from the scenario file's folder.
+fs::path Resolve(const std::string& scenario_source, const std::string& file) {
+  const fs::path path(file);
+  if (path.is_absolute() || scenario_source.empty() || scenario_source.front() == '<') {
+    return fs::absolute(path);
+  }
+  return fs::absolute(fs::path(scenario_source).parent_path() / path);
+}
+
+// PNG rows run from the largest y down (MuJoCo's convention, as `trav terrain` writes them).
+Eigen::MatrixXf ReadPngHeights(const std::string& path, const std::array<double, 2>& range_m) {
+  common::RequireRegularFile(path, "heightmap");
+  const renders::GrayImage16 image = renders::ReadPng16(path, kMaxSamples);
+  Eigen::MatrixXf heights(image.width, image.height);
+  const double scale = (range_m[1] - range_m[0]) / 65535.0;
+  for (int row = 0; row < image.height; ++row) {
+    for (int ix = 0; ix < image.width; ++ix) {
+      heights(ix, image.height - 1 - row) =
+          static_cast<float>(range_m[0] + scale * image.At(ix, row));
+    }
+  }
+  return heights;
+}
+
+// float32, x fastest, rows along +y: Eigen's column-major (x, y) layout as it is. The bytes are
+// taken in the machine's order, little-endian on every platform trav builds for.
+Eigen::MatrixXf ReadRawHeights(const std::string& path, const Eigen::Vector2d& samples) {
+  const auto num_x = static_cast<Eigen::Index>(samples.x());
+  const auto num_y = static_cast<Eigen::Index>(samples.y());
+  const std::string bytes = common::ReadInputFile(path, "heightmap", 4 * kMaxSamples);
+  const std::size_t expected = static_cast<std::size_t>(num_x * num_y) * sizeof(float);
+  if (bytes.size() != expected) {
+    throw common::InputError(path, "",
+                             "holds " + std::to_string(bytes.size()) + " bytes, not the " +
+                                 std::to_string(expected) + " of " + std::to_string(num_x) + " x " +
+                                 std::to_string(num_y) + " float32 samples");
+  }
+  Eigen::MatrixXf heights(num_x, num_y);
+  std::memcpy(heights.data(), bytes.data(), expected);
+  return heights;
+}
+
+}  // namespace
+
+void LoadHeightmapFile(const std::string& scenario_source, sim::HeightmapParams* heightmap) {
+  if (heightmap->file.empty()) {
+    throw common::InputError(scenario_source, kKey, "is required for terrain type 'heightmap'");
+  }
+  const fs::path path = Resolve(scenario_source, heightmap->file);
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const Eigen::Vector2d& samples = heightmap->samples;
+  if (extension == ".raw" &&
+      !(samples.x() >= 2.0 && samples.y() >= 2.0 && samples.x() == std::floor(samples.x()) &&
+        samples.y() == std::floor(samples.y()))) {
+    throw common::InputError(scenario_source, "terrain.parameters.samples",
+                             "must give the .raw file's samples along x and y, whole numbers >= 2");
+  }
+  try {
+    if (extension == ".png") {
+      heightmap->heights_m = ReadPngHeights(path.string(), heightmap->height_range_m);
+    } else if (extension == ".raw") {
+      heightmap->heights_m = ReadRawHeights(path.string(), heightmap->samples);
+    } else {
+      throw common::InputError(common::QuotedExcerpt(heightmap->file) +
+                               " must end in .png (16-bit grayscale) or .raw (float32)");
+    }
+  } catch (const common::InputError& e) {
+    throw common::InputError(scenario_source, kKey, e.what());
+  }
+  heightmap->file = path.string();
+}
+
+}  // namespace trav::scenarios
