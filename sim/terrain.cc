@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "common/input_error.h"
 #include "sim/terrain_internal.h"
@@ -62,6 +63,48 @@ void FillFromHeightmap(const HeightmapParams& heightmap, TerrainWorld* world) {
       world->height_m(ix, iy) = static_cast<float>((1.0 - fy) * low + fy * high);
     }
   }
+}
+
+// The mesh's top surface at every sample of `g`: the highest of the triangles whose xy projection
+// holds the sample (vertical triangles hold none); NaN under no triangle.
+Eigen::MatrixXf MeshTopSurface(const common::TriangleMesh& mesh, const common::GridGeometry& g) {
+  Eigen::MatrixXf h =
+      Eigen::MatrixXf::Constant(g.num_x, g.num_y, std::numeric_limits<float>::quiet_NaN());
+  constexpr double kInside = -1e-9;  // barycentric tolerance: samples on a shared edge count
+  // the samples whose index along an axis lies in [low, high] of a coordinate
+  auto first = [](double low, double origin, double resolution) {
+    return static_cast<int>(std::ceil((low - origin) / resolution - 1e-9));
+  };
+  auto last = [](double high, double origin, double resolution) {
+    return static_cast<int>(std::floor((high - origin) / resolution + 1e-9));
+  };
+  for (Eigen::Index t = 0; t < mesh.triangles.cols(); ++t) {
+    const Eigen::Vector3d a = mesh.vertices.col(mesh.triangles(0, t)).cast<double>();
+    const Eigen::Vector3d b = mesh.vertices.col(mesh.triangles(1, t)).cast<double>();
+    const Eigen::Vector3d c = mesh.vertices.col(mesh.triangles(2, t)).cast<double>();
+    const double area2 = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+    if (std::abs(area2) < 1e-12) continue;
+    const Eigen::Vector2d low = a.head<2>().cwiseMin(b.head<2>()).cwiseMin(c.head<2>());
+    const Eigen::Vector2d high = a.head<2>().cwiseMax(b.head<2>()).cwiseMax(c.head<2>());
+    const int x0 = std::max(0, first(low.x(), g.origin_W.x(), g.resolution_m));
+    const int x1 = std::min(g.num_x - 1, last(high.x(), g.origin_W.x(), g.resolution_m));
+    const int y0 = std::max(0, first(low.y(), g.origin_W.y(), g.resolution_m));
+    const int y1 = std::min(g.num_y - 1, last(high.y(), g.origin_W.y(), g.resolution_m));
+    for (int iy = y0; iy <= y1; ++iy) {
+      for (int ix = x0; ix <= x1; ++ix) {
+        const Eigen::Vector2d p = g.CellCenter(ix, iy);
+        // barycentric weights of b and c
+        const double wb =
+            ((p.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (p.y() - a.y())) / area2;
+        const double wc =
+            ((b.x() - a.x()) * (p.y() - a.y()) - (p.x() - a.x()) * (b.y() - a.y())) / area2;
+        if (wb < kInside || wc < kInside || 1.0 - wb - wc < kInside) continue;
+        const auto z = static_cast<float>(a.z() + wb * (b.z() - a.z()) + wc * (c.z() - a.z()));
+        if (!(h(ix, iy) >= z)) h(ix, iy) = z;  // NaN (not yet covered) or lower
+      }
+    }
+  }
+  return h;
 }
 
 // Test terrains: analytic height profiles along x. A height field can only ramp between two
@@ -254,6 +297,23 @@ void ValidateTerrainConfig(const TerrainConfig& c) {
       throw common::InputError("", "parameters.file", file + " holds heights that are not finite");
     }
   }
+  if (c.type == TerrainType::kMesh) {
+    const std::string file = common::QuotedExcerpt(c.mesh.file);
+    if (c.mesh.mesh_W.triangles.cols() == 0) {
+      throw common::InputError("", "parameters.file", file + " holds no triangle (required)");
+    }
+    const Eigen::MatrixXf h = MeshTopSurface(
+        c.mesh.mesh_W,
+        common::GridGeometry::Centered(Eigen::Vector2d::Zero(), c.size_m, c.resolution_m));
+    const Eigen::Index uncovered = h.size() - h.array().isFinite().count();
+    if (uncovered > 0) {
+      throw common::InputError("", "parameters.file",
+                               file + " leaves " + std::to_string(uncovered) + " of " +
+                                   std::to_string(h.size()) +
+                                   " height samples under no triangle: its x, y extent must "
+                                   "cover the terrain's size, centred on the origin");
+    }
+  }
   if (c.type == TerrainType::kStairs) {
     common::RequireValue(c.stairs.step_depth_m > 0.0, "parameters.step_depth",
                          c.stairs.step_depth_m, "must be > 0");
@@ -301,6 +361,10 @@ TerrainWorld GenerateTerrain(const TerrainConfig& config,
       break;
     case TerrainType::kHeightmap:
       FillFromHeightmap(config.heightmap, &world);
+      break;
+    case TerrainType::kMesh:
+      // ValidateTerrainConfig has checked that every sample lies under a triangle
+      world.height_m = MeshTopSurface(config.mesh.mesh_W, world.geometry);
       break;
   }
   constexpr double kSunk_m = 0.1;

@@ -28,10 +28,11 @@ enum class TerrainType {
   kRoad,
   kIndoor,
   kHeightmap,
+  kMesh,
 };
 
 /// The names of TerrainType's values (common/enum_names.h).
-inline constexpr std::array<common::EnumName<TerrainType>, 10> kTerrainTypeNames{
+inline constexpr std::array<common::EnumName<TerrainType>, 11> kTerrainTypeNames{
     {{TerrainType::kFlat, "flat"},
      {TerrainType::kSlope, "slope"},
      {TerrainType::kStep, "step"},
@@ -41,7 +42,8 @@ inline constexpr std::array<common::EnumName<TerrainType>, 10> kTerrainTypeNames
      {TerrainType::kRuin, "ruin"},
      {TerrainType::kRoad, "road"},
      {TerrainType::kIndoor, "indoor"},
-     {TerrainType::kHeightmap, "heightmap"}}};
+     {TerrainType::kHeightmap, "heightmap"},
+     {TerrainType::kMesh, "mesh"}}};
 constexpr const auto& EnumNames(TerrainType) { return kTerrainTypeNames; }
 
 /// Hilly ground (also the base of forest and ruin): fractal noise rescaled so that a chosen
@@ -159,7 +161,7 @@ struct HeightmapParams {
   std::array<double, 2> height_range_m{0.0, 1.0};  ///< PNG: the heights of 0 and of 65535 [m]
   Eigen::Vector2d samples{0.0, 0.0};  ///< .raw: samples along x and y (whole numbers >= 2)
   /// The file's heights [m], (samples along x, samples along y), column iy at increasing y. Read
-  /// by the scenario loader (scenarios/run/heightmap_file.h): sim reads no files.
+  /// by the scenario loader (scenarios/run/terrain_files.h): sim reads no files.
   Eigen::MatrixXf heights_m;
 
   /// The keys of `terrain.parameters` for a heightmap (common/archive.h).
@@ -168,6 +170,24 @@ struct HeightmapParams {
     a->Field("file", &file);
     a->Field("height_range", &height_range_m, {-10000.0, 10000.0});
     a->Field("samples", &samples, {0.0, 4096.0});
+  }
+};
+
+/// Ground from a triangle mesh file (OBJ, STL or PLY) in W [m], z up: its top surface, the highest
+/// triangle over each height sample, becomes the height field that MuJoCo collides with and the
+/// LiDAR sees (MuJoCo 2.2 collides a mesh geom as its convex hull, so a terrain cannot be one).
+/// The mesh must cover the terrain's `size`.
+struct MeshGroundParams {
+  /// The mesh file; a relative path is taken from the scenario file's folder.
+  std::string file;
+  /// The file's triangles in W [m]. Read by the scenario loader (scenarios/run/terrain_files.h):
+  /// sim reads no files.
+  common::TriangleMesh mesh_W;
+
+  /// The keys of `terrain.parameters` for a mesh (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("file", &file);
   }
 };
 
@@ -245,6 +265,7 @@ struct TerrainConfig {
   StepParams step{};
   StairsParams stairs{};
   HeightmapParams heightmap{};
+  MeshGroundParams mesh{};
   std::vector<PlacedBox> boxes;  ///< added after generation, not kept clear of start and goal
 
   /// The keys of scenario section `terrain` (common/archive.h); `parameters` holds the keys of the
@@ -293,6 +314,9 @@ struct TerrainConfig {
         break;
       case TerrainType::kHeightmap:
         heightmap.Serialize(a);
+        break;
+      case TerrainType::kMesh:
+        mesh.Serialize(a);
         break;
     }
   }

@@ -153,6 +153,7 @@ float GroundReflectance(TerrainType type) {
     case TerrainType::kHilly:
     case TerrainType::kSlope:
     case TerrainType::kHeightmap:
+    case TerrainType::kMesh:
       return 0.5f;
     case TerrainType::kForest:
       return 0.25f;

@@ -15,7 +15,7 @@
 #include "common/archive.h"
 #include "common/enum_names.h"
 #include "common/input_error.h"
-#include "scenarios/run/heightmap_file.h"
+#include "scenarios/run/terrain_files.h"
 
 namespace trav::scenarios {
 namespace {
@@ -378,9 +378,7 @@ Scenario LoadScenario(const common::YamlDocument& document) {
   ReadArchive archive(document.Root());
   VisitScenario(&archive, &scenario);
   archive.Finish();
-  if (scenario.terrain.type == sim::TerrainType::kHeightmap) {
-    LoadHeightmapFile(document.source(), &scenario.terrain.heightmap);
-  }
+  LoadTerrainFiles(document.source(), &scenario.terrain);
   try {
     ValidateSections(scenario);
   } catch (const common::InputError& e) {

@@ -1,6 +1,6 @@
-// Terrain type heightmap: ground read from a 16-bit PNG or a float32 .raw file, as `trav terrain`
-// writes them, interpolated onto the terrain's grid; the round trip, the interpolation, the paths
-// and every kind of bad file.
+// Ground from files: terrain type heightmap (a 16-bit PNG or a float32 .raw file, as `trav
+// terrain` writes them, interpolated onto the terrain's grid: the round trip, the interpolation,
+// the paths, every kind of bad file) and terrain type mesh (OBJ, STL, PLY: the top surface).
 #include <unistd.h>
 
 #include <cmath>
@@ -26,10 +26,10 @@ namespace {
 namespace fs = std::filesystem;
 using testing::HasSubstr;
 
-class HeightmapTerrainTest : public testing::Test {
+class TerrainFilesTest : public testing::Test {
  protected:
   void SetUp() override {
-    folder_ = fs::temp_directory_path() / ("trav_heightmap_" + std::to_string(getpid()));
+    folder_ = fs::temp_directory_path() / ("trav_terrain_files_" + std::to_string(getpid()));
     fs::remove_all(folder_);
     fs::create_directories(folder_);
   }
@@ -61,23 +61,31 @@ class HeightmapTerrainTest : public testing::Test {
     return path.string();
   }
 
-  // A scenario of terrain type heightmap with `parameters` (YAML flow map) over `size`.
+  // A scenario of terrain `type` with `parameters` (YAML flow map) over `size`.
   static Scenario Load(const std::string& size, const std::string& resolution,
-                       const std::string& parameters, const std::string& source = "test.yaml") {
+                       const std::string& parameters, const std::string& type = "heightmap") {
     return LoadScenario(common::YamlDocument::Parse(
-        "schema_version: 1\nterrain: {type: heightmap, size: " + size +
+        "schema_version: 1\nterrain: {type: " + type + ", size: " + size +
             ", resolution: " + resolution + ", parameters: " + parameters + "}\n",
-        source));
+        "test.yaml"));
   }
 
-  // The InputError message of loading, or "" when it loads.
-  static std::string LoadError(const std::string& parameters) {
+  // The InputError message of loading and generating the world, or "" when both work.
+  static std::string LoadError(const std::string& parameters,
+                               const std::string& type = "heightmap") {
     try {
-      Load("[4, 2]", "1", parameters);
+      sim::GenerateTerrain(Load("[4, 2]", "1", parameters, type).terrain);
     } catch (const common::InputError& e) {
       return e.what();
     }
     return "";
+  }
+
+  // A text file in the test's folder; returns its path.
+  std::string WriteText(const std::string& name, const std::string& text) const {
+    const fs::path path = folder_ / name;
+    std::ofstream(path) << text;
+    return path.string();
   }
 
   fs::path folder_;
@@ -93,7 +101,7 @@ sim::TerrainWorld Hills() {
   return sim::GenerateTerrain(config);
 }
 
-TEST_F(HeightmapTerrainTest, ARawFileOfTheGridsSamplesGivesItsHeightsBitForBit) {
+TEST_F(TerrainFilesTest, ARawFileOfTheGridsSamplesGivesItsHeightsBitForBit) {
   const sim::TerrainWorld hills = Hills();
   const std::string raw = WriteRaw("hills.raw", hills.height_m);
   const Scenario scenario = Load("[12, 10]", "0.1", "{file: '" + raw + "', samples: [121, 101]}");
@@ -104,7 +112,7 @@ TEST_F(HeightmapTerrainTest, ARawFileOfTheGridsSamplesGivesItsHeightsBitForBit) 
   EXPECT_TRUE(world.obstacles.empty());
 }
 
-TEST_F(HeightmapTerrainTest, APngGivesTheHeightsWithinItsSixteenBitStep) {
+TEST_F(TerrainFilesTest, APngGivesTheHeightsWithinItsSixteenBitStep) {
   const sim::TerrainWorld hills = Hills();
   const float low = hills.height_m.minCoeff();
   const float high = hills.height_m.maxCoeff();
@@ -118,7 +126,7 @@ TEST_F(HeightmapTerrainTest, APngGivesTheHeightsWithinItsSixteenBitStep) {
   EXPECT_LE((world.height_m - hills.height_m).cwiseAbs().maxCoeff(), 0.5 * step + 2e-6);
 }
 
-TEST_F(HeightmapTerrainTest, OtherDimensionsAreInterpolatedBilinearlyOverTheSize) {
+TEST_F(TerrainFilesTest, OtherDimensionsAreInterpolatedBilinearlyOverTheSize) {
   // 3 x 2 samples over 4 x 2 m: the 5 x 3 grid's samples fall on halves of the file's
   Eigen::MatrixXf file(3, 2);
   file << 0.0f, 10.0f, 1.0f, 11.0f, 2.0f, 12.0f;
@@ -135,7 +143,7 @@ TEST_F(HeightmapTerrainTest, OtherDimensionsAreInterpolatedBilinearlyOverTheSize
   EXPECT_FLOAT_EQ(world.GroundHeight(Eigen::Vector2d(2.0, 1.0)), 12.0f);
 }
 
-TEST_F(HeightmapTerrainTest, ARelativePathIsTakenFromTheScenarioFilesFolderAndMadeAbsolute) {
+TEST_F(TerrainFilesTest, ARelativePathIsTakenFromTheScenarioFilesFolderAndMadeAbsolute) {
   Eigen::MatrixXf file(2, 2);
   file << 0.0f, 1.0f, 2.0f, 3.0f;
   WriteRaw("ground.raw", file);
@@ -152,7 +160,7 @@ TEST_F(HeightmapTerrainTest, ARelativePathIsTakenFromTheScenarioFilesFolderAndMa
   EXPECT_FLOAT_EQ(sim::GenerateTerrain(scenario.terrain).height_m(2, 2), 3.0f);
 }
 
-TEST_F(HeightmapTerrainTest, BadFilesAreBadInputNamingTheKeyAndTheFile) {
+TEST_F(TerrainFilesTest, BadFilesAreBadInputNamingTheKeyAndTheFile) {
   EXPECT_THAT(LoadError("{}"), HasSubstr("terrain.parameters.file: is required"));
   EXPECT_THAT(LoadError("{file: '" + (folder_ / "missing.png").string() + "'}"),
               HasSubstr("terrain.parameters.file"));
@@ -183,7 +191,82 @@ TEST_F(HeightmapTerrainTest, BadFilesAreBadInputNamingTheKeyAndTheFile) {
               HasSubstr("not a readable PNG"));
 }
 
-TEST(HeightmapExampleTest, TheShippedHeightmapIsTheHillyWorldItWasWrittenFrom) {
+// The plane z = 0.1 x + 0.2 y + 0.3 over [-2, 2] x [-1, 1] as two triangles, in each format.
+constexpr char kPlaneObj[] = "v -2 -1 -0.1\nv 2 -1 0.3\nv 2 1 0.7\nv -2 1 0.3\nf 1 2 3\nf 1 3 4\n";
+constexpr char kPlaneQuadObj[] = "v -2 -1 -0.1\nv 2 -1 0.3\nv 2 1 0.7\nv -2 1 0.3\nf 1 2 3 4\n";
+constexpr char kPlaneStl[] =
+    "solid plane\n"
+    "facet normal 0 0 1\nouter loop\nvertex -2 -1 -0.1\nvertex 2 -1 0.3\nvertex 2 1 0.7\n"
+    "endloop\nendfacet\n"
+    "facet normal 0 0 1\nouter loop\nvertex -2 -1 -0.1\nvertex 2 1 0.7\nvertex -2 1 0.3\n"
+    "endloop\nendfacet\nendsolid plane\n";
+constexpr char kPlanePly[] =
+    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+    "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
+    "-2 -1 -0.1\n2 -1 0.3\n2 1 0.7\n-2 1 0.3\n3 0 1 2\n3 0 2 3\n";
+
+TEST_F(TerrainFilesTest, AMeshInEachFormatGivesItsSurfaceAtEverySample) {
+  for (const auto& [name, text] :
+       std::vector<std::pair<std::string, std::string>>{{"plane.obj", kPlaneObj},
+                                                        {"quad.obj", kPlaneQuadObj},
+                                                        {"plane.stl", kPlaneStl},
+                                                        {"plane.ply", kPlanePly}}) {
+    const std::string file = WriteText(name, text);
+    const sim::TerrainWorld world =
+        sim::GenerateTerrain(Load("[4, 2]", "0.5", "{file: '" + file + "'}", "mesh").terrain);
+    ASSERT_EQ(world.height_m.rows(), 9) << name;
+    ASSERT_EQ(world.height_m.cols(), 5) << name;
+    for (int iy = 0; iy < 5; ++iy) {
+      for (int ix = 0; ix < 9; ++ix) {
+        const Eigen::Vector2d p = world.geometry.CellCenter(ix, iy);
+        EXPECT_NEAR(world.height_m(ix, iy), 0.1 * p.x() + 0.2 * p.y() + 0.3, 1e-6)
+            << name << " " << ix << " " << iy;
+      }
+    }
+  }
+}
+
+TEST_F(TerrainFilesTest, TheTopSurfaceOfOverlappingTrianglesIsTheGround) {
+  // a flat floor at 0 and a 1 m high roof over x in [0, 2]
+  const std::string file =
+      WriteText("roof.obj",
+                "v -2 -1 0\nv 2 -1 0\nv 2 1 0\nv -2 1 0\nv 0 -1 1\nv 2 -1 1\nv 2 1 1\nv 0 1 1\n"
+                "f 1 2 3\nf 1 3 4\nf 5 6 7\nf 5 7 8\n");
+  const sim::TerrainWorld world =
+      sim::GenerateTerrain(Load("[4, 2]", "1", "{file: '" + file + "'}", "mesh").terrain);
+  Eigen::MatrixXf expected(5, 3);
+  expected << 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1;
+  EXPECT_EQ(world.height_m, expected);
+}
+
+TEST_F(TerrainFilesTest, BadMeshesAreBadInputNamingTheKeyAndTheFile) {
+  EXPECT_THAT(LoadError("{}", "mesh"), HasSubstr("terrain.parameters.file: is required"));
+  EXPECT_THAT(LoadError("{file: ground.dae}", "mesh"), HasSubstr("must end in .obj, .stl or .ply"));
+  EXPECT_THAT(LoadError("{file: '" + (folder_ / "missing.obj").string() + "'}", "mesh"),
+              HasSubstr("missing.obj"));
+  const std::string text = WriteText("text.obj", "not a mesh\n");
+  EXPECT_THAT(LoadError("{file: '" + text + "'}", "mesh"), HasSubstr("holds no triangle"));
+  // half the world under no triangle
+  const std::string half =
+      WriteText("half.obj", "v 0 -1 0\nv 2 -1 0\nv 2 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n");
+  EXPECT_THAT(LoadError("{file: '" + half + "'}", "mesh"),
+              HasSubstr("terrain.parameters.file: '" + half +
+                        "' leaves 6 of 15 height samples under no triangle"));
+}
+
+TEST(TerrainFilesExampleTest, TheShippedMeshIsTheRidgeItsScriptDescribes) {
+  const Scenario scenario = LoadScenario(common::YamlDocument::Load(
+      std::string(TRAV_SOURCE_DIR) + "/scenarios/terrain_files/mesh.yaml"));
+  const sim::TerrainWorld world = sim::GenerateTerrain(scenario.terrain);
+  // make_ridge.py: rolling ground 0.3 sin(0.25 x) cos(0.2 y), the ridge's crest 1.2 m beyond
+  // |y| = 3.5 m and 0.1 m in the pass, on the mesh's vertices (every 0.5 m)
+  auto ground = [](double x, double y) { return 0.3 * std::sin(0.25 * x) * std::cos(0.2 * y); };
+  EXPECT_NEAR(world.GroundHeight({0.0, -8.0}), ground(0.0, -8.0) + 1.2, 1e-4);
+  EXPECT_NEAR(world.GroundHeight({0.0, 0.0}), ground(0.0, 0.0) + 0.1, 1e-4);
+  EXPECT_NEAR(world.GroundHeight({5.0, 5.0}), ground(5.0, 5.0), 1e-4);
+}
+
+TEST(TerrainFilesExampleTest, TheShippedHeightmapIsTheHillyWorldItWasWrittenFrom) {
   const Scenario scenario = LoadScenario(common::YamlDocument::Load(
       std::string(TRAV_SOURCE_DIR) + "/scenarios/terrain_files/heightmap.yaml"));
   sim::TerrainConfig hills;
