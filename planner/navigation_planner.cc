@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <optional>
+#include <utility>
 
 #include "common/input_error.h"
 #include "common/stopwatch.h"
@@ -96,8 +97,13 @@ TrajectoryOptimizerConfig NavigationPlannerConfig::OptimizerConfig() const {
   return resolved;
 }
 
-NavigationPlanner::NavigationPlanner(const NavigationPlannerConfig& config)
-    : config_(config), optimizer_(config.OptimizerConfig()) {
+GridPath AStarSearch(const SearchCostMap& costs, const Eigen::Vector2d& start_W,
+                     const Eigen::Vector2d& goal_W) {
+  return GridPlanner(costs).Plan(start_W, goal_W);
+}
+
+NavigationPlanner::NavigationPlanner(const NavigationPlannerConfig& config, PathSearch search)
+    : config_(config), search_(std::move(search)), optimizer_(config.OptimizerConfig()) {
   ValidateNavigationPlannerConfig(config_);
 }
 
@@ -115,14 +121,14 @@ NavigationPlan NavigationPlanner::Plan(const CostMap& costs, const common::Traje
   const common::Stopwatch search_start;
   const GridPlanner search(costs.search());
   Eigen::Vector2d search_start_W = start.position_W;
-  plan.path = search.Plan(search_start_W, goal_W);
+  plan.path = search_(search.costs(), search_start_W, goal_W);
   if (plan.path.status == PlanStatus::kStartBlocked) {
     const std::optional<Eigen::Vector2d> free = NearestFreeCell(
         search.costs(), start.position_W,
         costs.config().inflation_radius_m + 2.0 * search.costs().geometry().resolution_m);
     if (free) {
       search_start_W = *free;
-      plan.path = search.Plan(search_start_W, goal_W);
+      plan.path = search_(search.costs(), search_start_W, goal_W);
     }
   }
   // toward a goal the map cannot reach yet, keep heading for the substitute chosen before while it
@@ -130,7 +136,7 @@ NavigationPlan NavigationPlanner::Plan(const CostMap& costs, const common::Traje
   // ways round what it has not seen
   if (plan.path.status == PlanStatus::kGoalMoved && substitute_goal_W_ &&
       (*substitute_goal_W_ - start.position_W).norm() > config_.substitute_goal_reach_m) {
-    GridPath committed = search.Plan(search_start_W, *substitute_goal_W_);
+    GridPath committed = search_(search.costs(), search_start_W, *substitute_goal_W_);
     if (committed.status == PlanStatus::kFound) {
       committed.status = PlanStatus::kGoalMoved;
       plan.path = std::move(committed);
@@ -191,7 +197,7 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
   };
   // 1. a path on which the robot can turn anywhere, optimised
   const GridPlanner wide(costs.wide_search());
-  const GridPath wide_path = wide.Plan(search_start_W, plan->path.goal_W);
+  const GridPath wide_path = search_(wide.costs(), search_start_W, plan->path.goal_W);
   if (wide_path.status == PlanStatus::kFound) {
     std::vector<Eigen::Vector2d> guide_W =
         wide.Simplify(wide_path.points_W, config_.simplify_tolerance);

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -125,10 +126,22 @@ struct NavigationPlan {
 /// turn in place toward it; a straight reverse drive (Fallback); each only if the footprint keeps
 /// the smallest clearance along it (KeepsClear). Keeps the previous trajectory for warm starts
 /// (TrajectoryOptimizer). Failure is a status.
+/// A path search from start_W to goal_W on search costs, as GridPlanner::Plan answers it (status,
+/// points from the start's cell to the goal's): A* by default; scenarios/run offers OMPL's
+/// sampling planners and a user's own under the scenario key `planner.method`.
+using PathSearch = std::function<GridPath(
+    const SearchCostMap& costs, const Eigen::Vector2d& start_W, const Eigen::Vector2d& goal_W)>;
+
+/// A* (GridPlanner) on `costs`.
+GridPath AStarSearch(const SearchCostMap& costs, const Eigen::Vector2d& start_W,
+                     const Eigen::Vector2d& goal_W);
+
 class NavigationPlanner {
  public:
+  /// Plans with `search` for the path that the trajectory follows (A* unless given).
   /// @throws common::InputError for an invalid config.
-  explicit NavigationPlanner(const NavigationPlannerConfig& config);
+  explicit NavigationPlanner(const NavigationPlannerConfig& config,
+                             PathSearch search = AStarSearch);
 
   /// Plans from `start` (time, pose and velocities) to goal_W on `map`.
   /// @throws std::out_of_range if the map lacks the cost layer.
@@ -155,6 +168,7 @@ class NavigationPlanner {
                 NavigationPlan* plan);
 
   NavigationPlannerConfig config_;
+  PathSearch search_;
   TrajectoryOptimizer optimizer_;
   std::optional<Eigen::Vector2d> substitute_goal_W_;
 };

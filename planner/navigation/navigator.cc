@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <utility>
 
 #include "common/enum_names.h"
 #include "common/input_error.h"
@@ -71,9 +72,10 @@ controller::MpcConfig TrackingConfig(controller::MpcConfig mpc,
 }  // namespace
 
 Navigator::Navigator(const NavigationSettings& settings, const NavigationPlannerConfig& planner,
-                     const controller::MpcConfig& mpc, const Eigen::Vector2d& goal_W)
+                     const controller::MpcConfig& mpc, const Eigen::Vector2d& goal_W,
+                     PathSearch search)
     : settings_(settings),
-      planner_(planner),
+      planner_(planner, std::move(search)),
       tracker_(TrackingConfig(mpc, planner)),
       goal_W_(goal_W) {
   ValidateNavigationSettings(settings_);

@@ -98,8 +98,10 @@ struct NavigatorTick {
 class Navigator {
  public:
   /// @throws common::InputError for invalid planner or MPC settings.
+  /// `search` finds the paths the trajectories follow (A* unless given).
   Navigator(const NavigationSettings& settings, const NavigationPlannerConfig& planner,
-            const controller::MpcConfig& mpc, const Eigen::Vector2d& goal_W);
+            const controller::MpcConfig& mpc, const Eigen::Vector2d& goal_W,
+            PathSearch search = AStarSearch);
 
   /// The tick at the state's time: the body twist command and what was done for it. `map` is the
   /// latest traversability map (null before the first one: the robot waits); `map_updated` says it

@@ -165,21 +165,21 @@ std::unique_ptr<mapping::TraversabilityMapper> MakeEvalMapper(const std::string&
   }
   Scenario configured = scene;
   if (const std::optional<PoseSourceMethod> on_source = ParsePoseSourceMethod(method)) {
-    configured.mapper = *StandardMethod(on_source->base);
+    configured.mapper = common::NameOf(*StandardMethod(on_source->base));
   } else if (method == kNoFeatures || method == kFixedGain) {
-    configured.mapper = MapperMethod::kFsgpBgk;
+    configured.mapper = common::NameOf(MapperMethod::kFsgpBgk);
     if (method == kNoFeatures) {
       configured.mapping.gp.length_scales.tail<2>().setConstant(kIgnoredLengthScale);
     } else {
       configured.mapping.fixed_gain = fixed_gain;
     }
   } else if (const std::optional<AblationMethod> ablation = ParseAblationMethod(method)) {
-    configured.mapper = *StandardMethod(ablation->base);
+    configured.mapper = common::NameOf(*StandardMethod(ablation->base));
     configured.mapping.max_training_points = ablation->inducing_points;
   } else {
-    configured.mapper = *StandardMethod(method);
+    configured.mapper = common::NameOf(*StandardMethod(method));
   }
-  if (configured.mapper == MapperMethod::kGroundTruth) {
+  if (UsesGroundTruthMap(configured)) {
     return std::make_unique<PaintingMapper>(truth_W, scene.mapping.area, std::nullopt);
   }
   return MakeMapper(configured);

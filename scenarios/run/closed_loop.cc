@@ -9,6 +9,7 @@
 #include "controller/skid_steer.h"
 #include "mapping/ground_truth.h"
 #include "scenarios/run/mappers.h"
+#include "scenarios/run/plugins.h"
 #include "scenarios/run/scenario_run.h"
 #include "scenarios/run/track_reference.h"
 #include "sim/terrain_geometry.h"
@@ -144,7 +145,7 @@ ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& option
     lidar_ = std::make_unique<lidar::LidarEmulator>(scenario.lidar);
   }
   // mapping: every LiDAR frame, in W with each point's own sensor pose
-  const bool oracle = scenario.mapper == MapperMethod::kGroundTruth;
+  const bool oracle = UsesGroundTruthMap(scenario);
   if (lidar_ && scenario.mapping_enabled && !oracle) mapper_ = MakeMapper(scenario);
 
   // the closed loop: the ground truth for the oracle and the metrics, the navigator on the map
@@ -153,7 +154,8 @@ ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& option
     // the robot's outline from the robot file, for the search and the optimiser alike
     planner::NavigationPlannerConfig planner = scenario.planner;
     planner.footprint = simulation_->RobotFootprint();
-    navigator_.emplace(scenario.navigation, planner, scenario.mpc, scenario.goal_W);
+    navigator_.emplace(scenario.navigation, planner, scenario.mpc, scenario.goal_W,
+                       FindPathSearch(scenario.planner_method)(scenario));
     if (oracle) navigation_map_ = &*truth_W_;
     // movers perceived from the scans, when the scenario does not give the planner their state
     if (lidar_ && !scenario.navigation.movers_from_ground_truth) {

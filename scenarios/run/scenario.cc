@@ -15,6 +15,7 @@
 #include "common/archive.h"
 #include "common/enum_names.h"
 #include "common/input_error.h"
+#include "scenarios/run/plugins.h"
 #include "scenarios/run/terrain_files.h"
 
 namespace trav::scenarios {
@@ -300,7 +301,11 @@ void VisitScenario(Archive* a, Scenario* s) {
     s->mpc.control_period_s = 1.0 / rate_hz;
     c.Map("mpc", &s->mpc);
   });
-  a->Map("planner", &s->planner);
+  a->Map("planner", [s](Archive& p) {
+    s->planner.Serialize(&p);
+    p.Field("method", &s->planner_method);
+    p.Field("sampling_iterations", &s->sampling_iterations, {1, 1000000});
+  });
   a->Sequence("moving_obstacles", &s->movers, 1000);
   a->Map("traffic", &s->traffic);
   a->Map("navigation", [s](Archive& n) {
@@ -320,7 +325,7 @@ void VisitScenario(Archive* a, Scenario* s) {
   });
   a->Map("mapping", [s](Archive& m) {
     m.Field("enabled", &s->mapping_enabled);
-    m.Enum("method", &s->mapper);
+    m.Field("method", &s->mapper);
     s->mapping.Serialize(&m);
   });
   a->Map("ground_truth", &s->ground_truth);
@@ -384,7 +389,14 @@ Scenario LoadScenario(const common::YamlDocument& document) {
   } catch (const common::InputError& e) {
     throw e.InFile(document.source());
   }
-  if (scenario.mode == RunMode::kNavigate && scenario.mapper != MapperMethod::kGroundTruth &&
+  // the methods by name: built-in or registered (scenarios/run/plugins.h)
+  try {
+    FindMapper(scenario.mapper);
+    FindPathSearch(scenario.planner_method);
+  } catch (const common::InputError& e) {
+    throw e.InFile(document.source());
+  }
+  if (scenario.mode == RunMode::kNavigate && !UsesGroundTruthMap(scenario) &&
       !(scenario.lidar.enabled && scenario.mapping_enabled)) {
     throw common::InputError(document.source(), "mapping.method",
                              "mode navigate maps from the LiDAR: enable lidar and mapping, or use "

@@ -135,7 +135,12 @@ struct Scenario {
   /// controller.mpc (its control period is 1 / controller.rate, 50 Hz by default)
   controller::MpcConfig mpc{};
   planner::NavigationPlannerConfig planner{};  ///< scenario key `planner` (mode navigate)
-  planner::NavigationSettings navigation{};    ///< scenario key `navigation` (mode navigate)
+  /// planner.method: the path search, `astar` or OMPL's `rrt_star`, `bit_star`, `rrt_connect`, or
+  /// a registered one (scenarios/run/plugins.h)
+  std::string planner_method{"astar"};
+  /// planner.sampling_iterations: the iterations of one OMPL query (its only budget: repeatable)
+  int sampling_iterations{1000};
+  planner::NavigationSettings navigation{};  ///< scenario key `navigation` (mode navigate)
   /// navigation.position_noise, yaw_noise, drift, localization_seed: the pose the stack believes
   sim::PoseNoiseConfig pose_noise{};
   /// localization's scan-matching keys: the LiDAR odometry of method scan-matching
@@ -150,11 +155,13 @@ struct Scenario {
   /// lidar.mount: pose of the sensor L in the base frame B as [x, y, z, roll, pitch, yaw]
   /// [m, rad]; absent: the robot model's "lidar" site.
   std::optional<Eigen::Matrix<double, 6, 1>> lidar_mount_B;
-  sim::ImuConfig imu{};                         ///< imu: the IMU written to imu.csv
-  bool mapping_enabled{true};                   ///< mapping.enabled: map every LiDAR frame
-  MapperMethod mapper{MapperMethod::kFsgpBgk};  ///< mapping.method
-  mapping::FsgpConfig mapping{};                ///< the other keys of `mapping`
-  mapping::GroundTruthConfig ground_truth{};    ///< scenario key `ground_truth`
+  sim::ImuConfig imu{};        ///< imu: the IMU written to imu.csv
+  bool mapping_enabled{true};  ///< mapping.enabled: map every LiDAR frame
+  /// mapping.method: a built-in (MapperMethod's names) or a registered mapper
+  /// (scenarios/run/plugins.h)
+  std::string mapper{"fsgp-bgk"};
+  mapping::FsgpConfig mapping{};              ///< the other keys of `mapping`
+  mapping::GroundTruthConfig ground_truth{};  ///< scenario key `ground_truth`
   VideoSettings video{};
   std::string output_dir{"out/default"};
   bool mcap{false};  ///< output.mcap: write run.mcap (scenarios/run/mcap_recorder.h)
@@ -166,6 +173,12 @@ struct Scenario {
   /// many scenarios (`trav batch`) against failing runs.
   TestFault test_fault{TestFault::kNone};
 };
+
+/// True if the scenario's robot plans on the ground truth itself (`mapping.method: ground-truth`,
+/// the oracle): no mapper runs.
+inline bool UsesGroundTruthMap(const Scenario& scenario) {
+  return scenario.mapper == common::NameOf(MapperMethod::kGroundTruth);
+}
 
 /// Loads a scenario strictly: unknown keys, wrong types and out-of-range values throw
 /// common::InputError naming the source, the key path and the value.

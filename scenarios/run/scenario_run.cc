@@ -366,7 +366,7 @@ void to_json(nlohmann::json& json, const NavigationMetrics& n) {
 }
 
 void to_json(nlohmann::json& json, const MappingMetrics& m) {
-  json = {{"method", common::NameOf(m.method)},
+  json = {{"method", m.method},
           {"updates", m.updates},
           {"update_ms_median", m.update_ms_median},
           {"update_ms_max", m.update_ms_max},

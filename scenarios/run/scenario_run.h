@@ -63,7 +63,7 @@ void to_json(nlohmann::json& json, const NavigationMetrics& metrics);
 /// Mapping on the LiDAR frames (when both are enabled): updates, time per update, and the final
 /// map's error against the ground truth over its known cells.
 struct MappingMetrics {
-  MapperMethod method{MapperMethod::kFsgpBgk};
+  std::string method{"fsgp-bgk"};  ///< `mapping.method`
   int updates{0};
   double update_ms_median{0.0};
   double update_ms_max{0.0};

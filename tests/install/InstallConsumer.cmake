@@ -1,6 +1,7 @@
-# ctest install_consumer: `cmake --install` into a scratch prefix, then the out-of-tree project
-# examples/mapping_consumer configured with find_package(trav) against it, built and run; and the
-# installed trav executable with its models and scenarios. Run with -DBUILD_DIR, -DSOURCE_DIR,
+# ctest install_consumer: `cmake --install` into a scratch prefix, then the out-of-tree projects
+# examples/mapping_consumer and examples/plugin_mapper (a mapper registered by name and run in the
+# closed loop) configured with find_package(trav) against it, built and run; and the installed
+# trav executable with its models and scenarios. Run with -DBUILD_DIR, -DSOURCE_DIR,
 # -DWORK (scratch folder, replaced) and -DGENERATOR.
 function(run what)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -31,6 +32,20 @@ foreach(expected "frame 2: [0-9]+ training points" "wall cost 1.00" "path found"
   endif()
 endforeach()
 message(STATUS "consumer: ${output}")
+
+# a mapper of the user's own, registered by name and run in the closed loop (examples/plugin_mapper)
+run("configuring the plugin mapper" ${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/plugin_mapper
+    -B ${WORK}/plugin -G ${GENERATOR} -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${prefix})
+run("building the plugin mapper" ${CMAKE_COMMAND} --build ${WORK}/plugin)
+run("running the plugin mapper" ${WORK}/plugin/plugin_mapper ${prefix}/share/trav/models
+    ${WORK}/plugin_run)
+if(NOT output MATCHES "mapper height-span: success")
+  message(FATAL_ERROR "the plugin mapper's run did not succeed:\n${output}")
+endif()
+if(NOT EXISTS ${WORK}/plugin_run/trajectory.csv)
+  message(FATAL_ERROR "the plugin mapper's run wrote no trajectory.csv")
+endif()
+message(STATUS "plugin mapper: ${output}")
 
 # the installed executable finds its models beside it, with the source tree out of reach
 run("the installed trav" ${CMAKE_COMMAND} -E env TRAV_MODELS_DIR= ${prefix}/bin/trav --version)

@@ -35,7 +35,8 @@ TEST(ScenarioTest, BuiltInDefaultIsAThirtyMetreTraverseOfWoodedHillsWithVideo) {
   EXPECT_EQ(dut.terrain.size_m, Eigen::Vector2d(50, 50));
   EXPECT_EQ(dut.terrain.resolution_m, 0.1);
   EXPECT_EQ(dut.mode, RunMode::kNavigate);
-  EXPECT_EQ(dut.mapper, MapperMethod::kFsgpBgk);
+  EXPECT_EQ(dut.mapper, "fsgp-bgk");
+  EXPECT_EQ(dut.planner_method, "astar");
   EXPECT_EQ((dut.goal_W - dut.start_W.position).norm(), 30.0);
   EXPECT_EQ(dut.expected_outcome, Outcome::kSuccess);
   EXPECT_TRUE(dut.video.enabled);
