@@ -230,6 +230,16 @@ void InstallMujocoHandlers();
 /// With `with_imu`, the accelerometer `imu_accel` and gyro `imu_gyro` of the IMU are required too.
 void ValidateRobotModel(const std::string& robot_model_path, bool with_imu = false);
 
+/// The robot file as a URDF for ROS tools (RViz, robot_state_publisher): one link per body with its
+/// mass and inertia as MuJoCo computes them, its geoms as collision (those that collide) and visual
+/// geometry, a fixed link per site (`lidar`, `imu`); the free joint `root` is left out (the base is
+/// the root link, `base_link` after REP-105), hinges become continuous or revolute joints, slides
+/// prismatic ones. URDF has no ellipsoid: an ellipsoid with two equal semi-axes (trav's wheels) is
+/// written as the cylinder of those axes and the third's length, others as a box round them.
+/// @throws common::InputError naming the file if it does not load, or holds a body with more than
+/// one joint, a ball joint or a mesh (URDF cannot say them).
+std::string RobotUrdf(const std::string& robot_model_path);
+
 /// The version of the MuJoCo library trav runs with ("2.2.2").
 std::string MujocoVersion();
 

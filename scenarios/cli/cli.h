@@ -35,6 +35,7 @@ Command AddTerrainCommand(CLI::App* app);
 Command AddPatternCommand(CLI::App* app);
 Command AddCalibrateCommand(CLI::App* app);
 Command AddTruthCheckCommand(CLI::App* app);
+Command AddUrdfCommand(CLI::App* app);
 /// `command_line`: the command as typed, for the evaluation's report.
 Command AddEvalCommand(CLI::App* app, const std::string& command_line);
 Command AddBatchCommand(CLI::App* app);

@@ -59,17 +59,13 @@ int Main(int argc, char** argv) {
   bool verbose = false;
   app.add_flag("-v,--verbose", verbose,
                "Log debug messages (MuJoCo warnings as they happen) to stderr");
-  const std::vector<Command> commands = {AddRunCommand(&app),
-                                         AddScanCommand(&app),
-                                         AddTerrainCommand(&app),
-                                         AddPatternCommand(&app),
-                                         AddCalibrateCommand(&app),
-                                         AddTruthCheckCommand(&app),
-                                         AddEvalCommand(&app, CommandLine(argc, argv)),
-                                         AddBatchCommand(&app),
-                                         AddTuneCommand(&app),
-                                         AddJobTaskCommand(&app),
-                                         AddEvalSceneCommand(&app)};
+  const std::vector<Command> commands = {
+      AddRunCommand(&app),       AddScanCommand(&app),
+      AddTerrainCommand(&app),   AddPatternCommand(&app),
+      AddCalibrateCommand(&app), AddTruthCheckCommand(&app),
+      AddUrdfCommand(&app),      AddEvalCommand(&app, CommandLine(argc, argv)),
+      AddBatchCommand(&app),     AddTuneCommand(&app),
+      AddJobTaskCommand(&app),   AddEvalSceneCommand(&app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

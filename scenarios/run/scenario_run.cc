@@ -202,6 +202,10 @@ std::string RobotModelPath(const Scenario& scenario, const std::string& models_d
                              : (std::filesystem::path(models_dir) / model).string();
 }
 
+std::string RobotUrdfOf(const std::string& robot_model_path) {
+  return sim::RobotUrdf(robot_model_path);
+}
+
 std::string CheckedRobotModelPath(const Scenario& scenario, const std::string& models_dir) {
   const std::string model = RobotModelPath(scenario, models_dir);
   common::ValidateAt("robot.model", [&] { sim::ValidateRobotModel(model, scenario.imu.enabled); });

@@ -221,6 +221,10 @@ std::vector<sim::MovingObstacle> ScenarioMovers(const Scenario& scenario,
 /// Absolute path of the robot model of `scenario` (robot.model in `models_dir` unless absolute).
 std::string RobotModelPath(const Scenario& scenario, const std::string& models_dir);
 
+/// The robot file `robot_model_path` as a URDF for ROS tools (sim::RobotUrdf).
+/// @throws common::InputError naming the file if it does not load or URDF cannot say it.
+std::string RobotUrdfOf(const std::string& robot_model_path);
+
 /// RobotModelPath, checked to be a robot model trav can drive (sim::ValidateRobotModel).
 /// @throws common::InputError if it is not.
 std::string CheckedRobotModelPath(const Scenario& scenario, const std::string& models_dir);

@@ -63,6 +63,67 @@ TEST(RobotModelTest, LoadsOnItsOwnWithTheSpecifiedMassAndGeometry) {
   mj_deleteModel(model);
 }
 
+// The shipped URDF is what `trav urdf` writes from the MJCF today (regenerate it with
+// `trav urdf --out models/scout_mini.urdf --overwrite` after changing the MJCF).
+TEST(RobotModelTest, TheShippedUrdfIsGeneratedFromTheMjcf) {
+  std::ifstream file(std::string(TRAV_MODELS_DIR) + "/scout_mini.urdf");
+  const std::string shipped{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+  EXPECT_EQ(shipped, RobotUrdf(kRobotModel));
+}
+
+// MuJoCo reads URDF too: the URDF's robot has the MJCF's masses, wheels and joints. (MuJoCo makes
+// the URDF's root link, base_link, its world body: the base's frame is the world's, and its mass
+// is in the text.)
+TEST(RobotModelTest, TheUrdfLoadsWithTheMjcfsMassWheelsAndJoints) {
+  const std::string urdf_path =
+      ::testing::TempDir() + "/scout_mini_" + std::to_string(getpid()) + ".urdf";
+  const std::string text = RobotUrdf(kRobotModel);
+  std::ofstream(urdf_path) << text;
+  char error[1000] = "";
+  mjModel* urdf = mj_loadXML(urdf_path.c_str(), nullptr, error, sizeof(error));
+  ASSERT_NE(urdf, nullptr) << error;
+  mjModel* mjcf = mj_loadXML(kRobotModel.c_str(), nullptr, error, sizeof(error));
+  ASSERT_NE(mjcf, nullptr) << error;
+  const int base = mj_name2id(mjcf, mjOBJ_BODY, "base");
+  EXPECT_NE(text.find("<link name=\"base_link\">\n    <inertial>\n      <origin xyz=\"0.00174725 0 "
+                      "0.0938832\" rpy=\"0 -1.5641 3.14159\"/>\n      <mass value=\"18.2\"/>"),
+            std::string::npos);
+  EXPECT_NEAR(mjcf->body_mass[base], 18.2, 1e-9);
+  EXPECT_NEAR(mj_getTotalmass(urdf), mj_getTotalmass(mjcf) - mjcf->body_mass[base], 1e-9);
+  mjData* urdf_data = mj_makeData(urdf);
+  mjData* mjcf_data = mj_makeData(mjcf);
+  mj_forward(urdf, urdf_data);
+  mj_forward(mjcf, mjcf_data);
+  for (const char* wheel :
+       {"front_left_wheel", "rear_left_wheel", "front_right_wheel", "rear_right_wheel"}) {
+    const int u = mj_name2id(urdf, mjOBJ_BODY, wheel);
+    const int j = mj_name2id(urdf, mjOBJ_JOINT, wheel);
+    const int c = mj_name2id(mjcf, mjOBJ_BODY, wheel);
+    ASSERT_GE(u, 0) << wheel;
+    ASSERT_GE(j, 0) << wheel;
+    EXPECT_EQ(urdf->jnt_type[j], mjJNT_HINGE) << wheel;
+    EXPECT_NEAR(urdf->body_mass[u], mjcf->body_mass[c], 1e-9) << wheel;
+    // the wheel's centre in the base frame (the MJCF's base starts level, 0.0875 m up)
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(urdf_data->xpos[3 * u + k],
+                  mjcf_data->xpos[3 * c + k] - mjcf_data->xpos[3 * base + k], 1e-9)
+          << wheel;
+    }
+    // the wheel rolls about its y axis: a cylinder of the tyre's radius and width
+    const int geom = urdf->body_geomadr[u];
+    EXPECT_EQ(urdf->geom_type[geom], mjGEOM_CYLINDER);
+    EXPECT_NEAR(urdf->geom_size[3 * geom], 0.0875, 1e-9);
+    EXPECT_NEAR(urdf->geom_size[3 * geom + 1], 0.04, 1e-9);
+  }
+  // the suspensions are prismatic
+  EXPECT_EQ(urdf->jnt_type[mj_name2id(urdf, mjOBJ_JOINT, "front_left_suspension")], mjJNT_SLIDE);
+  mj_deleteData(urdf_data);
+  mj_deleteData(mjcf_data);
+  mj_deleteModel(urdf);
+  mj_deleteModel(mjcf);
+  std::remove(urdf_path.c_str());
+}
+
 TEST(SimulationTest, AtRestOnFlatGroundTheRobotSettlesAndStays) {
   Simulation dut(FlatWorld(), common::Pose2{}, Options());
   StepFor(&dut, 2.0);
