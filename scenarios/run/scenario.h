@@ -188,7 +188,8 @@ Scenario LoadScenario(const common::YamlDocument& document);
 /// @throws common::InputError naming --set and the assignment if one has no '=' or no key.
 void ApplyOverrides(const std::vector<std::string>& assignments, common::YamlDocument* document);
 
-/// The YAML text of the built-in default scenario (hilly terrain, a 30 s drive with video).
+/// The YAML text of the built-in default scenario (the closed loop across 30 m of forest, with
+/// video).
 const std::string& DefaultScenarioYaml();
 
 /// The scenario as YAML text, every field resolved (written next to a run's outputs so it can be
