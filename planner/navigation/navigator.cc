@@ -56,12 +56,10 @@ void ValidateNavigationSettings(const NavigationSettings& s) {
                "must be > 0");
 }
 
-namespace {
+namespace {}  // namespace
 
-// The MPC never drives faster than the planner's speed limit (a robot that fell behind a plan must
-// not race to where the plan is now); it may turn a little faster (20 %) to catch up a heading.
-controller::MpcConfig TrackingConfig(controller::MpcConfig mpc,
-                                     const NavigationPlannerConfig& planner) {
+controller::MpcConfig PlanTrackingConfig(controller::MpcConfig mpc,
+                                         const NavigationPlannerConfig& planner) {
   const DynamicLimits& limits = planner.optimizer.limits;
   mpc.max_speed_m_s = std::min(mpc.max_speed_m_s, limits.max_speed_m_s);
   mpc.min_speed_m_s = std::max(mpc.min_speed_m_s, -limits.max_speed_m_s);
@@ -69,14 +67,14 @@ controller::MpcConfig TrackingConfig(controller::MpcConfig mpc,
   return mpc;
 }
 
-}  // namespace
-
 Navigator::Navigator(const NavigationSettings& settings, const NavigationPlannerConfig& planner,
                      const controller::MpcConfig& mpc, const Eigen::Vector2d& goal_W,
-                     PathSearch search)
+                     PathSearch search, std::unique_ptr<controller::TrajectoryTracker> tracker)
     : settings_(settings),
       planner_(planner, std::move(search)),
-      tracker_(TrackingConfig(mpc, planner)),
+      tracker_(tracker
+                   ? std::move(tracker)
+                   : std::make_unique<controller::MpcTracker>(PlanTrackingConfig(mpc, planner))),
       goal_W_(goal_W) {
   ValidateNavigationSettings(settings_);
 }
@@ -111,18 +109,18 @@ NavigatorTick Navigator::Update(const common::RobotState& state, const common::G
           map != nullptr ? GiveWay(state, *map, movers) : std::nullopt;
       if (!escape) return tick;
       trajectory_ = std::move(*escape);
-      tracker_.SetReference(trajectory_);
+      tracker_->SetReference(trajectory_);
       giving_way_until_s_ = trajectory_.end_time();
       force_replan_ = true;  // replan once the drive ends
       ++statistics_.give_ways;
     }
   }
-  if (!tracker_.SolveDue(state.time_s)) {
-    tick.command = tracker_.Command(state);
+  if (!tracker_->SolveDue(state.time_s)) {
+    tick.command = tracker_->Command(state);
     return tick;
   }
   const common::Stopwatch control_start;
-  tick.command = tracker_.Command(state);
+  tick.command = tracker_->Command(state);
   tick.solved = true;
   statistics_.control_ms.push_back(control_start.ElapsedMilliseconds());
   return tick;
@@ -278,7 +276,7 @@ void Navigator::Replan(const common::RobotState& state, const common::GridLayers
   if (usable) {
     trajectory_ = plan.optimized.trajectory;
     waypoints_W_ = plan.waypoints_W;
-    tracker_.SetReference(trajectory_);
+    tracker_->SetReference(trajectory_);
     // a manoeuvre that only frees the robot does not count as a plan: the patience keeps running
     if (leads_to_goal && !leads_nowhere) last_valid_plan_s_ = now;
     force_replan_ = false;

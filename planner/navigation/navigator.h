@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -79,6 +80,12 @@ inline constexpr std::array<common::EnumName<ReplanReason>, 7> kReplanReasonName
 }};
 constexpr const auto& EnumNames(ReplanReason) { return kReplanReasonNames; }
 
+/// The MPC settings with which the navigator tracks its plans: the MPC never drives faster than the
+/// planner's speed limit (a robot that fell behind a plan must not race to where the plan is now);
+/// it may turn a little faster (20 %) to catch up a heading.
+controller::MpcConfig PlanTrackingConfig(controller::MpcConfig mpc,
+                                         const NavigationPlannerConfig& planner);
+
 /// What the navigator did in one control tick.
 struct NavigatorTick {
   common::Twist2 command;                    ///< the body twist to apply
@@ -98,10 +105,12 @@ struct NavigatorTick {
 class Navigator {
  public:
   /// @throws common::InputError for invalid planner or MPC settings.
-  /// `search` finds the paths the trajectories follow (A* unless given).
+  /// `search` finds the paths the trajectories follow (A* unless given); `tracker` tracks them
+  /// (unless given, the MPC with `mpc` as PlanTrackingConfig limits it).
   Navigator(const NavigationSettings& settings, const NavigationPlannerConfig& planner,
             const controller::MpcConfig& mpc, const Eigen::Vector2d& goal_W,
-            PathSearch search = AStarSearch);
+            PathSearch search = AStarSearch,
+            std::unique_ptr<controller::TrajectoryTracker> tracker = nullptr);
 
   /// The tick at the state's time: the body twist command and what was done for it. `map` is the
   /// latest traversability map (null before the first one: the robot waits); `map_updated` says it
@@ -120,8 +129,8 @@ class Navigator {
   /// The trajectory being tracked (empty before the first plan).
   const common::Trajectory& trajectory() const { return trajectory_; }
 
-  /// The MPC tracker of the trajectory (its latest predicted horizon).
-  const controller::MpcTracker& tracker() const { return tracker_; }
+  /// The tracker of the trajectory (its latest predicted horizon).
+  const controller::TrajectoryTracker& tracker() const { return *tracker_; }
 
   /// The latest plan's waypoints (A* simplified) [m].
   const std::vector<Eigen::Vector2d>& waypoints_W() const { return waypoints_W_; }
@@ -142,7 +151,7 @@ class Navigator {
   const Statistics& statistics() const { return statistics_; }
 
   /// Tracking metrics against the trajectories followed.
-  controller::TrackingMetrics tracking_metrics() const { return tracker_.Metrics(); }
+  controller::TrackingMetrics tracking_metrics() const { return tracker_->Metrics(); }
 
  private:
   ReplanReason ReasonToReplan(const common::RobotState& state, const common::GridLayers* map,
@@ -161,7 +170,7 @@ class Navigator {
 
   NavigationSettings settings_;
   NavigationPlanner planner_;
-  controller::MpcTracker tracker_;
+  std::unique_ptr<controller::TrajectoryTracker> tracker_;
   Eigen::Vector2d goal_W_;
   common::Trajectory trajectory_;
   std::vector<Eigen::Vector2d> waypoints_W_;

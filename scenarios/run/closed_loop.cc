@@ -89,7 +89,7 @@ void RemovePointsInDiscs(const std::vector<Disc>& discs, common::PointCloud* clo
 }
 
 // The robot's start: the scenario's, or the first point of the reference it tracks.
-common::Pose2 StartPose(const Scenario& scenario, const controller::MpcTracker* tracker) {
+common::Pose2 StartPose(const Scenario& scenario, const controller::TrajectoryTracker* tracker) {
   common::Pose2 start_W = scenario.start_W;
   if (tracker != nullptr) {
     const common::TrajectoryPoint first =
@@ -100,11 +100,14 @@ common::Pose2 StartPose(const Scenario& scenario, const controller::MpcTracker* 
   return start_W;
 }
 
-// What drives the robot in mode track: the MPC tracking the scenario's reference.
-std::optional<controller::MpcTracker> MakeTracker(const Scenario& scenario) {
-  if (scenario.mode != RunMode::kTrack) return std::nullopt;
-  return std::optional<controller::MpcTracker>(std::in_place, scenario.mpc,
-                                               BuildReference(scenario.track, scenario.start_W));
+// What drives the robot in mode track: the controller of `controller.method` (the MPC by default)
+// tracking the scenario's reference.
+std::unique_ptr<controller::TrajectoryTracker> MakeTracker(const Scenario& scenario) {
+  if (scenario.mode != RunMode::kTrack) return nullptr;
+  std::unique_ptr<controller::TrajectoryTracker> tracker =
+      FindController(scenario.controller_method)(scenario);
+  tracker->SetReference(BuildReference(scenario.track, scenario.start_W));
+  return tracker;
 }
 
 sim::WorldOptions WorldOptionsOf(const Scenario& scenario, const ClosedLoopOptions& options) {
@@ -155,7 +158,8 @@ ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& option
     planner::NavigationPlannerConfig planner = scenario.planner;
     planner.footprint = simulation_->RobotFootprint();
     navigator_.emplace(scenario.navigation, planner, scenario.mpc, scenario.goal_W,
-                       FindPathSearch(scenario.planner_method)(scenario));
+                       FindPathSearch(scenario.planner_method)(scenario),
+                       FindController(scenario.controller_method)(scenario));
     if (oracle) navigation_map_ = &*truth_W_;
     // movers perceived from the scans, when the scenario does not give the planner their state
     if (lidar_ && !scenario.navigation.movers_from_ground_truth) {

@@ -148,7 +148,7 @@ class ClosedLoop {
   /// when nothing is mapped; the oracle maps nothing), the mover tracker (movers perceived from
   /// the scans).
   const planner::Navigator* navigator() const { return navigator_ ? &*navigator_ : nullptr; }
-  const controller::MpcTracker* tracker() const { return tracker_ ? &*tracker_ : nullptr; }
+  const controller::TrajectoryTracker* tracker() const { return tracker_.get(); }
   const mapping::TraversabilityMapper* mapper() const { return mapper_.get(); }
   bool perceives_movers() const { return mover_tracker_.has_value(); }
   /// The map the navigator plans on (the mapper's, or the truth for the oracle; null before the
@@ -199,7 +199,7 @@ class ClosedLoop {
   const Scenario scenario_;
   const sim::TerrainWorld world_;
   mutable std::optional<Eigen::MatrixXf> obstacle_heights_;
-  std::optional<controller::MpcTracker> tracker_;
+  std::unique_ptr<controller::TrajectoryTracker> tracker_;
   std::vector<sim::MovingObstacle> movers_;
   const sim::WorldOptions world_options_;
   std::unique_ptr<sim::Simulation> simulation_;

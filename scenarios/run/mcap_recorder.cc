@@ -341,7 +341,7 @@ McapRecorder::~McapRecorder() = default;
 void McapRecorder::OnCommand(const ClosedLoop& loop) {
   Log& log = *log_;
   const double t_s = loop.state().time_s;
-  const controller::MpcTracker* tracker =
+  const controller::TrajectoryTracker* tracker =
       loop.navigator() != nullptr ? &loop.navigator()->tracker() : loop.tracker();
   if (loop.navigator() != nullptr && loop.navigator_tick().replan != planner::ReplanReason::kNone) {
     const planner::Navigator& navigator = *loop.navigator();

@@ -6,8 +6,10 @@
 #include <utility>
 
 #include "common/input_error.h"
+#include "controller/mpc_tracker.h"
 #include "mapping/baselines.h"
 #include "mapping/fsgp_bgk_mapper.h"
+#include "planner/navigation/navigator.h"
 #include "planner/ompl/ompl_planner.h"
 
 namespace trav::scenarios {
@@ -132,6 +134,18 @@ Registry<PathSearchFactory>& PathSearches() {
   return registry;
 }
 
+Registry<ControllerFactory>& Controllers() {
+  static Registry<ControllerFactory> registry({
+      {"mpc",
+       [](const Scenario& s) -> std::unique_ptr<controller::TrajectoryTracker> {
+         // the navigator's plans are tracked within the planner's limits
+         return std::make_unique<controller::MpcTracker>(
+             s.mode == RunMode::kNavigate ? planner::PlanTrackingConfig(s.mpc, s.planner) : s.mpc);
+       }},
+  });
+  return registry;
+}
+
 }  // namespace
 
 void RegisterMapper(const std::string& name, MapperFactory factory) {
@@ -142,7 +156,12 @@ void RegisterPathSearch(const std::string& name, PathSearchFactory factory) {
   PathSearches().Add(name, std::move(factory));
 }
 
+void RegisterController(const std::string& name, ControllerFactory factory) {
+  Controllers().Add(name, std::move(factory));
+}
+
 std::vector<std::string> MapperNames() { return Mappers().Names(); }
+std::vector<std::string> ControllerNames() { return Controllers().Names(); }
 std::vector<std::string> PathSearchNames() { return PathSearches().Names(); }
 
 const MapperFactory& FindMapper(const std::string& name) {
@@ -151,6 +170,10 @@ const MapperFactory& FindMapper(const std::string& name) {
 
 const PathSearchFactory& FindPathSearch(const std::string& name) {
   return PathSearches().Find("planner.method", name);
+}
+
+const ControllerFactory& FindController(const std::string& name) {
+  return Controllers().Find("controller.method", name);
 }
 
 }  // namespace trav::scenarios

@@ -300,6 +300,7 @@ void VisitScenario(Archive* a, Scenario* s) {
     c.Field("rate", &rate_hz, {5.0, 1000.0});
     s->mpc.control_period_s = 1.0 / rate_hz;
     c.Map("mpc", &s->mpc);
+    c.Field("method", &s->controller_method);
   });
   a->Map("planner", [s](Archive& p) {
     s->planner.Serialize(&p);
@@ -393,6 +394,7 @@ Scenario LoadScenario(const common::YamlDocument& document) {
   try {
     FindMapper(scenario.mapper);
     FindPathSearch(scenario.planner_method);
+    FindController(scenario.controller_method);
   } catch (const common::InputError& e) {
     throw e.InFile(document.source());
   }

@@ -138,6 +138,9 @@ struct Scenario {
   /// planner.method: the path search, `astar` or OMPL's `rrt_star`, `bit_star`, `rrt_connect`, or
   /// a registered one (scenarios/run/plugins.h)
   std::string planner_method{"astar"};
+  /// controller.method: what tracks the trajectories, `mpc` or a registered controller
+  /// (scenarios/run/plugins.h)
+  std::string controller_method{"mpc"};
   /// planner.sampling_iterations: the iterations of one OMPL query (its only budget: repeatable)
   int sampling_iterations{1000};
   planner::NavigationSettings navigation{};  ///< scenario key `navigation` (mode navigate)

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -15,7 +16,9 @@
 #include <gtest/gtest.h>
 
 #include "common/input_error.h"
+#include "common/pose.h"
 #include "common/yaml_reader.h"
+#include "controller/trajectory_tracker.h"
 #include "mapping/baselines.h"
 #include "scenarios/run/scenario.h"
 #include "scenarios/run/scenario_run.h"
@@ -61,11 +64,50 @@ RunSummary RunInTemporaryFolder(const Scenario& scenario, const std::string& tag
   return summary;
 }
 
+// Kanayama's tracking law (Kanayama et al., "A stable tracking control method for an autonomous
+// mobile robot", ICRA 1990) at 20 Hz: a controller that is not trav's.
+class KanayamaTracker : public controller::TrajectoryTracker {
+ public:
+  void SetReference(common::Trajectory reference) override { reference_ = std::move(reference); }
+  bool SolveDue(double t_s) const override { return t_s + 1e-9 >= next_s_; }
+  common::Twist2 Command(const common::RobotState& state) override {
+    if (!SolveDue(state.time_s)) return command_;
+    next_s_ = state.time_s + 0.05;
+    const common::TrajectoryPoint r = reference_.Sample(state.time_s);
+    const double yaw = common::ToRollPitchYaw(state.X_WB.linear()).yaw;
+    // the reference's pose in the robot's frame
+    const Eigen::Vector2d d = r.position_W - state.X_WB.translation().head<2>();
+    const double e_x = std::cos(yaw) * d.x() + std::sin(yaw) * d.y();
+    const double e_y = -std::sin(yaw) * d.x() + std::cos(yaw) * d.y();
+    const double e_yaw = std::remainder(r.yaw - yaw, 2.0 * M_PI);
+    command_.v = std::clamp(r.v * std::cos(e_yaw) + 1.0 * e_x, -1.0, 1.5);
+    command_.omega = std::clamp(r.omega + r.v * (10.0 * e_y + 3.0 * std::sin(e_yaw)), -2.0, 2.0);
+    ++solves_;
+    return command_;
+  }
+  controller::TrackingMetrics Metrics() const override {
+    controller::TrackingMetrics metrics;
+    metrics.solves = solves_;
+    return metrics;
+  }
+  const common::Trajectory& reference() const override { return reference_; }
+  int solves() const override { return solves_; }
+  const Eigen::Matrix3Xd& predicted_states_W() const override { return none_; }
+
+ private:
+  common::Trajectory reference_;
+  common::Twist2 command_{};
+  double next_s_{0.0};
+  int solves_{0};
+  Eigen::Matrix3Xd none_;
+};
+
 TEST(PluginsTest, TheBuiltInMethodsAreRegisteredByTheirScenarioNames) {
   EXPECT_EQ(MapperNames(), (std::vector<std::string>{"em", "fsgp", "fsgp-accumulation", "fsgp-bgk",
                                                      "ground-truth", "sgp"}));
   EXPECT_EQ(PathSearchNames(),
             (std::vector<std::string>{"astar", "bit_star", "rrt_connect", "rrt_star"}));
+  EXPECT_EQ(ControllerNames(), (std::vector<std::string>{"mpc"}));
   const Scenario defaults;
   EXPECT_EQ(FindMapper("ground-truth")(defaults), nullptr);
 }
@@ -109,6 +151,20 @@ TEST(PluginsTest, ARegisteredMapperRunsInTheClosedLoopByItsName) {
   ASSERT_TRUE(summary.mapping.has_value());
   EXPECT_EQ(summary.mapping->method, "coarse-em");
   EXPECT_GT(summary.mapping->updates, 50);
+}
+
+TEST(PluginsTest, ARegisteredControllerTracksThePlansByItsName) {
+  RegisterController("kanayama",
+                     [](const Scenario&) { return std::make_unique<KanayamaTracker>(); });
+  const Scenario scenario = Load("controller: {method: kanayama}\n");
+  std::string trajectory;
+  const RunSummary summary = RunInTemporaryFolder(scenario, "controller", &trajectory);
+  EXPECT_EQ(summary.outcome, Outcome::kSuccess);
+  ASSERT_TRUE(summary.tracking.has_value());
+  // 20 Hz over the drive: the MPC would have solved at its own 50 Hz
+  EXPECT_GT(summary.tracking->solves, 100);
+  EXPECT_LT(summary.tracking->solves, 20 * 40);
+  EXPECT_GT(summary.distance_m, 12.5);
 }
 
 TEST(PluginsTest, OmplsPlannersDriveTheClosedLoopRepeatably) {
