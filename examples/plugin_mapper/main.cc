@@ -1,7 +1,8 @@
 // A mapper of one's own in trav's closed loop: "height-span" scores each 0.2 m cell by the height
 // span of the latest frame's points in it (0 m: cost 0; 0.3 m or more: cost 1), registered under
 // that name and run on a scenario whose `mapping.method` names it. Prints the outcome and the
-// mapper the summary names. Usage: plugin_mapper MODELS_DIR OUT_DIR
+// mapper the summary names; OUT_DIR holds the run's files, run.mcap among them.
+// Usage: plugin_mapper MODELS_DIR OUT_DIR
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -88,6 +89,7 @@ goal: [6, 0]
 duration: 40
 mapping: {method: height-span}
 video: {enabled: false}
+output: {mcap: true}
 )",
                                                                       "plugin_mapper"));
   std::filesystem::create_directories(argv[2]);

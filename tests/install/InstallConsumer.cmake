@@ -1,7 +1,8 @@
 # ctest install_consumer: `cmake --install` into a scratch prefix, then the out-of-tree projects
-# examples/mapping_consumer and examples/plugin_mapper (a mapper registered by name and run in the
-# closed loop) configured with find_package(trav) against it, built and run; and the installed
-# trav executable with its models and scenarios. Run with -DBUILD_DIR, -DSOURCE_DIR,
+# examples/mapping_consumer, examples/plugin_mapper (a mapper registered by name and run in the
+# closed loop) and examples/mcap_preview (that run's run.mcap drawn) configured with
+# find_package(trav) against it, built and run; and the installed trav executable with its models
+# and scenarios. Run with -DBUILD_DIR, -DSOURCE_DIR,
 # -DWORK (scratch folder, replaced) and -DGENERATOR.
 function(run what)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -46,6 +47,17 @@ if(NOT EXISTS ${WORK}/plugin_run/trajectory.csv)
   message(FATAL_ERROR "the plugin mapper's run wrote no trajectory.csv")
 endif()
 message(STATUS "plugin mapper: ${output}")
+
+# that run's run.mcap read back and drawn from above (examples/mcap_preview)
+run("configuring the MCAP preview" ${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/mcap_preview
+    -B ${WORK}/preview -G ${GENERATOR} -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${prefix})
+run("building the MCAP preview" ${CMAKE_COMMAND} --build ${WORK}/preview)
+run("running the MCAP preview" ${WORK}/preview/mcap_preview ${WORK}/plugin_run/run.mcap
+    ${WORK}/preview.png)
+if(NOT output MATCHES "preview.png \\([0-9]+ x [0-9]+ pixels, 1[01] topics\\)" OR NOT EXISTS ${WORK}/preview.png)
+  message(FATAL_ERROR "the MCAP preview did not draw the run:\n${output}")
+endif()
+message(STATUS "MCAP preview: ${output}")
 
 # the installed executable finds its models beside it, with the source tree out of reach
 run("the installed trav" ${CMAKE_COMMAND} -E env TRAV_MODELS_DIR= ${prefix}/bin/trav --version)
