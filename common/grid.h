@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cmath>
 #include <map>
 #include <optional>
 #include <string>
@@ -43,6 +44,25 @@ struct GridGeometry {
   /// True if (ix, iy) is a cell of the grid.
   bool Contains(int ix, int iy) const { return ix >= 0 && iy >= 0 && ix < num_x && iy < num_y; }
 };
+
+/// True if `predicate(ix, iy)` holds for a cell of `geometry` whose centre lies within `radius_m`
+/// of p_W (cells visited along y within x, from the lowest index); false if p_W is off the grid.
+template <typename Predicate>
+bool AnyCellWithin(const GridGeometry& geometry, const Eigen::Vector2d& p_W, double radius_m,
+                   Predicate&& predicate) {
+  const std::optional<Eigen::Vector2i> centre = geometry.CellIndex(p_W);
+  if (!centre) return false;
+  const int reach = static_cast<int>(std::ceil(radius_m / geometry.resolution_m));
+  for (int ix = centre->x() - reach; ix <= centre->x() + reach; ++ix) {
+    for (int iy = centre->y() - reach; iy <= centre->y() + reach; ++iy) {
+      if (!geometry.Contains(ix, iy) || (geometry.CellCenter(ix, iy) - p_W).norm() > radius_m) {
+        continue;
+      }
+      if (predicate(ix, iy)) return true;
+    }
+  }
+  return false;
+}
 
 /// Bilinear interpolation of `layer` (on `geometry`) at p_W, clamped to the grid's border.
 float InterpolateBilinear(const GridGeometry& geometry, const Eigen::MatrixXf& layer,

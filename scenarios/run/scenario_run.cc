@@ -118,17 +118,10 @@ std::vector<sim::MovingObstacle> ScenarioMovers(const Scenario& scenario,
   if (scenario.traffic.count == 0) return movers;
   // free: no obstacle surface on the world's height grid within the disc
   const common::GridGeometry& g = world.geometry;
+  // off the terrain: nothing to walk into
   auto free = [&](const Eigen::Vector2d& centre_W, double radius_m) {
-    const int reach = static_cast<int>(std::ceil(radius_m / g.resolution_m));
-    const std::optional<Eigen::Vector2i> centre = g.CellIndex(centre_W);
-    if (!centre) return true;  // off the terrain: nothing to walk into
-    for (int ix = centre->x() - reach; ix <= centre->x() + reach; ++ix) {
-      for (int iy = centre->y() - reach; iy <= centre->y() + reach; ++iy) {
-        if (!g.Contains(ix, iy) || (g.CellCenter(ix, iy) - centre_W).norm() > radius_m) continue;
-        if (obstacle_heights(ix, iy) > 0.0f) return false;
-      }
-    }
-    return true;
+    return !common::AnyCellWithin(g, centre_W, radius_m,
+                                  [&](int ix, int iy) { return obstacle_heights(ix, iy) > 0.0f; });
   };
   const std::vector<sim::MovingObstacle> traffic =
       sim::SpawnTraffic(scenario.traffic, scenario.start_W.position, scenario.goal_W, free);

@@ -27,16 +27,9 @@ constexpr double kEdgeMargin_m = 2.0;
 // placed there: the simulation rests it on the ground alone).
 bool ClearOfObstacles(const common::GridGeometry& g, const Eigen::MatrixXf& obstacle_top_m,
                       const Eigen::Vector2d& p_W, double radius_m) {
-  const int reach = static_cast<int>(std::ceil(radius_m / g.resolution_m));
-  const std::optional<Eigen::Vector2i> centre = g.CellIndex(p_W);
-  if (!centre) return false;
-  for (int ix = centre->x() - reach; ix <= centre->x() + reach; ++ix) {
-    for (int iy = centre->y() - reach; iy <= centre->y() + reach; ++iy) {
-      if (!g.Contains(ix, iy) || (g.CellCenter(ix, iy) - p_W).norm() > radius_m) continue;
-      if (!std::isnan(obstacle_top_m(ix, iy))) return false;
-    }
-  }
-  return true;
+  return g.CellIndex(p_W).has_value() &&
+         !common::AnyCellWithin(
+             g, p_W, radius_m, [&](int ix, int iy) { return !std::isnan(obstacle_top_m(ix, iy)); });
 }
 
 // The truth along a straight drive: the highest cost of its poses and whether all are

@@ -30,6 +30,28 @@ TEST(GridGeometryTest, CellIndexRoundsToNearestCentreAndRejectsOutside) {
   EXPECT_FALSE(dut.CellIndex(Eigen::Vector2d(0.0, -1.6)).has_value());
 }
 
+TEST(GridGeometryTest, AnyCellWithinVisitsTheCellsOfTheDiscOnTheGrid) {
+  // 11 x 11 cells of 1 m; a marked cell at (7, 5), 2 m from the centre (5, 5)
+  const GridGeometry g =
+      GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(10.0, 10.0), 1.0);
+  const auto marked = [](int ix, int iy) { return ix == 7 && iy == 5; };
+  EXPECT_TRUE(AnyCellWithin(g, Eigen::Vector2d(0.0, 0.0), 2.0, marked));
+  EXPECT_FALSE(AnyCellWithin(g, Eigen::Vector2d(0.0, 0.0), 1.99, marked));
+  // the disc is round: (7, 7) lies 2.83 m away, outside a 2.5 m disc that reaches (7, 5)
+  const auto corner = [](int ix, int iy) { return ix == 7 && iy == 7; };
+  EXPECT_FALSE(AnyCellWithin(g, Eigen::Vector2d(0.0, 0.0), 2.5, corner));
+  // the cells visited: those of the grid within the radius, at the border too
+  int visited = 0;
+  EXPECT_FALSE(AnyCellWithin(g, Eigen::Vector2d(-5.0, -5.0), 1.0, [&](int ix, int iy) {
+    EXPECT_TRUE(g.Contains(ix, iy));
+    ++visited;
+    return false;
+  }));
+  EXPECT_EQ(visited, 3);  // (0, 0), (1, 0), (0, 1)
+  // off the grid: no cell, whatever the radius
+  EXPECT_FALSE(AnyCellWithin(g, Eigen::Vector2d(6.0, 0.0), 3.0, [](int, int) { return true; }));
+}
+
 TEST(GridGeometryTest, BilinearInterpolationIsExactOnAPlaneAndClampsOutside) {
   const GridGeometry geometry =
       GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(4.0, 4.0), 1.0);
