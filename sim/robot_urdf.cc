@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -167,12 +168,19 @@ void WriteSites(const mjModel* m, std::ostringstream* out) {
 }  // namespace
 
 std::string RobotUrdf(const std::string& robot_model_path) {
-  ValidateRobotModel(robot_model_path);
+  // loaded once, as it is (the names trav drives by are not needed to describe it)
+  InstallMujocoHandlers();
+  common::RequireRegularFile(robot_model_path, "robot model");
   char error[1024] = "";
-  std::unique_ptr<mjModel, decltype(&mj_deleteModel)> model(
-      mj_loadXML(robot_model_path.c_str(), nullptr, error, sizeof(error)), mj_deleteModel);
-  if (!model)
+  std::unique_ptr<mjModel, decltype(&mj_deleteModel)> model(nullptr, mj_deleteModel);
+  try {
+    model.reset(mj_loadXML(robot_model_path.c_str(), nullptr, error, sizeof(error)));
+  } catch (const std::runtime_error& e) {
+    throw common::InputError(robot_model_path, "", std::string("does not load: ") + e.what());
+  }
+  if (!model) {
     throw common::InputError(robot_model_path, "", std::string("does not load: ") + error);
+  }
   const mjModel* m = model.get();
   int roots = 0;
   for (int b = 1; b < m->nbody; ++b) roots += m->body_parentid[b] == 0 ? 1 : 0;

@@ -236,8 +236,8 @@ void ValidateRobotModel(const std::string& robot_model_path, bool with_imu = fal
 /// the root link, `base_link` after REP-105), hinges become continuous or revolute joints, slides
 /// prismatic ones. URDF has no ellipsoid: an ellipsoid with two equal semi-axes (trav's wheels) is
 /// written as the cylinder of those axes and the third's length, others as a box round them.
-/// @throws common::InputError naming the file if it does not load, or holds a body with more than
-/// one joint, a ball joint or a mesh (URDF cannot say them).
+/// @throws common::InputError naming the file if it is not a MuJoCo model that loads, or holds a
+/// body with more than one joint, a ball joint or a mesh (URDF cannot say them).
 std::string RobotUrdf(const std::string& robot_model_path);
 
 /// The version of the MuJoCo library trav runs with ("2.2.2").

@@ -210,7 +210,6 @@ struct McapRecorder::Log {
   std::map<std::string, Channel> channels;
   std::map<std::string, double> module_totals_ms;
   bool written_ok{true};
-  int steps_per_sample{1};
   int horizon_solves{0};   // MPC solves whose horizon is written
   double next_map_s{0.0};  // the first map update from this time is written [s]
   Eigen::Isometry3d X_BL{Eigen::Isometry3d::Identity()};  // the LiDAR's mount
@@ -298,7 +297,6 @@ json MapGrid(double t_s, const common::GridLayers& map, std::string* data_base64
 McapRecorder::McapRecorder(const ClosedLoop& loop, const std::string& output_dir)
     : log_(std::make_unique<Log>(output_dir + "/" + kMcapFileName)) {
   Log& log = *log_;
-  log.steps_per_sample = StepsPerTrajectorySample(loop.timestep_s());
   log.X_BL = loop.lidar_mount_B();
   log.AddChannel("/tf", "foxglove.FrameTransforms", foxglove_schemas::kFrameTransforms);
   log.AddChannel("/status", "foxglove.Log", foxglove_schemas::kLog);
@@ -416,7 +414,7 @@ void McapRecorder::OnMapUpdate(const ClosedLoop& loop) {
 }
 
 void McapRecorder::OnPhysicsStep(const ClosedLoop& loop, const LoopStep& step) {
-  if ((step.index + 1) % log_->steps_per_sample != 0) return;
+  if (!TrajectorySampleDue(loop, step.index)) return;
   const double t_s = step.state.time_s;
   const Eigen::Isometry3d& X_WB = step.state.X_WB;
   const Eigen::Isometry3d X_WO = loop.OdometryFromWorld().inverse();

@@ -22,22 +22,24 @@ int StepsPerTrajectorySample(double timestep_s) {
   return std::max(1, static_cast<int>(std::lround(kTrajectoryPeriod_s / timestep_s)));
 }
 
+bool TrajectorySampleDue(const ClosedLoop& loop, int index) {
+  return (index + 1) % StepsPerTrajectorySample(loop.timestep_s()) == 0;
+}
+
 bool TimeSeriesSampleDue(const ClosedLoop& loop, int index) {
   const int period =
       kTrajectorySamplesPerTimeSeriesSample * StepsPerTrajectorySample(loop.timestep_s());
   return (index + 1) % period == 0;
 }
 
-TrajectoryRecorder::TrajectoryRecorder(const std::string& output_dir, double timestep_s)
-    : path_(output_dir + "/trajectory.csv"),
-      file_(path_),
-      steps_per_sample_(StepsPerTrajectorySample(timestep_s)) {
+TrajectoryRecorder::TrajectoryRecorder(const std::string& output_dir)
+    : path_(output_dir + "/trajectory.csv"), file_(path_) {
   file_ << "t,x,y,z,roll,pitch,yaw,v_forward,yaw_rate,cmd_v,cmd_omega,"
            "wheel_fl,wheel_rl,wheel_fr,wheel_rr\n";
 }
 
-void TrajectoryRecorder::OnPhysicsStep(const ClosedLoop& /*loop*/, const LoopStep& step) {
-  if ((step.index + 1) % steps_per_sample_ != 0) return;
+void TrajectoryRecorder::OnPhysicsStep(const ClosedLoop& loop, const LoopStep& step) {
+  if (!TrajectorySampleDue(loop, step.index)) return;
   const common::RobotState& state = step.state;
   const Eigen::Vector3d p = state.X_WB.translation();
   fmt::memory_buffer line;

@@ -20,6 +20,9 @@ constexpr double kFalseMoverDistance_m = 1.0;
 /// Physics steps between two rows of trajectory.csv (50 Hz) for a physics timestep.
 int StepsPerTrajectorySample(double timestep_s);
 
+/// True if trajectory.csv samples step `index` (every 20 ms of simulation time).
+bool TrajectorySampleDue(const ClosedLoop& loop, int index);
+
 /// The time series (timeseries.csv, the driven path, the plan in videos) are sampled every this
 /// many rows of trajectory.csv (10 Hz).
 constexpr int kTrajectorySamplesPerTimeSeriesSample = 5;
@@ -31,7 +34,7 @@ bool TimeSeriesSampleDue(const ClosedLoop& loop, int index);
 class TrajectoryRecorder : public LoopObserver {
  public:
   /// Opens `<output_dir>/trajectory.csv`.
-  TrajectoryRecorder(const std::string& output_dir, double timestep_s);
+  explicit TrajectoryRecorder(const std::string& output_dir);
 
   void OnPhysicsStep(const ClosedLoop& loop, const LoopStep& step) override;
   /// Closes the file. @throws common::InputError if it could not be written whole.
@@ -40,7 +43,6 @@ class TrajectoryRecorder : public LoopObserver {
  private:
   std::string path_;
   std::ofstream file_;
-  int steps_per_sample_;
 };
 
 /// Writes timeseries.csv in mode navigate: state, command, goal distance, map error and the wall

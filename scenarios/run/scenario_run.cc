@@ -286,7 +286,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   std::vector<LoopObserver*> observers;
   DrivenPath driven(scenario.start_W.position);
   if (navigate) observers.push_back(&driven);
-  TrajectoryRecorder trajectory(output_dir, loop.timestep_s());
+  TrajectoryRecorder trajectory(output_dir);
   observers.push_back(&trajectory);
   std::optional<ImuRecorder> imu;
   if (loop.imu() != nullptr) observers.push_back(&imu.emplace(output_dir));
