@@ -20,6 +20,7 @@ struct RunFlags {
   std::optional<bool> video;
   std::optional<bool> mcap;
   bool record_clouds{false};
+  int threads{2};
 };
 
 // Fakes the failure a scenario asks for (test_fault): a crash, or a run that never ends. A test
@@ -41,6 +42,7 @@ int Run(const RunFlags& flags) {
   InjectFault(scenario.test_fault);
   RunOptions run_options;
   run_options.record_clouds = flags.record_clouds;
+  run_options.mapping_thread = flags.threads > 1;
   const RunSummary summary = RunInFolder(scenario, run_options, flags.scenario.overwrite);
   const std::string& out = scenario.output_dir;
 
@@ -81,6 +83,12 @@ Command AddRunCommand(CLI::App* app) {
       "--no-mcap", [flags] { flags->mcap = false; }, "Do not write run.mcap");
   run->add_flag("--record-clouds", flags->record_clouds,
                 "Write every LiDAR frame as clouds/frame_NNNNNN.pcd");
+  run->add_option("--threads", flags->threads,
+                  "1: everything on one thread; 2: the mapper on a second thread when "
+                  "navigation.mapping_latency is at least a physics step (the same run, bit for "
+                  "bit, docs/performance.md)")
+      ->check(CLI::Range(1, 2))
+      ->capture_default_str();
   return {run, [flags] { return Run(*flags); }};
 }
 

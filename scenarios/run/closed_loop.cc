@@ -121,13 +121,6 @@ sim::WorldOptions WorldOptionsOf(const Scenario& scenario, const ClosedLoopOptio
 }  // namespace
 
 // A LiDAR frame on its way to the mapper (mapping latency).
-struct ClosedLoop::PendingFrame {
-  double ready_s;  // simulation time at which the mapper gets it
-  common::PointCloud cloud_O;
-  Eigen::Isometry3d X_OB;
-  double scan_time_s;
-};
-
 ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& options)
     : wall_clock_(),
       scenario_(scenario),
@@ -149,7 +142,12 @@ ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& option
   }
   // mapping: every LiDAR frame, in W with each point's own sensor pose
   const bool oracle = UsesGroundTruthMap(scenario);
-  if (lidar_ && scenario.mapping_enabled && !oracle) mapper_ = MakeMapper(scenario);
+  if (lidar_ && scenario.mapping_enabled && !oracle) {
+    // a worker overlaps nothing unless a frame's map takes effect a step or more after its scan
+    const bool worker = options.mapping_thread &&
+                        scenario.navigation.mapping_latency_s >= simulation_->timestep() - 1e-12;
+    mapping_ = std::make_unique<MappingPipeline>(MakeMapper(scenario), worker);
+  }
 
   // the closed loop: the ground truth for the oracle and the metrics, the navigator on the map
   if (scenario.mode == RunMode::kNavigate) {
@@ -268,7 +266,7 @@ bool ClosedLoop::Scan() {
   lidar_points_ += static_cast<double>(lidar_frame_.points_L.size());
   // the frame in W, each point placed with its own sensor pose: once for everything that wants it
   common::PointCloud cloud_W;
-  if (observers_want_points_ || mapper_ || mover_tracker_) {
+  if (observers_want_points_ || mapping_ || mover_tracker_) {
     cloud_W.points = lidar::PointsInWorld(lidar_frame_);
     cloud_W.stamp_s = lidar_frame_.points_L.stamp_s;
   }
@@ -287,7 +285,7 @@ bool ClosedLoop::Scan() {
   }
   // movers are removed at scan time: where the tracker perceives them, or with their true poses
   // when the planner gets those
-  if (mapper_ || observers_want_points_) {
+  if (mapping_ || observers_want_points_) {
     RemovePointsInDiscs(mover_tracker_ ? PerceivedMoverDiscs(*mover_tracker_, simulation.time())
                                        : TrueMoverDiscs(movers_, simulation, X_OW),
                         &cloud_O);
@@ -295,10 +293,10 @@ bool ClosedLoop::Scan() {
       observer->OnMapInput(*this, cloud_O, estimate_.X_WB, simulation.time());
     }
   }
-  if (mapper_) {
-    // the frame reaches the mapper after the modelled latency
-    pending_frames_.push_back({simulation.time() + scenario_.navigation.mapping_latency_s,
-                               std::move(cloud_O), estimate_.X_WB, simulation.time()});
+  if (mapping_) {
+    // the frame's map takes effect after the modelled latency
+    mapping_->Submit({simulation.time() + scenario_.navigation.mapping_latency_s,
+                      std::move(cloud_O), estimate_.X_WB, simulation.time()});
   }
   return max_lidar_frames_ <= 0 || lidar_frames_ < max_lidar_frames_;
 }
@@ -340,19 +338,16 @@ Eigen::Isometry3d ClosedLoop::OdometryFromWorld() const {
 }
 
 void ClosedLoop::MapPendingFrames() {
-  while (mapper_ && !pending_frames_.empty() &&
-         pending_frames_.front().ready_s <= simulation_->time() + 1e-9) {
-    const PendingFrame& pending = pending_frames_.front();
-    const common::Stopwatch map_start;
-    map_updates_.push_back(mapper_->Update(pending.cloud_O, pending.X_OB, pending.scan_time_s));
-    mapping_ms_.push_back(map_start.ElapsedMilliseconds());
-    times_.Add("mapping", mapping_ms_.back());
-    pending_frames_.pop_front();
-    navigation_map_ = &mapper_->map();
+  if (!mapping_) return;
+  while (std::optional<MapUpdate> update = mapping_->NextDue(simulation_->time())) {
+    map_updates_.push_back(update->result);
+    mapping_ms_.push_back(update->mapping_ms);
+    times_.Add("mapping", update->mapping_ms);
+    navigation_map_ = mapping_->map();
     map_changed_ = true;
     if (truth_W_) {
       last_mapping_error_ =
-          CompareWithTruth(mapper_->map(), *truth_W_, mapping::layers::kTraversability).mean;
+          CompareWithTruth(*mapping_->map(), *truth_W_, mapping::layers::kTraversability).mean;
     }
     for (LoopObserver* observer : observers_) observer->OnMapUpdate(*this);
   }

@@ -1,6 +1,5 @@
 #pragma once
 
-#include <deque>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -18,6 +17,7 @@
 #include "mapping/mover_tracker.h"
 #include "mapping/traversability_mapper.h"
 #include "planner/navigation/navigator.h"
+#include "scenarios/run/mapping_pipeline.h"
 #include "scenarios/run/run_metrics.h"
 #include "scenarios/run/scenario.h"
 #include "sim/actors/imu.h"
@@ -89,6 +89,9 @@ class EndCondition {
 struct ClosedLoopOptions {
   std::string robot_model_path;  ///< the MJCF of the robot
   int max_lidar_frames{0};       ///< stop after this many frames (0: the scenario's duration)
+  /// Map on a worker thread while the loop goes on, when the scenario's mapping latency is at
+  /// least one physics step (MappingPipeline): the same run, bit for bit, in less wall time.
+  bool mapping_thread{false};
 };
 
 /// One run of a scenario as an object: the world (terrain, MuJoCo, movers, the LiDAR's ray scene)
@@ -149,7 +152,11 @@ class ClosedLoop {
   /// the scans).
   const planner::Navigator* navigator() const { return navigator_ ? &*navigator_ : nullptr; }
   const controller::TrajectoryTracker* tracker() const { return tracker_.get(); }
-  const mapping::TraversabilityMapper* mapper() const { return mapper_.get(); }
+  bool has_mapper() const { return mapping_ != nullptr; }
+  /// True when the mapper runs on a worker thread (ClosedLoopOptions::mapping_thread).
+  bool mapping_threaded() const { return mapping_ && mapping_->threaded(); }
+  /// The mapper's latest map in effect (MappingPipeline); null before the first or without one.
+  const common::GridLayers* map() const { return mapping_ ? mapping_->map() : nullptr; }
   bool perceives_movers() const { return mover_tracker_.has_value(); }
   /// The map the navigator plans on (the mapper's, or the truth for the oracle; null before the
   /// first map).
@@ -181,8 +188,6 @@ class ClosedLoop {
   const ModuleTimes& times() const { return times_; }
 
  private:
-  struct PendingFrame;
-
   void PlaceMovers();
   void DecideCommand();
   // false when the frame limit is reached
@@ -208,7 +213,7 @@ class ClosedLoop {
   std::unique_ptr<lidar::LidarEmulator> lidar_;
   lidar::LidarFrame lidar_frame_;
   std::optional<Eigen::Isometry3d> X_BL_;  // the scenario's mount; else the model's lidar site
-  std::unique_ptr<mapping::TraversabilityMapper> mapper_;
+  std::unique_ptr<MappingPipeline> mapping_;
   std::optional<common::GridLayers> truth_W_;
   std::optional<planner::Navigator> navigator_;
   std::optional<sim::PoseNoise> pose_noise_;
@@ -241,7 +246,6 @@ class ClosedLoop {
   std::vector<Eigen::Isometry3d> mover_poses_W_;  // this step's, for the ray scene
   const common::GridLayers* navigation_map_{nullptr};
   bool map_changed_{false};
-  std::deque<PendingFrame> pending_frames_;
   int total_steps_{0};
   int physics_steps_{0};
   double previous_vertical_speed_m_s_{0.0};

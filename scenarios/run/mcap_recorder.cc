@@ -304,7 +304,7 @@ McapRecorder::McapRecorder(const ClosedLoop& loop, const std::string& output_dir
   if (loop.scenario().lidar.enabled) {
     log.AddChannel("/lidar/points", "foxglove.PointCloud", foxglove_schemas::kPointCloud);
   }
-  if (loop.mapper() != nullptr) log.AddChannel("/map", "foxglove.Grid", foxglove_schemas::kGrid);
+  if (loop.has_mapper()) log.AddChannel("/map", "foxglove.Grid", foxglove_schemas::kGrid);
   if (loop.navigator() != nullptr) {
     for (const char* topic : {"/planner/path", "/planner/trajectory", "/movers/true"}) {
       log.AddChannel(topic, "foxglove.SceneUpdate", foxglove_schemas::kSceneUpdate);
@@ -403,13 +403,12 @@ void McapRecorder::OnLidarFrame(const ClosedLoop& /*loop*/, const lidar::LidarFr
 }
 
 void McapRecorder::OnMapUpdate(const ClosedLoop& loop) {
-  if (loop.mapper() == nullptr) return;
   Log& log = *log_;
   const double t_s = loop.state().time_s;
   if (t_s < log.next_map_s - 1e-9) return;
   log.next_map_s = t_s + loop.scenario().mcap_map_period_s;
   std::string data_base64;
-  const json grid = MapGrid(t_s, loop.mapper()->map(), &data_base64);
+  const json grid = MapGrid(t_s, *loop.map(), &data_base64);
   log.Write("/map", t_s, grid, &data_base64);
 }
 

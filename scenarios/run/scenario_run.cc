@@ -56,7 +56,7 @@ common::GridLayers SummarizeMapping(const ClosedLoop& loop, MappingMetrics* metr
   metrics->training_points_median = static_cast<int>(
       median_of([](const auto& u) { return static_cast<double>(u.training_points); }));
   // the final map against the ground truth on the same cells
-  const common::GridLayers& map = loop.mapper()->map();
+  const common::GridLayers& map = *loop.map();
   const sim::TerrainWorld& world = loop.world();
   common::GridLayers truth = mapping::ComputeGroundTruth(
       map.geometry(), world.geometry, world.height_m, loop.obstacle_heights(),
@@ -265,7 +265,7 @@ RunSummary RunLoop(ClosedLoop* loop, const std::vector<LoopObserver*>& observers
     summary.localization->method = scenario.pose_noise.method;
   }
   summary.compute = loop->times().Summary();
-  if (loop->mapper() != nullptr && !loop->mapping_ms().empty()) {
+  if (loop->map() != nullptr) {
     common::GridLayers truth = SummarizeMapping(*loop, &summary.mapping.emplace());
     if (final_map_truth != nullptr) *final_map_truth = std::move(truth);
   }
@@ -277,7 +277,7 @@ RunSummary RunLoop(ClosedLoop* loop, const std::vector<LoopObserver*>& observers
 RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_path,
                        const std::string& output_dir, const RunOptions& options,
                        const ProgressCallback& progress) {
-  ClosedLoop loop(scenario, {robot_model_path, options.max_lidar_frames});
+  ClosedLoop loop(scenario, {robot_model_path, options.max_lidar_frames, options.mapping_thread});
   // the simulated world as a file MuJoCo's viewer opens (simulate world.xml)
   sim::ExportWorld(loop.world(), loop.world_options(), loop.movers(), output_dir);
   const bool navigate = loop.navigator() != nullptr;
@@ -311,7 +311,7 @@ RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_
   if (final_map_truth) {
     renders::WritePng(
         output_dir + "/map.png",
-        renders::TraversabilityImage(loop.mapper()->map().Layer(mapping::layers::kTraversability)));
+        renders::TraversabilityImage(loop.map()->Layer(mapping::layers::kTraversability)));
     renders::WritePng(
         output_dir + "/map_ground_truth.png",
         renders::TraversabilityImage(final_map_truth->Layer(mapping::layers::kTraversability)));

@@ -173,7 +173,7 @@ void VideoRecorder::OnLidarFrame(const ClosedLoop& loop, const lidar::LidarFrame
 
 void VideoRecorder::OnMapUpdate(const ClosedLoop& loop) {
   // the closed loop shows the map in its panel: no need to draw it as thousands of geoms
-  if (loop.navigator() == nullptr) overlay_.grids.assign(1, DrawableMap(loop.mapper()->map()));
+  if (loop.navigator() == nullptr) overlay_.grids.assign(1, DrawableMap(*loop.map()));
 }
 
 void VideoRecorder::WriteNavigationFrame(const ClosedLoop& loop, const std::string& status) {

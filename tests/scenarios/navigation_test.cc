@@ -16,6 +16,7 @@
 
 #include "common/enum_names.h"
 #include "common/input_error.h"
+#include "scenarios/run/closed_loop.h"
 #include "scenarios/run/scenario.h"
 #include "scenarios/run/scenario_run.h"
 
@@ -170,6 +171,37 @@ TEST(NavigationRunTest, TheSameScenarioGivesTheSameRun) {
   EXPECT_EQ(Read(first / "trajectory.csv"), Read(second / "trajectory.csv"));
   fs::remove_all(first);
   fs::remove_all(second);
+}
+
+// The mapper on a worker thread (`trav run --threads 2`) gives the run of one thread bit for bit:
+// it gets the same frames in the same order, and each map takes effect at the time the modelled
+// latency fixes, not when the worker finishes.
+TEST(NavigationRunTest, TheMappingThreadGivesTheSameRun) {
+  Scenario scenario = LoadFile("suite/crossing.yaml");
+  scenario.duration_s = 8.0;
+  scenario.navigation.mapping_latency_s = 0.1;
+  const std::string model = RobotModelPath(scenario, TRAV_MODELS_DIR);
+  ClosedLoop one(scenario, {model, 0, false});
+  ClosedLoop two(scenario, {model, 0, true});
+  ASSERT_FALSE(one.mapping_threaded());
+  ASSERT_TRUE(two.mapping_threaded());
+  EXPECT_EQ(one.Run(), two.Run());
+  EXPECT_EQ(one.physics_steps(), two.physics_steps());
+  EXPECT_GE(one.map_updates().size(), 70u);
+  EXPECT_EQ(one.map_updates().size(), two.map_updates().size());
+  EXPECT_EQ(one.navigator_tick().replan, two.navigator_tick().replan);
+  EXPECT_TRUE(one.state().X_WB.matrix() == two.state().X_WB.matrix());
+  EXPECT_TRUE(one.state().v_WB_B == two.state().v_WB_B);
+  ASSERT_NE(one.map(), nullptr);
+  ASSERT_NE(two.map(), nullptr);
+  for (const std::string& name : one.map()->LayerNames()) {
+    const Eigen::ArrayXXf a = one.map()->Layer(name).array();
+    const Eigen::ArrayXXf b = two.map()->Layer(name).array();
+    EXPECT_TRUE(((a == b) || (a.isNaN() && b.isNaN())).all()) << name;
+  }
+  // without a latency there is nothing to overlap: the mapper stays on the loop's thread
+  scenario.navigation.mapping_latency_s = 0.0;
+  EXPECT_FALSE(ClosedLoop(scenario, {model, 0, true}).mapping_threaded());
 }
 
 TEST(NavigationRunTest, ACrossingPedestrianPerceivedFromTheScansAlone) {
