@@ -35,7 +35,7 @@ struct NavigationSettings {
   double mover_sensing_range_m{15.0};  ///< [m], > 0
 
   /// The map reaches the planner this long after the frame it comes from [s], >= 0.
-  double mapping_latency_s{0.0};
+  double mapping_latency_s{0.05};
 
   /// The keys of scenario section `navigation` that configure the loop (common/archive.h).
   template <typename Archive>
