@@ -40,7 +40,33 @@ Eigen::Matrix3Xf PointsInWorld(const LidarFrame& frame) {
   return points_W;
 }
 
-LidarEmulator::LidarEmulator(const LidarConfig& config) : config_(config), random_(config.seed) {
+DetectionModel::DetectionModel(const LidarConfig& config)
+    : enabled_(config.detection),
+      range_at_10_percent_m_(config.range_at_10_percent_m),
+      exponent_(std::log(config.range_at_80_percent_m / config.range_at_10_percent_m) /
+                std::log(8.0)) {
+  for (int bin = 0; bin < kBins; ++bin) {
+    const double reach_m =
+        range_at_10_percent_m_ * std::pow(std::max(bin / double{kBins}, 1e-6) / 0.1, exponent_);
+    certain_range_m_[static_cast<std::size_t>(bin)] = 0.49 * reach_m;
+  }
+}
+
+double DetectionModel::Probability(double effective_reflectance, double range_m) const {
+  if (!enabled_) return 1.0;
+  // the reach grows with the reflectance (k >= 0): the bin's lower edge bounds it from below
+  if (effective_reflectance >= 0.0 && effective_reflectance <= 1.0) {
+    const int bin = std::min(kBins - 1, static_cast<int>(effective_reflectance * kBins));
+    if (range_m < certain_range_m_[static_cast<std::size_t>(bin)]) return 1.0;
+  }
+  const double reach_m =
+      range_at_10_percent_m_ * std::pow(std::max(effective_reflectance, 1e-6) / 0.1, exponent_);
+  // a logistic step of width 5 % of the reach
+  return 1.0 / (1.0 + std::exp((range_m - reach_m) / (0.05 * reach_m / 4.0)));
+}
+
+LidarEmulator::LidarEmulator(const LidarConfig& config)
+    : config_(config), random_(config.seed), detection_(config) {
   ValidateLidarConfig(config_);
   if (!config_.pattern_table.empty()) {
     pattern_ = TablePattern::Load(config_.pattern_table);
@@ -51,8 +77,6 @@ LidarEmulator::LidarEmulator(const LidarConfig& config) : config_(config), rando
   }
   rays_per_frame_ =
       static_cast<int>(std::lround(config_.points_per_second * config_.frame_period_s));
-  detection_exponent_ =
-      std::log(config_.range_at_80_percent_m / config_.range_at_10_percent_m) / std::log(8.0);
   building_.index = -1;
 }
 
@@ -92,14 +116,6 @@ void LidarEmulator::FinishFrame(const Eigen::Isometry3d& X_WL) {
   std::swap(building_, complete_);
   ready_ = true;
   building_.index = -1;
-}
-
-double LidarEmulator::DetectionProbability(double effective_reflectance, double range_m) const {
-  if (!config_.detection) return 1.0;
-  const double reach_m = config_.range_at_10_percent_m *
-                         std::pow(std::max(effective_reflectance, 1e-6) / 0.1, detection_exponent_);
-  // a logistic step of width 5 % of the reach
-  return 1.0 / (1.0 + std::exp((range_m - reach_m) / (0.05 * reach_m / 4.0)));
 }
 
 bool LidarEmulator::Occluded(float azimuth_rad) const {
@@ -196,7 +212,7 @@ void LidarEmulator::Scan(const RayScene& scene, double t_begin_s, double t_end_s
                    std::abs(static_cast<double>(hits_.normal_W.col(k).dot(directions_W_.col(k)))));
       const double effective =
           static_cast<double>(scene.reflectance(hits_.object_id[k])) * cos_incidence;
-      const double p_return = DetectionProbability(effective, range);
+      const double p_return = detection_.Probability(effective, range);
       if (p_return < 1.0 && random_.Uniform() >= p_return) {
         ++building_.dropped.weak;
         continue;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -47,6 +48,31 @@ struct LidarFrame {
 /// Points of a frame in W, each placed with the pose it was measured from (motion-corrected).
 Eigen::Matrix3Xf PointsInWorld(const LidarFrame& frame);
 
+/// The chance that a surface returns an echo (LidarConfig::detection): a logistic step at the
+/// reach R = range_at_10_percent (c / 0.1)^k of the effective reflectance c (diffuse reflectance
+/// times cos(incidence)), 5 % of R wide.
+class DetectionModel {
+ public:
+  explicit DetectionModel(const LidarConfig& config);
+
+  /// The chance of an echo from `range_m` off a surface of effective reflectance
+  /// `effective_reflectance`; 1 when detection is off.
+  double Probability(double effective_reflectance, double range_m) const;
+
+ private:
+  // Effective reflectances in [0, 1] fall in kBins bins of equal width.
+  static constexpr int kBins = 64;
+
+  bool enabled_{true};
+  double range_at_10_percent_m_{0.0};
+  double exponent_{0.0};  // k
+  // Per bin, a range below which an echo is certain: less than half the reach at the bin's lower
+  // edge (the reach grows with reflectance), where the logistic's argument is below -40 and the
+  // probability rounds to exactly 1. Spares almost every ray the pow and exp of the formula, with
+  // the same result to the bit.
+  std::array<double, kBins> certain_range_m_{};
+};
+
 /// Emulates a scanning LiDAR over a RayScene: the caller advances time in batches (one per physics
 /// step) with the sensor pose of that batch; the rays whose time stamps fall in the batch are cast
 /// from that pose, so motion distortion is real. Noise, dropout and occlusion are seeded: the same
@@ -75,9 +101,6 @@ class LidarEmulator {
   void StartFrame(std::int64_t index, const Eigen::Isometry3d& X_WL, double t_s);
   void FinishFrame(const Eigen::Isometry3d& X_WL);
   bool Occluded(float azimuth_rad) const;
-  // The chance that a surface of diffuse reflectance times cos(incidence) `effective_reflectance`
-  // returns an echo from `range_m` (LidarConfig::detection).
-  double DetectionProbability(double effective_reflectance, double range_m) const;
 
   LidarConfig config_;
   std::shared_ptr<const ScanPattern> pattern_;  // the shipped table is shared by all emulators
@@ -97,7 +120,7 @@ class LidarEmulator {
   Eigen::VectorXi lines_;
   Eigen::VectorXf times_;
   RayHits hits_;
-  double detection_exponent_{0.0};  // k of LidarConfig::detection
+  DetectionModel detection_;
 };
 
 }  // namespace trav::lidar

@@ -168,6 +168,32 @@ TEST(LidarEmulatorTest, ReflectivityIsTheReflectanceTimesTheCosineOfIncidence) {
   EXPECT_NEAR(std::sqrt(sum2 / n), 0.05, 0.01);  // with the rounding to whole steps
 }
 
+// The detection model's shortcut (certain echoes below half the reach) against the formula it
+// spares, bit for bit, over reflectances and ranges that cross every bin and the whole step.
+TEST(DetectionModelTest, EqualsTheLogisticFormulaToTheBit) {
+  for (const auto& [r10_m, r80_m] : {std::pair{40.0, 70.0}, {40.0, 40.0}, {5.0, 200.0}}) {
+    LidarConfig config;
+    config.range_at_10_percent_m = r10_m;
+    config.range_at_80_percent_m = r80_m;
+    const DetectionModel model(config);
+    const double k = std::log(r80_m / r10_m) / std::log(8.0);
+    int certain = 0;
+    for (int i = 0; i <= 1000; ++i) {
+      const double rho = i / 1000.0;
+      const double reach_m = r10_m * std::pow(std::max(rho, 1e-6) / 0.1, k);
+      for (double range_m = 0.05; range_m < 150.0; range_m *= 1.05) {
+        const double formula = 1.0 / (1.0 + std::exp((range_m - reach_m) / (0.05 * reach_m / 4.0)));
+        ASSERT_EQ(model.Probability(rho, range_m), formula) << rho << " " << range_m;
+        certain += formula == 1.0;
+      }
+    }
+    EXPECT_GT(certain, 1000);
+  }
+  LidarConfig off;
+  off.detection = false;
+  EXPECT_EQ(DetectionModel(off).Probability(0.01, 500.0), 1.0);
+}
+
 TEST(LidarEmulatorTest, DarkAndGrazingSurfacesReturnOnlyWithinTheirDetectionReach) {
   LidarConfig config = Noiseless();
   config.incidence_floor = 0.0;
