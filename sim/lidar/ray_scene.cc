@@ -236,6 +236,10 @@ void RayScene::CastRange(const Eigen::Vector3f& origin_W,
                          const Eigen::Ref<const Eigen::Matrix3Xf>& directions_W, float range_max_m,
                          Eigen::Index begin, Eigen::Index end, RayHits* hits) const {
   const Embree& e = *embree_;
+  // without moving objects the static scene is the whole world: cast into it directly, sparing
+  // every ray the instance level (the identity instance changes no ray, hit or normal)
+  const bool direct = e.moving_instances.empty();
+  RTCScene scene = direct ? e.static_scene : e.top_scene;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   // packets of 16 rays: consecutive scan rays point almost the same way, so packets traverse the
@@ -262,7 +266,7 @@ void RayScene::CastRange(const Eigen::Vector3f& origin_W,
       packet.hit.geomID[j] = RTC_INVALID_GEOMETRY_ID;
       packet.hit.instID[0][j] = RTC_INVALID_GEOMETRY_ID;
     }
-    rtcIntersect16(valid, e.top_scene, &context, &packet);
+    rtcIntersect16(valid, scene, &context, &packet);
 
     for (int j = 0; j < count; ++j) {
       const Eigen::Index i = first + j;
@@ -273,14 +277,13 @@ void RayScene::CastRange(const Eigen::Vector3f& origin_W,
         continue;
       }
       const unsigned instance = packet.hit.instID[0][j];
-      const int moving_object = e.object_of_instance[instance];
+      const int moving_object = direct ? -1 : e.object_of_instance[instance];
       hits->range_m[i] = packet.ray.tfar[j];
       hits->object_id[i] =
           moving_object >= 0 ? moving_object : e.static_object_of_geometry[packet.hit.geomID[j]];
       // Ng is in the instanced object's space and unnormalised
-      Eigen::Vector3f normal =
-          e.rotation_of_instance[instance] *
-          Eigen::Vector3f(packet.hit.Ng_x[j], packet.hit.Ng_y[j], packet.hit.Ng_z[j]);
+      Eigen::Vector3f normal(packet.hit.Ng_x[j], packet.hit.Ng_y[j], packet.hit.Ng_z[j]);
+      if (!direct) normal = e.rotation_of_instance[instance] * normal;
       normal.normalize();
       // face the ray (meshes are hit from both sides)
       if (normal.dot(directions_W.col(i)) > 0.0f) normal = -normal;

@@ -5,7 +5,13 @@
 // `trav run`. Counters: real_time_factor (simulated / wall seconds of RunScenario) and the share
 // of that wall time spent in each module (share_lidar, share_mapping, share_planning,
 // share_control, share_physics, share_render) as summary.json's "compute" measures it, with
-// share_other for the rest (terrain, world, metrics, video encoding, files).
+// share_other for the rest (terrain, world, metrics, video encoding, files); and each module's cost
+// inside the loop, to hold against its own benchmark (README): lidar_ms_per_frame (a 20,000-ray
+// MID-360 frame, cast over 50 physics steps; lidar_benchmark's BM_EmulatorFrame),
+// mapping_ms_median (one FSGP-BGK update; mapping_benchmark's BM_FsgpBgk), control_ms_median (one
+// MPC solve; controller_benchmark), planning_ms_median (one replan; planner_benchmark) and
+// physics_ms_per_step. BM_ClosedLoopNoVideo/threads:2 maps on a second thread (`trav run
+// --threads 2`, the same run bit for bit), threads:1 keeps everything on one.
 #include <unistd.h>
 
 #include <chrono>
@@ -50,7 +56,13 @@ class TemporaryFolder {
   fs::path path_;
 };
 
-void RunClosedLoop(benchmark::State& state, bool video) {
+// Median [ms] of a module's calls, 0 when it never ran.
+double MedianMs(const RunSummary& summary, const char* module) {
+  const auto time = summary.compute.find(module);
+  return time == summary.compute.end() ? 0.0 : time->second.median_ms;
+}
+
+void RunClosedLoop(benchmark::State& state, bool video, bool mapping_thread) {
   Scenario scenario = trav::scenarios::LoadScenario(
       trav::common::YamlDocument::Load(std::string(TRAV_SOURCE_DIR) + kScenarioFile));
   scenario.duration_s = kDuration_s;
@@ -65,7 +77,9 @@ void RunClosedLoop(benchmark::State& state, bool video) {
   for (auto _ : state) {
     const TemporaryFolder output(video ? "video" : "no_video");
     const auto start = std::chrono::steady_clock::now();
-    summary = trav::scenarios::RunScenario(scenario, model, output.path());
+    trav::scenarios::RunOptions options;
+    options.mapping_thread = mapping_thread;
+    summary = trav::scenarios::RunScenario(scenario, model, output.path(), options);
     wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     state.SetIterationTime(wall_s);
   }
@@ -81,13 +95,34 @@ void RunClosedLoop(benchmark::State& state, bool video) {
     state.counters[std::string("share_") + module] = total_s / wall_s;
   }
   state.counters["share_other"] = 1.0 - modules_s / wall_s;
+  const auto lidar = summary.compute.find("lidar");
+  if (lidar != summary.compute.end() && summary.lidar_frames > 0) {
+    state.counters["lidar_ms_per_frame"] = 1e3 * lidar->second.total_s / summary.lidar_frames;
+  }
+  const auto physics = summary.compute.find("physics");
+  if (physics != summary.compute.end() && physics->second.calls > 0) {
+    state.counters["physics_ms_per_step"] = 1e3 * physics->second.total_s / physics->second.calls;
+  }
+  state.counters["mapping_ms_median"] = MedianMs(summary, "mapping");
+  state.counters["control_ms_median"] = MedianMs(summary, "control");
+  state.counters["planning_ms_median"] = MedianMs(summary, "planning");
   state.SetLabel(std::string("outcome ") + trav::common::NameOf(summary.outcome));
 }
 
-void BM_ClosedLoopNoVideo(benchmark::State& state) { RunClosedLoop(state, /*video=*/false); }
-BENCHMARK(BM_ClosedLoopNoVideo)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+void BM_ClosedLoopNoVideo(benchmark::State& state) {
+  RunClosedLoop(state, /*video=*/false, /*mapping_thread=*/state.range(0) == 2);
+}
+BENCHMARK(BM_ClosedLoopNoVideo)
+    ->ArgName("threads")
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(1)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
 
-void BM_ClosedLoopVideo640x480(benchmark::State& state) { RunClosedLoop(state, /*video=*/true); }
+void BM_ClosedLoopVideo640x480(benchmark::State& state) {
+  RunClosedLoop(state, /*video=*/true, /*mapping_thread=*/true);
+}
 BENCHMARK(BM_ClosedLoopVideo640x480)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
 
 }  // namespace

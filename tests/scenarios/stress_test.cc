@@ -27,9 +27,11 @@ TEST(StressTest, LowDensityTrafficOnOpenGround) {
   ASSERT_EQ(results.size(), 4u);
   // the outcome of each fixed seed, exactly: a change in navigation or traffic shows here first
   // (seed 1 of two movers was hit by a mover until the mapper's own voxel grid and neighbour
-  // search replaced PCL's, which moved the trajectory: the robot now passes)
+  // search replaced PCL's, which moved the trajectory; the robot passed until the map took effect
+  // 0.05 s after its frame (navigation.mapping_latency), which moved it again: a random walker
+  // walks into it at 28.4 s, while it drives at 0.43 m/s)
   const std::map<std::string, std::string> expected = {
-      {"stress_open_mover_count-2_traffic.seed-1", "success"},
+      {"stress_open_mover_count-2_traffic.seed-1", "collision"},
       {"stress_open_mover_count-2_traffic.seed-2", "success"},
       {"stress_open_mover_count-4_traffic.seed-1", "success"},
       {"stress_open_mover_count-4_traffic.seed-2", "success"}};
