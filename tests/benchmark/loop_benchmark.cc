@@ -5,7 +5,8 @@
 // `trav run`. Counters: real_time_factor (simulated / wall seconds of RunScenario) and the share
 // of that wall time spent in each module (share_lidar, share_mapping, share_planning,
 // share_control, share_physics, share_render) as summary.json's "compute" measures it, with
-// share_other for the rest (terrain, world, metrics, video encoding, files); and each module's cost
+// share_other for the rest (terrain, world, metrics, video encoding, files; with the mapper on
+// its own thread the shares overlap and share_other is what is left); and each module's cost
 // inside the loop, to hold against its own benchmark (README): lidar_ms_per_frame (a 20,000-ray
 // MID-360 frame, cast over 50 physics steps; lidar_benchmark's BM_EmulatorFrame),
 // mapping_ms_median (one FSGP-BGK update; mapping_benchmark's BM_FsgpBgk), control_ms_median (one
