@@ -120,7 +120,6 @@ sim::WorldOptions WorldOptionsOf(const Scenario& scenario, const ClosedLoopOptio
 
 }  // namespace
 
-// A LiDAR frame on its way to the mapper (mapping latency).
 ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& options)
     : wall_clock_(),
       scenario_(scenario),

@@ -147,9 +147,9 @@ class ClosedLoop {
   int total_steps() const { return total_steps_; }
   int physics_steps() const { return physics_steps_; }
 
-  /// The stack: the navigator (mode navigate), the MPC tracker (mode track), the mapper (null
-  /// when nothing is mapped; the oracle maps nothing), the mover tracker (movers perceived from
-  /// the scans).
+  /// The stack: the navigator (mode navigate), the MPC tracker (mode track), whether a mapper
+  /// runs (not when nothing is mapped; the oracle maps nothing), the mover tracker (movers
+  /// perceived from the scans).
   const planner::Navigator* navigator() const { return navigator_ ? &*navigator_ : nullptr; }
   const controller::TrajectoryTracker* tracker() const { return tracker_.get(); }
   bool has_mapper() const { return mapping_ != nullptr; }
