@@ -76,6 +76,26 @@ TEST_F(TravCliTest, RunWritesSummaryTrajectoryAndResolvedScenario) {
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 101);
 }
 
+// --threads 2 (the default) maps on a second thread: the same maps as one thread, to the bit.
+TEST_F(TravCliTest, TheMappingThreadChangesNothingButTheWallTime) {
+  const std::string scenario = WriteScenario("short.yaml", kShortRun);
+  for (const char* threads : {"1", "2"}) {
+    const CommandResult result = RunTrav("run " + scenario + " --threads " + threads + " --out " +
+                                         (root_ / threads).string());
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+  }
+  const nlohmann::json one = nlohmann::json::parse(ReadFile(root_ / "1" / "summary.json"));
+  const nlohmann::json two = nlohmann::json::parse(ReadFile(root_ / "2" / "summary.json"));
+  EXPECT_EQ(one["mapping"]["updates"], 19);
+  for (const char* key : {"updates", "known_cells", "mean_error", "error_variance"}) {
+    EXPECT_EQ(one["mapping"][key], two["mapping"][key]) << key;
+  }
+  EXPECT_EQ(ReadFile(root_ / "1" / "trajectory.csv"), ReadFile(root_ / "2" / "trajectory.csv"));
+  EXPECT_EQ(RunTrav("run " + scenario + " --threads 3 --out " + (root_ / "3").string()).exit_code,
+            2);
+  EXPECT_FALSE(fs::exists(root_ / "3"));
+}
+
 TEST_F(TravCliTest, SeededRunsAreBitIdentical) {
   const std::string scenario = WriteScenario("short.yaml", kShortRun);
   ASSERT_EQ(RunTrav("run " + scenario + " --out " + (root_ / "a").string()).exit_code, 0);
