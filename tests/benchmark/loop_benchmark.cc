@@ -57,10 +57,10 @@ class TemporaryFolder {
   fs::path path_;
 };
 
-// Median [ms] of a module's calls, 0 when it never ran.
-double MedianMs(const RunSummary& summary, const char* module) {
+// A module's times in the summary; all zero when it never ran.
+trav::scenarios::ModuleTime TimeOf(const RunSummary& summary, const std::string& module) {
   const auto time = summary.compute.find(module);
-  return time == summary.compute.end() ? 0.0 : time->second.median_ms;
+  return time == summary.compute.end() ? trav::scenarios::ModuleTime{} : time->second;
 }
 
 void RunClosedLoop(benchmark::State& state, bool video, bool mapping_thread) {
@@ -90,23 +90,21 @@ void RunClosedLoop(benchmark::State& state, bool video, bool mapping_thread) {
   state.counters["video_frames"] = summary.video_frames;
   double modules_s = 0.0;
   for (const char* module : trav::scenarios::kTimedModules) {
-    const auto time = summary.compute.find(module);
-    const double total_s = time == summary.compute.end() ? 0.0 : time->second.total_s;
+    const double total_s = TimeOf(summary, module).total_s;
     modules_s += total_s;
     state.counters[std::string("share_") + module] = total_s / wall_s;
   }
   state.counters["share_other"] = 1.0 - modules_s / wall_s;
-  const auto lidar = summary.compute.find("lidar");
-  if (lidar != summary.compute.end() && summary.lidar_frames > 0) {
-    state.counters["lidar_ms_per_frame"] = 1e3 * lidar->second.total_s / summary.lidar_frames;
+  if (summary.lidar_frames > 0) {
+    state.counters["lidar_ms_per_frame"] =
+        1e3 * TimeOf(summary, "lidar").total_s / summary.lidar_frames;
   }
-  const auto physics = summary.compute.find("physics");
-  if (physics != summary.compute.end() && physics->second.calls > 0) {
-    state.counters["physics_ms_per_step"] = 1e3 * physics->second.total_s / physics->second.calls;
+  const trav::scenarios::ModuleTime physics = TimeOf(summary, "physics");
+  if (physics.calls > 0)
+    state.counters["physics_ms_per_step"] = 1e3 * physics.total_s / physics.calls;
+  for (const char* module : {"mapping", "control", "planning"}) {
+    state.counters[std::string(module) + "_ms_median"] = TimeOf(summary, module).median_ms;
   }
-  state.counters["mapping_ms_median"] = MedianMs(summary, "mapping");
-  state.counters["control_ms_median"] = MedianMs(summary, "control");
-  state.counters["planning_ms_median"] = MedianMs(summary, "planning");
   state.SetLabel(std::string("outcome ") + trav::common::NameOf(summary.outcome));
 }
 
