@@ -14,6 +14,10 @@ struct CameraView {
   double distance_m{4.0};                             ///< from the camera to lookat [m]
   double azimuth_deg{0.0};    ///< direction the camera looks, about +z from +x [deg]
   double elevation_deg{-30};  ///< negative looks down [deg]
+  /// Vertical field of view [deg], in (0, 160). A narrow one from far away is how a top-down view
+  /// is made nearly orthographic: MuJoCo 2.2 has no orthographic projection.
+  double fovy_deg{45.0};
+  bool hide_canopy{false};  ///< do not draw tree crowns (geom group 2), so they hide nothing
 };
 
 /// Which camera a video uses.

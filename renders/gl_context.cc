@@ -55,6 +55,7 @@ class OsmesaContext final : public GlContext {
     auto make_current = Symbol<GLboolean (*)(OSMesaContext, void*, GLenum, GLsizei, GLsizei)>(
         library_, "OSMesaMakeCurrent");
     destroy_ = Symbol<void (*)(OSMesaContext)>(library_, "OSMesaDestroyContext");
+    get_proc_ = Symbol<void* (*)(const char*)>(library_, "OSMesaGetProcAddress");
     context_ = create(OSMESA_RGBA, 24, 8, 8, nullptr);
     if (context_ == nullptr) throw std::runtime_error("OSMesaCreateContextExt failed");
     if (!make_current(context_, buffer_.data(), GL_UNSIGNED_BYTE, width, height)) {
@@ -64,19 +65,21 @@ class OsmesaContext final : public GlContext {
   }
   ~OsmesaContext() override { destroy_(context_); }
   GlBackend backend() const override { return GlBackend::kOsmesa; }
+  void* ProcAddress(const char* name) const override { return get_proc_(name); }
 
  private:
   void* library_{nullptr};
   std::vector<unsigned char> buffer_;
   OSMesaContext context_{nullptr};
   void (*destroy_)(OSMesaContext){nullptr};
+  void* (*get_proc_)(const char*){nullptr};
 };
 
 class EglContext final : public GlContext {
  public:
   EglContext() {
     library_ = OpenLibrary("libEGL.so.1", "libegl1 and libegl-mesa0");
-    auto get_proc = Symbol<void* (*)(const char*)>(library_, "eglGetProcAddress");
+    get_proc_ = Symbol<void* (*)(const char*)>(library_, "eglGetProcAddress");
     auto initialize =
         Symbol<EGLBoolean (*)(EGLDisplay, EGLint*, EGLint*)>(library_, "eglInitialize");
     auto choose_config =
@@ -94,7 +97,7 @@ class EglContext final : public GlContext {
 
     // headless: Mesa's surfaceless platform needs no display server and no GPU
     auto get_platform_display =
-        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(get_proc("eglGetPlatformDisplayEXT"));
+        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(get_proc_("eglGetPlatformDisplayEXT"));
     if (get_platform_display == nullptr)
       throw std::runtime_error("EGL lacks eglGetPlatformDisplayEXT");
     display_ = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
@@ -142,6 +145,8 @@ class EglContext final : public GlContext {
     terminate_(display_);
   }
   GlBackend backend() const override { return GlBackend::kEgl; }
+  // Mesa's EGL returns core and legacy GL functions too (EGL_KHR_get_all_proc_addresses)
+  void* ProcAddress(const char* name) const override { return get_proc_(name); }
 
  private:
   static std::string ToHex(EGLint value) {
@@ -152,6 +157,7 @@ class EglContext final : public GlContext {
   EGLContext context_{EGL_NO_CONTEXT};
   EGLBoolean (*destroy_context_)(EGLDisplay, EGLContext){nullptr};
   EGLBoolean (*terminate_)(EGLDisplay){nullptr};
+  void* (*get_proc_)(const char*){nullptr};
 };
 
 }  // namespace

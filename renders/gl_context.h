@@ -36,6 +36,10 @@ class GlContext {
   /// The backend of this context.
   virtual GlBackend backend() const = 0;
 
+  /// The address of the OpenGL function `name` of this context's library (core and legacy entry
+  /// points alike), or nullptr if it has none.
+  virtual void* ProcAddress(const char* name) const = 0;
+
  protected:
   GlContext() = default;
 };

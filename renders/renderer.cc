@@ -8,12 +8,16 @@
 #include <mujoco/mujoco.h>
 
 #include "common/input_error.h"
+#include "renders/gl_draw.h"
 #include "sim/simulation.h"
+#include "sim/world_builder.h"
 
 namespace trav::renders {
 namespace {
 
-// Geom group of the ceiling (world_builder.cc): hidden so the camera can look into rooms.
+// Geom groups (world_builder.cc): the ceiling, hidden so the camera can look into rooms; tree
+// crowns, hidden on request.
+constexpr int kCanopyGroup = 2;
 constexpr int kCeilingGroup = 4;
 
 mjvGeom* NextGeom(mjvScene* scene) {
@@ -44,38 +48,132 @@ void DrawPolyline(const Polyline& line, mjvScene* scene) {
   }
 }
 
-void DrawPoints(const ColoredPoints& points, mjvScene* scene) {
-  const mjtNum size[3] = {points.radius_m, points.radius_m, points.radius_m};
-  for (Eigen::Index i = 0; i < points.points_W.cols(); ++i) {
-    mjvGeom* geom = NextGeom(scene);
-    if (geom == nullptr) return;
-    const Eigen::Index c = points.rgba.cols() == 1 ? 0 : i;
-    const float rgba[4] = {points.rgba(0, c), points.rgba(1, c), points.rgba(2, c),
-                           points.rgba(3, c)};
-    const mjtNum pos[3] = {points.points_W(0, i), points.points_W(1, i), points.points_W(2, i)};
-    InitOverlayGeom(geom, mjGEOM_BOX, size, pos, rgba);
-  }
+// A capsule from a to b (in W) of radius `radius_m`.
+void AddCapsule(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius_m,
+                const Eigen::Vector4f& rgba, mjvScene* scene) {
+  mjvGeom* geom = NextGeom(scene);
+  if (geom == nullptr) return;
+  const float colour[4] = {rgba[0], rgba[1], rgba[2], rgba[3]};
+  const mjtNum zero[3] = {0, 0, 0};
+  InitOverlayGeom(geom, mjGEOM_CAPSULE, zero, zero, colour);
+  geom->emission = 0.0f;
+  mjv_makeConnector(geom, mjGEOM_CAPSULE, radius_m, a.x(), a.y(), a.z(), b.x(), b.y(), b.z());
 }
 
-void DrawGrid(const GroundGrid& grid, mjvScene* scene) {
-  const common::GridGeometry& g = grid.geometry;
-  const long cells = static_cast<long>(g.num_x) * g.num_y;
-  const int stride = std::max(1, static_cast<int>(std::ceil(std::sqrt(
-                                     static_cast<double>(cells) / std::max(1, grid.max_cells)))));
-  const double half = 0.5 * stride * g.resolution_m;
-  const mjtNum size[3] = {half, half, 0.01};
-  for (int iy = 0; iy < g.num_y; iy += stride) {
-    for (int ix = 0; ix < g.num_x; ix += stride) {
-      const float value = grid.values(ix, iy);
-      if (std::isnan(value) || std::isnan(grid.heights_m(ix, iy))) continue;
-      mjvGeom* geom = NextGeom(scene);
-      if (geom == nullptr) return;
-      const Eigen::Vector3f color = TraversabilityColor(value, grid.value_min, grid.value_max);
-      const float rgba[4] = {color.x(), color.y(), color.z(), grid.alpha};
-      const Eigen::Vector2d p = g.CellCenter(ix, iy);
-      const mjtNum pos[3] = {p.x(), p.y(), grid.heights_m(ix, iy) + 0.02};
-      InitOverlayGeom(geom, mjGEOM_BOX, size, pos, rgba);
+// A geom of `type` with half-sizes `size` at pose X_WG.
+void AddSolid(int type, const Eigen::Vector3d& size, const Eigen::Isometry3d& X_WG,
+              const Eigen::Vector4f& rgba, mjvScene* scene) {
+  mjvGeom* geom = NextGeom(scene);
+  if (geom == nullptr) return;
+  const float colour[4] = {rgba[0], rgba[1], rgba[2], rgba[3]};
+  const mjtNum half[3] = {size.x(), size.y(), size.z()};
+  const mjtNum pos[3] = {X_WG.translation().x(), X_WG.translation().y(), X_WG.translation().z()};
+  mjtNum mat[9];
+  Eigen::Map<Eigen::Matrix<mjtNum, 3, 3, Eigen::RowMajor>> rotation(mat);
+  rotation = X_WG.linear();
+  mjv_initGeom(geom, type, half, pos, mat, colour);
+  geom->category = mjCAT_DECOR;
+}
+
+// Proportions of the walking figure, as fractions of its height, and its swing [rad].
+constexpr double kLegLength = 0.47, kShoulderHeight = 0.82, kHeadHeight = 0.93;
+constexpr double kHipHalfWidth = 0.055, kShoulderHalfWidth = 0.12, kArmLength = 0.36;
+constexpr double kLegSwingRad = 0.45, kArmSwingRad = 0.35;
+
+void DrawWalker(const Walker& walker, mjvScene* scene) {
+  const double h = walker.height_m;
+  const Eigen::Isometry3d& X = walker.X_WO;
+  auto at = [&](double x, double y, double z_above_feet) -> Eigen::Vector3d {
+    return X * Eigen::Vector3d(x, y, z_above_feet - 0.5 * h);
+  };
+  const Eigen::Vector4f trousers(0.2f, 0.22f, 0.3f, 1.0f), skin(0.85f, 0.68f, 0.55f, 1.0f);
+  const double swing = std::sin(walker.gait_phase_rad);
+  const double hip_z = kLegLength * h, leg = (kLegLength - 0.03) * h;
+  const double shoulder_z = kShoulderHeight * h, arm = kArmLength * h;
+  for (int side = -1; side <= 1; side += 2) {  // side +1: the left (+y) limbs
+    const double leg_angle = side * kLegSwingRad * swing;
+    AddCapsule(
+        at(0, side * kHipHalfWidth * h, hip_z),
+        at(leg * std::sin(leg_angle), side * kHipHalfWidth * h, hip_z - leg * std::cos(leg_angle)),
+        0.045 * h, trousers, scene);
+    const double arm_angle = -side * kArmSwingRad * swing;
+    AddCapsule(at(0, side * kShoulderHalfWidth * h, shoulder_z),
+               at(arm * std::sin(arm_angle), side * (kShoulderHalfWidth + 0.02) * h,
+                  shoulder_z - arm * std::cos(arm_angle)),
+               0.03 * h, walker.rgba, scene);
+  }
+  AddCapsule(at(0, 0, hip_z + 0.04 * h), at(0, 0, shoulder_z - 0.02 * h), 0.1 * h, walker.rgba,
+             scene);
+  AddSolid(mjGEOM_SPHERE, Eigen::Vector3d::Constant(0.065 * h),
+           Eigen::Isometry3d(Eigen::Translation3d(at(0, 0, kHeadHeight * h))), skin, scene);
+}
+
+void DrawCart(const Cart& cart, mjvScene* scene) {
+  const Eigen::Vector3d& half = cart.half_extents_m;
+  const double wheel_r = std::max(0.04, 0.2 * half.z());
+  const Eigen::Isometry3d& X = cart.X_WO;
+  // the basket: from above the wheels to the top of the bounding box
+  const double bottom = -half.z() + 1.6 * wheel_r;
+  Eigen::Isometry3d X_basket = X;
+  X_basket.translate(Eigen::Vector3d(0, 0, 0.5 * (bottom + half.z())));
+  AddSolid(mjGEOM_BOX, Eigen::Vector3d(0.85 * half.x(), half.y(), 0.5 * (half.z() - bottom)),
+           X_basket, cart.rgba, scene);
+  const Eigen::Vector4f rubber(0.08f, 0.08f, 0.08f, 1.0f), metal(0.7f, 0.7f, 0.72f, 1.0f);
+  for (int i = 0; i < 4; ++i) {
+    const double x = ((i & 1) != 0 ? 0.7 : -0.7) * half.x();
+    const double y = ((i & 2) != 0 ? 0.85 : -0.85) * half.y();
+    Eigen::Isometry3d X_wheel = X;
+    X_wheel.translate(Eigen::Vector3d(x, y, -half.z() + wheel_r));
+    X_wheel.rotate(Eigen::AngleAxisd(0.5 * M_PI, Eigen::Vector3d::UnitX()));
+    AddSolid(mjGEOM_CYLINDER, Eigen::Vector3d(wheel_r, wheel_r, 0.02), X_wheel, rubber, scene);
+  }
+  // the push handle: two uprights behind the basket and a bar across
+  const double handle_x = -0.85 * half.x() - 0.08;
+  for (int side = -1; side <= 1; side += 2) {
+    AddCapsule(X * Eigen::Vector3d(-0.85 * half.x(), side * 0.8 * half.y(), bottom),
+               X * Eigen::Vector3d(handle_x, side * 0.8 * half.y(), half.z()), 0.012, metal, scene);
+  }
+  AddCapsule(X * Eigen::Vector3d(handle_x, -0.8 * half.y(), half.z()),
+             X * Eigen::Vector3d(handle_x, 0.8 * half.y(), half.z()), 0.018, metal, scene);
+}
+
+// Removes from `scene` the geoms of the bodies in `bodies`.
+void HideBodies(const mjModel* model, const std::vector<int>& bodies, mjvScene* scene) {
+  if (bodies.empty()) return;
+  int kept = 0;
+  for (int i = 0; i < scene->ngeom; ++i) {
+    const mjvGeom& geom = scene->geoms[i];
+    const bool hidden =
+        geom.objtype == mjOBJ_GEOM &&
+        std::find(bodies.begin(), bodies.end(), model->geom_bodyid[geom.objid]) != bodies.end();
+    if (!hidden) scene->geoms[kept++] = geom;
+  }
+  scene->ngeom = kept;
+}
+
+// Paints the ground's texture of `model` (sim/world_builder.h) from its drawn height field.
+void PaintGround(mjModel* model, GroundMaterial material) {
+  const int texture = mj_name2id(model, mjOBJ_TEXTURE, sim::kGroundTextureName);
+  const int hfield = mj_name2id(model, mjOBJ_HFIELD, "terrain_visual");
+  if (texture < 0 || hfield < 0 || model->tex_width[texture] != model->tex_height[texture]) return;
+  const int nrow = model->hfield_nrow[hfield], ncol = model->hfield_ncol[hfield];
+  if (nrow < 2 || ncol < 2) return;
+  const float* samples = model->hfield_data + model->hfield_adr[hfield];
+  const mjtNum* size = model->hfield_size + 4 * hfield;
+  Eigen::MatrixXf height_m(ncol, nrow);
+  for (int r = 0; r < nrow; ++r) {
+    for (int c = 0; c < ncol; ++c) {
+      height_m(c, r) = static_cast<float>(samples[r * ncol + c] * size[2]);
     }
+  }
+  const std::vector<std::uint8_t> rgb = GroundTexture(
+      height_m, Eigen::Vector2d(2.0 * size[0], 2.0 * size[1]), material, model->tex_width[texture]);
+  // MuJoCo maps a 2D texture's first row to the far (+y) edge of a height field
+  const std::size_t row_bytes = 3 * static_cast<std::size_t>(model->tex_width[texture]);
+  unsigned char* texels = model->tex_rgb + model->tex_adr[texture];
+  for (int r = 0; r < model->tex_height[texture]; ++r) {
+    std::copy_n(rgb.data() + row_bytes * r, row_bytes,
+                texels + row_bytes * (model->tex_height[texture] - 1 - r));
   }
 }
 
@@ -89,6 +187,8 @@ int GridPosition(TextCorner corner) {
       return mjGRID_BOTTOMLEFT;
     case TextCorner::kBottomRight:
       return mjGRID_BOTTOMRIGHT;
+    case TextCorner::kCenter:
+      break;  // drawn as a card, not by mjr_overlay
   }
   return mjGRID_TOPLEFT;
 }
@@ -117,19 +217,25 @@ void ValidateRenderConfig(const RenderConfig& config) {
         "must be in [16, 4096]");
   check(config.msaa_samples >= 0 && config.msaa_samples <= 16, "msaa", config.msaa_samples,
         "must be in [0, 16]");
+  check(config.panel_width >= 0 && config.panel_width <= config.width - 16, "panel_width",
+        config.panel_width, "must leave the camera's view at least 16 pixels");
 }
 
 struct Renderer::MujocoState {
+  mjModel* model;
   mjvScene scene;
   mjrContext context;
   mjvOption option;
   mjvCamera camera;
   std::vector<unsigned char> rgb_bottom_up;
+  std::vector<unsigned char> panel_bottom_up;
+  std::vector<int> hidden_bodies;
 };
 
 Renderer::Renderer(sim::Simulation* simulation, const RenderConfig& config) : config_(config) {
   ValidateRenderConfig(config_);
   gl_ = GlContext::Create(config_.backend, config_.width, config_.height);
+  draw_ = std::make_unique<GlDraw>(*gl_);
 
   // MuJoCo 2.2 sizes the off-screen buffer from the model when the context is made
   mjModel* model = simulation->mutable_model();
@@ -137,8 +243,10 @@ Renderer::Renderer(sim::Simulation* simulation, const RenderConfig& config) : co
   model->vis.global.offheight = config_.height;
   model->vis.quality.offsamples = config_.msaa_samples;
   model->vis.quality.shadowsize = config_.shadows ? 2048 : 1024;
+  PaintGround(model, config_.ground);
 
   mujoco_ = std::make_unique<MujocoState>();
+  mujoco_->model = model;
   mjv_defaultScene(&mujoco_->scene);
   mjr_defaultContext(&mujoco_->context);
   mjv_defaultOption(&mujoco_->option);
@@ -163,31 +271,134 @@ Renderer::~Renderer() {
   mjv_freeScene(&mujoco_->scene);
 }
 
+namespace {
+
+// The GL camera MuJoCo 2.2's mjr_render draws `scene` with in `viewport` (its glFrustum and
+// lookAt; the scene's own transform is the identity).
+GlCamera CameraOf(const mjvScene& scene, const mjrRect& viewport) {
+  const mjvGLCamera& c = scene.camera[0];
+  const float half_width = 0.5f * static_cast<float>(viewport.width) / viewport.height *
+                           (c.frustum_top - c.frustum_bottom);
+  GlCamera camera;
+  camera.left = viewport.left;
+  camera.bottom = viewport.bottom;
+  camera.width = viewport.width;
+  camera.height = viewport.height;
+  camera.projection = FrustumMatrix(c.frustum_center - half_width, c.frustum_center + half_width,
+                                    c.frustum_bottom, c.frustum_top, c.frustum_near, c.frustum_far);
+  camera.view_from_W = LookAtMatrix(Eigen::Vector3f(c.pos[0], c.pos[1], c.pos[2]),
+                                    Eigen::Vector3f(c.forward[0], c.forward[1], c.forward[2]),
+                                    Eigen::Vector3f(c.up[0], c.up[1], c.up[2]));
+  return camera;
+}
+
+// Width [pixels] of the widest line of `text` in `font`.
+int TextWidth(const std::string& text, int font, const mjrContext& context) {
+  const int* widths = font == mjFONT_BIG ? context.charWidthBig : context.charWidth;
+  int widest = 0, line = 0;
+  for (const char ch : text) {
+    if (ch == '\n') {
+      line = 0;
+      continue;
+    }
+    const auto index = static_cast<unsigned char>(ch);
+    line += index < 127 ? widths[index] : 0;
+    widest = std::max(widest, line);
+  }
+  return widest;
+}
+
+// Draws `text` line by line with its top-left corner at (x, y) [pixels from the viewport's
+// bottom-left], in the viewport last set.
+void DrawTextAt(const std::string& text, int font, int x, int y, const Eigen::Vector3f& rgb,
+                const mjrRect& viewport, const mjrContext& context) {
+  const int line_height = font == mjFONT_BIG ? context.charHeightBig : context.charHeight;
+  std::size_t begin = 0;
+  for (int line = 0; begin <= text.size(); ++line) {
+    const std::size_t end = std::min(text.find('\n', begin), text.size());
+    const std::string part = text.substr(begin, end - begin);
+    // mjr_text places the baseline of the text at relative coordinates of the viewport
+    const float baseline = static_cast<float>(y - (line + 1) * line_height + line_height / 4);
+    mjr_text(font, part.c_str(), &context, static_cast<float>(x) / viewport.width,
+             baseline / viewport.height, rgb.x(), rgb.y(), rgb.z());
+    begin = end + 1;
+  }
+}
+
+}  // namespace
+
 void Renderer::Render(const sim::Simulation& simulation, const CameraView& view,
                       const Overlay& overlay, Image* image) {
   MujocoState& mj = *mujoco_;
+  const int view_width = config_.width - config_.panel_width;
+  if (!overlay.panel.image.rgb.empty() && (overlay.panel.image.width != config_.panel_width ||
+                                           overlay.panel.image.height != config_.height)) {
+    throw std::invalid_argument("Renderer: the panel must be panel_width x height pixels");
+  }
   mj.camera.lookat[0] = view.lookat_W.x();
   mj.camera.lookat[1] = view.lookat_W.y();
   mj.camera.lookat[2] = view.lookat_W.z();
   mj.camera.distance = view.distance_m;
   mj.camera.azimuth = view.azimuth_deg;
   mj.camera.elevation = view.elevation_deg;
+  mj.model->vis.global.fovy = static_cast<float>(view.fovy_deg);
+  mj.option.geomgroup[kCanopyGroup] = view.hide_canopy ? 0 : 1;
 
   // mjv_updateScene only reads mjData; its signature takes it non-const
   mjv_updateScene(simulation.model(), const_cast<mjData*>(simulation.data()), &mj.option, nullptr,
                   &mj.camera, mjCAT_ALL, &mj.scene);
-  for (const GroundGrid& grid : overlay.grids) DrawGrid(grid, &mj.scene);
-  for (const Polyline& line : overlay.polylines) DrawPolyline(line, &mj.scene);
-  for (const ColoredPoints& points : overlay.points) DrawPoints(points, &mj.scene);
-
-  const mjrRect viewport = {0, 0, config_.width, config_.height};
-  mjr_render(viewport, &mj.scene, &mj.context);
-  for (const TextLabel& label : overlay.texts) {
-    mjr_overlay(mjFONT_NORMAL, GridPosition(label.corner), viewport, label.text.c_str(), nullptr,
-                &mj.context);
+  mj.hidden_bodies.clear();
+  for (const int mover : overlay.hidden_movers) {
+    mj.hidden_bodies.push_back(simulation.MoverBodyId(mover));
   }
-  mjr_readPixels(mj.rgb_bottom_up.data(), nullptr, viewport, &mj.context);
+  HideBodies(simulation.model(), mj.hidden_bodies, &mj.scene);
+  for (const Walker& walker : overlay.walkers) DrawWalker(walker, &mj.scene);
+  for (const Cart& cart : overlay.carts) DrawCart(cart, &mj.scene);
+  for (const Polyline& line : overlay.polylines) DrawPolyline(line, &mj.scene);
 
+  const mjrRect viewport = {0, 0, view_width, config_.height};
+  mjr_render(viewport, &mj.scene, &mj.context);
+  const GlCamera camera = CameraOf(mj.scene, viewport);
+  for (const GroundGrid& grid : overlay.grids) draw_->Drape(camera, grid);
+  for (const ColoredPoints& points : overlay.points) draw_->Points(camera, points);
+  for (const TextLabel& label : overlay.texts) {
+    if (label.corner != TextCorner::kCenter) {
+      mjr_overlay(mjFONT_NORMAL, GridPosition(label.corner), viewport, label.text.c_str(), nullptr,
+                  &mj.context);
+      continue;
+    }
+    // a card in the middle: the text in the big font on a dark translucent rectangle
+    const int lines = 1 + static_cast<int>(std::count(label.text.begin(), label.text.end(), '\n'));
+    const int width = TextWidth(label.text, mjFONT_BIG, mj.context) + 2 * mj.context.charHeightBig;
+    const int height = (lines + 1) * mj.context.charHeightBig;
+    const mjrRect card = {(view_width - width) / 2, (config_.height - height) / 2, width, height};
+    mjr_rectangle(card, 0.05f, 0.05f, 0.08f, 0.8f);
+    draw_->Viewport(viewport.left, viewport.bottom, viewport.width, viewport.height);
+    DrawTextAt(label.text, mjFONT_BIG, card.left + mj.context.charHeightBig,
+               card.bottom + height - mj.context.charHeightBig / 2, Eigen::Vector3f::Ones(),
+               viewport, mj.context);
+  }
+
+  if (!overlay.panel.image.rgb.empty()) {
+    const Image& panel = overlay.panel.image;
+    const std::size_t row_bytes = static_cast<std::size_t>(panel.width) * 3;
+    mj.panel_bottom_up.resize(row_bytes * panel.height);
+    for (int y = 0; y < panel.height; ++y) {
+      std::copy_n(panel.Pixel(0, y), row_bytes,
+                  mj.panel_bottom_up.data() + row_bytes * (panel.height - 1 - y));
+    }
+    const mjrRect panel_viewport = {view_width, 0, panel.width, panel.height};
+    mjr_drawPixels(mj.panel_bottom_up.data(), nullptr, panel_viewport, &mj.context);
+    draw_->Viewport(panel_viewport.left, panel_viewport.bottom, panel_viewport.width,
+                    panel_viewport.height);
+    for (const PanelText& text : overlay.panel.texts) {
+      DrawTextAt(text.text, mjFONT_NORMAL, text.top_left_px.x(),
+                 panel.height - text.top_left_px.y(), text.rgb, panel_viewport, mj.context);
+    }
+  }
+
+  const mjrRect frame = {0, 0, config_.width, config_.height};
+  mjr_readPixels(mj.rgb_bottom_up.data(), nullptr, frame, &mj.context);
   // OpenGL rows are bottom-up; images are top-down
   image->width = config_.width;
   image->height = config_.height;

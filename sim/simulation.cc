@@ -238,6 +238,7 @@ Simulation::Simulation(const TerrainWorld& terrain, const common::Pose2& start_W
   for (const MovingObstacle& mover : movers) {
     const int body = RequireId(model_.get(), mjOBJ_BODY, ("mover_" + mover.name).c_str());
     mover_mocap_ids_.push_back(model_->body_mocapid[body]);
+    mover_body_ids_.push_back(body);
     mover_tracks_.emplace_back(mover);
   }
   mover_velocities_W_.assign(movers.size(), Eigen::Vector2d::Zero());

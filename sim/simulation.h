@@ -140,6 +140,10 @@ class Simulation {
   Eigen::Isometry3d MoverPose(int index) const;
   Eigen::Vector2d MoverVelocity(int index) const;
 
+  /// The MuJoCo body of mover `index` (its mocap body "mover_<name>"), for renderers.
+  /// @throws std::out_of_range for a bad index.
+  int MoverBodyId(int index) const { return mover_body_ids_.at(static_cast<std::size_t>(index)); }
+
   /// The robot's contacts found by the last Step (or by construction): clears `contacts` and
   /// appends one entry per MuJoCo contact between a robot geom and the world (no allocation once
   /// the vector has grown to the largest count). Use IsCollision to classify them.
@@ -209,6 +213,7 @@ class Simulation {
   std::vector<GeomInfo> geom_info_;  // per MuJoCo geom
   std::vector<MoverTrack> mover_tracks_;
   std::vector<int> mover_mocap_ids_;
+  std::vector<int> mover_body_ids_;
   std::vector<Eigen::Vector2d> mover_velocities_W_;
   // the terrain's heights without obstacles (only with movers), to stand the movers on
   TerrainWorld ground_;

@@ -167,12 +167,13 @@ std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options
       << "  <asset>\n"
       << "    <texture name=\"sky\" type=\"skybox\" builtin=\"gradient\" rgb1=\"0.55 0.7 0.9\""
       << " rgb2=\"0.9 0.93 0.97\" width=\"64\" height=\"64\"/>\n"
-      << "    <texture name=\"ground_checker\" type=\"2d\" builtin=\"checker\" rgb1=\"0.45 0.55 "
-         "0.33\""
-      << " rgb2=\"0.49 0.58 0.36\" width=\"64\" height=\"64\"/>\n"
-      << "    <material name=\"ground\" texture=\"ground_checker\" texrepeat=\""
-      << world.geometry.Extent().x() / 2.0 << " " << world.geometry.Extent().y() / 2.0
-      << "\" texuniform=\"false\" specular=\"0.05\"/>\n"
+      // the ground's colours, once over the whole terrain: a flat colour here, painted from the
+      // heights by the video renderer (renders/ground_texture.h)
+      << "    <texture name=\"" << kGroundTextureName << "\" type=\"2d\" builtin=\"flat\""
+      << " rgb1=\"0.36 0.5 0.2\" width=\"" << kGroundTextureSize << "\" height=\""
+      << kGroundTextureSize << "\"/>\n"
+      << "    <material name=\"ground\" texture=\"" << kGroundTextureName
+      << "\" texrepeat=\"1 1\" texuniform=\"false\" specular=\"0.05\"/>\n"
       << HeightFieldAsset("terrain", world.geometry.num_y, world.geometry.num_x, half, layout,
                           options.height_field_file)
       << HeightFieldAsset("terrain_visual", visual_num_y, visual_num_x, half, layout,

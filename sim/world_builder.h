@@ -32,13 +32,18 @@ constexpr int kStaticContype = 2;      ///< ground and static obstacles
 constexpr int kMoverContype = 4;       ///< moving obstacles
 constexpr int kCollidesWithRobot = 1;  ///< conaffinity of every colliding geom
 
+/// The drawn ground's texture: stretched once over the terrain (texrepeat 1 1), a flat colour
+/// until a renderer paints it (renders/ground_texture.h). Square, this many texels a side.
+constexpr const char* kGroundTextureName = "ground_colors";
+constexpr int kGroundTextureSize = 1024;
+
 /// The MJCF text of a world: the robot included from its file; the ground as a height field named
 /// "terrain" that collides (geom group 3, not drawn) and a coarser copy "terrain_visual" that is
 /// drawn and does not collide (their samples are filled from memory after loading, see
-/// FillHeightField); obstacles as geoms named after them (canopies visual-only, the ceiling in geom
-/// group 4 so videos can hide it); each mover as a mocap body "mover_<name>" holding one geom of
-/// the same name (group 0), placed at its pose at t = 0. Movers are not validated here (see
-/// ValidateMovingObstacles).
+/// FillHeightField) with the material "ground" (texture kGroundTextureName); obstacles as geoms
+/// named after them (canopies visual-only, the ceiling in geom group 4 so videos can hide it); each
+/// mover as a mocap body "mover_<name>" holding one geom of the same name (group 0), placed at its
+/// pose at t = 0. Movers are not validated here (see ValidateMovingObstacles).
 std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options,
                           const std::vector<MovingObstacle>& movers = {});
 

@@ -62,7 +62,7 @@ renders::ColoredPoints DrawablePoints(const lidar::LidarFrame& frame,
       std::max<std::size_t>(1, (near.size() + kMaxDrawnPoints - 1) / kMaxDrawnPoints);
   const auto count = static_cast<Eigen::Index>((near.size() + stride - 1) / stride);
   renders::ColoredPoints drawable;
-  drawable.radius_m = 0.03;
+  drawable.size_px = 3.0f;
   drawable.points_W.resize(3, count);
   drawable.rgba.resize(4, count);
   for (Eigen::Index k = 0; k < count; ++k)
@@ -85,7 +85,6 @@ renders::GroundGrid DrawableMap(const common::GridLayers& map) {
   grid.values = map.Layer(mapping::layers::kTraversability);
   grid.heights_m = map.Layer(mapping::layers::kElevation);
   grid.alpha = 0.55f;
-  grid.max_cells = 3000;
   return grid;
 }
 

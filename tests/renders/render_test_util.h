@@ -26,6 +26,38 @@ inline std::unique_ptr<sim::Simulation> FlatWorldWithRobotAt(const Eigen::Vector
   return simulation;
 }
 
+/// The renderer tests' world: FlatWorldWithRobotAt's, with a steep mound (0.5 m high, 0.4 m in
+/// radius) centred at `mound_W` and one standing pedestrian-sized violet capsule mover at
+/// `mover_W`.
+inline std::unique_ptr<sim::Simulation> WorldWithMoundAndMover(const Eigen::Vector2d& robot_W,
+                                                               const Eigen::Vector2d& mound_W,
+                                                               const Eigen::Vector2d& mover_W) {
+  sim::TerrainConfig config;
+  config.type = sim::TerrainType::kFlat;
+  config.size_m = {10, 10};
+  sim::TerrainWorld world = sim::GenerateTerrain(config);
+  for (int iy = 0; iy < world.geometry.num_y; ++iy) {
+    for (int ix = 0; ix < world.geometry.num_x; ++ix) {
+      const double r = (world.geometry.CellCenter(ix, iy) - mound_W).norm();
+      if (r < 0.4) world.height_m(ix, iy) = static_cast<float>(0.5 * (1.0 - r / 0.4));
+    }
+  }
+  sim::MovingObstacle mover;
+  mover.name = "walker";
+  mover.rgba = Eigen::Vector4f(0.6f, 0.2f, 0.8f, 1.0f);  // violet: unlike the robot and overlays
+  sim::ConstantVelocityMotion standing;
+  standing.start_W = mover_W;
+  mover.motion = standing;
+  sim::WorldOptions options;
+  options.robot_model_path = RobotModelPath();
+  common::Pose2 start;
+  start.position = robot_W;
+  auto simulation = std::make_unique<sim::Simulation>(world, start, options,
+                                                      std::vector<sim::MovingObstacle>{mover});
+  for (int i = 0; i < 250; ++i) simulation->Step();
+  return simulation;
+}
+
 /// Centroid (column, row) of the pixels for which `match(r, g, b)` holds, and their count.
 template <typename Match>
 std::pair<Eigen::Vector2d, int> Centroid(const Image& image, Match match) {

@@ -15,20 +15,31 @@ namespace trav::renders {
 namespace {
 
 using testing::Centroid;
-using testing::FlatWorldWithRobotAt;
 using testing::GrayStandardDeviation;
 using testing::IsRobotRed;
+using testing::WorldWithMoundAndMover;
 
 GlBackend BackendUnderTest() {
   const char* name = std::getenv("TRAV_TEST_GL_BACKEND");
   return name != nullptr && std::strcmp(name, "egl") == 0 ? GlBackend::kEgl : GlBackend::kOsmesa;
 }
 
+// Where the test world's mound and mover stand (in the top-down view's corners) [m].
+const Eigen::Vector2d kMound_W(2.4, 1.7);
+const Eigen::Vector2d kMover_W(-2.5, -1.6);
+
+// The top-down test view: 6 m above the origin, MuJoCo's default 45 deg field of view, on the
+// 320 x 240 frame: 120 pixels are 6 tan(22.5 deg) metres.
+constexpr double kPixelsPerMetre = 120.0 / (6.0 * 0.41421356);
+Eigen::Vector2d PixelOf(const Eigen::Vector2d& p_W) {
+  return {160.0 + kPixelsPerMetre * p_W.x(), 120.0 - kPixelsPerMetre * p_W.y()};
+}
+
 // One simulation and renderer for the whole suite: MuJoCo 2.2's GL context is per process.
 class RendererTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    simulation_ = FlatWorldWithRobotAt(Eigen::Vector2d(1.5, 0.0)).release();
+    simulation_ = WorldWithMoundAndMover(Eigen::Vector2d(1.5, 0.0), kMound_W, kMover_W).release();
     RenderConfig config;
     config.width = 320;
     config.height = 240;
@@ -70,7 +81,7 @@ TEST_F(RendererTest, OverlaysAreDrawnInTheScene) {
   points.points_W = Eigen::Matrix3Xf(3, 1);
   points.points_W.col(0) = Eigen::Vector3f(0, 1.5, 0.3);
   points.rgba = Eigen::Vector4f(1.0f, 1.0f, 0.0f, 1.0f);
-  points.radius_m = 0.2;
+  points.size_px = 12.0f;
   overlay.points.push_back(points);
   overlay.texts.push_back({"trav", TextCorner::kTopLeft});
 
@@ -82,7 +93,7 @@ TEST_F(RendererTest, OverlaysAreDrawnInTheScene) {
   ASSERT_GT(blue_count, 100);
   EXPECT_LT(blue.x(), 160 - 50);
   EXPECT_NEAR(blue.y(), 120, 15);
-  // the yellow sphere at y = +1.5: above the centre
+  // the yellow dot at y = +1.5: above the centre
   const auto [yellow, yellow_count] =
       Centroid(image, [](int r, int g, int b) { return r > 150 && g > 150 && b < 80; });
   ASSERT_GT(yellow_count, 20);
@@ -94,6 +105,128 @@ TEST_F(RendererTest, OverlaysAreDrawnInTheScene) {
   ASSERT_GT(text_count, 10);
   EXPECT_LT(text.x(), 80);
   EXPECT_LT(text.y(), 40);
+}
+
+TEST_F(RendererTest, PointsAreDrawnAtTheProjectionsOfTheirPositionsAndHiddenBehindSolids) {
+  // three small dots on the ground at known places, one more inside the robot's body
+  const std::vector<Eigen::Vector3f> hits_W = {
+      {-1.0f, 1.0f, 0.0f}, {0.5f, -1.5f, 0.0f}, {-2.0f, -0.5f, 0.0f}, {1.5f, 0.0f, 0.05f}};
+  ColoredPoints points;
+  points.points_W.resize(3, 4);
+  for (int i = 0; i < 4; ++i) points.points_W.col(i) = hits_W[static_cast<std::size_t>(i)];
+  points.rgba = Eigen::Vector4f(1.0f, 0.0f, 1.0f, 1.0f);
+  points.size_px = 3.0f;
+  Overlay overlay;
+  overlay.points.push_back(points);
+  Image image;
+  renderer_->Render(*simulation_, TopDownView(Eigen::Vector3d(0, 0, 0), 6.0), overlay, &image);
+  auto magenta = [](int r, int g, int b) { return r > 180 && g < 90 && b > 180; };
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector2d expected =
+        PixelOf(hits_W[static_cast<std::size_t>(i)].head<2>().cast<double>());
+    int found = 0;
+    for (int dy = -3; dy <= 3; ++dy) {
+      for (int dx = -3; dx <= 3; ++dx) {
+        const std::uint8_t* p =
+            image.Pixel(static_cast<int>(expected.x()) + dx, static_cast<int>(expected.y()) + dy);
+        found += magenta(p[0], p[1], p[2]) ? 1 : 0;
+      }
+    }
+    EXPECT_GT(found, 0) << "point " << i << " not drawn near pixel " << expected.transpose();
+  }
+  // the dot inside the robot's body is hidden by it: no magenta near the robot
+  const Eigen::Vector2d robot = PixelOf(Eigen::Vector2d(1.5, 0.0));
+  int inside = 0;
+  for (int dy = -8; dy <= 8; ++dy) {
+    for (int dx = -8; dx <= 8; ++dx) {
+      const std::uint8_t* p =
+          image.Pixel(static_cast<int>(robot.x()) + dx, static_cast<int>(robot.y()) + dy);
+      inside += magenta(p[0], p[1], p[2]) ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(inside, 0);
+}
+
+TEST_F(RendererTest, TheGroundIsPaintedGrassAndItsSteepMoundSoilOrRock) {
+  Image image;
+  renderer_->Render(*simulation_, TopDownView(Eigen::Vector3d(0, 0, 0), 6.0), {}, &image);
+  auto grass = [](int r, int g, int b) { return g > r + 20 && g > b + 40; };
+  // the mound's flanks (30 to 50 deg) are brown or grey: neither green nor the robot's red
+  auto bare = [](int r, int g, int b) { return std::abs(r - g) < 30 && g >= b && r > 40; };
+  const Eigen::Vector2d flat = PixelOf(Eigen::Vector2d(-1.0, 1.5));
+  const std::uint8_t* p = image.Pixel(static_cast<int>(flat.x()), static_cast<int>(flat.y()));
+  EXPECT_TRUE(grass(p[0], p[1], p[2])) << int(p[0]) << " " << int(p[1]) << " " << int(p[2]);
+  // within 1 m of the mound (the robot's grey top is further away)
+  const Eigen::Vector2d expected = PixelOf(kMound_W);
+  const auto [mound, count] = Centroid(image, [&](int r, int g, int b) { return bare(r, g, b); });
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  int near = 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const std::uint8_t* q = image.Pixel(x, y);
+      if ((Eigen::Vector2d(x, y) - expected).norm() < kPixelsPerMetre && bare(q[0], q[1], q[2])) {
+        sum += Eigen::Vector2d(x, y);
+        ++near;
+      }
+    }
+  }
+  ASSERT_GT(near, 30);
+  // the mound's middle, where its flanks are steepest, 0.25 m up: 4 % further out in the view
+  const Eigen::Vector2d centre = sum / near;
+  EXPECT_NEAR(centre.x(), 160 + 1.04 * (expected.x() - 160), 8);
+  EXPECT_NEAR(centre.y(), 120 + 1.04 * (expected.y() - 120), 8);
+  EXPECT_GT(count, near);  // and the robot's grey, which is not ground
+}
+
+TEST_F(RendererTest, HiddenMoversAreDrawnAsWalkersWhoseLegsSwing) {
+  auto violet = [](int r, int g, int b) { return r > 80 && g < 90 && b > 120; };
+  // straight above the mover: the view's centre (160, 120) is the mover
+  const CameraView above = TopDownView(Eigen::Vector3d(kMover_W.x(), kMover_W.y(), 0), 6.0);
+  const Eigen::Vector2d mover(160, 120);
+  Image image;
+  renderer_->Render(*simulation_, above, {}, &image);
+  const auto [capsule, capsule_count] = Centroid(image, violet);
+  ASSERT_GT(capsule_count, 50);  // the mover's own capsule
+  EXPECT_NEAR(capsule.x(), mover.x(), 3);
+  EXPECT_NEAR(capsule.y(), mover.y(), 3);
+
+  // hidden, and a walker facing +x drawn there instead with a different colour
+  Overlay overlay;
+  overlay.hidden_movers = {0};
+  Walker walker;
+  walker.X_WO = Eigen::Translation3d(simulation_->MoverPose(0).translation()) *
+                Eigen::Isometry3d::Identity();  // facing +x
+  walker.rgba = Eigen::Vector4f(0.1f, 0.8f, 0.9f, 1.0f);
+  // dark blue-grey trousers; not the shaded underside of the cyan arms
+  auto trousers = [](int r, int g, int b) { return r < 70 && b > r + 5 && g < 2 * r + 10; };
+  auto shirt = [](int r, int g, int b) { return r < 90 && g > 150 && b > 160; };
+  double left_leg_x[2];
+  for (int k = 0; k < 2; ++k) {
+    walker.gait_phase_rad = k == 0 ? 0.5 * M_PI : 1.5 * M_PI;
+    overlay.walkers.assign(1, walker);
+    renderer_->Render(*simulation_, above, overlay, &image);
+    EXPECT_EQ(Centroid(image, violet).second, 0);
+    const auto [body, body_count] = Centroid(image, shirt);
+    ASSERT_GT(body_count, 30);
+    EXPECT_NEAR(body.x(), mover.x(), 6);
+    // the left leg (+y: above the body's centre row in the image) reaches forward (+x) at pi/2
+    // and back at 3 pi/2
+    double sum = 0.0;
+    int n = 0;
+    for (int y = static_cast<int>(mover.y()) - 15; y < static_cast<int>(mover.y()); ++y) {
+      for (int x = static_cast<int>(mover.x()) - 30; x <= static_cast<int>(mover.x()) + 30; ++x) {
+        const std::uint8_t* q = image.Pixel(x, y);
+        if (trousers(q[0], q[1], q[2])) {
+          sum += x;
+          ++n;
+        }
+      }
+    }
+    ASSERT_GT(n, 5) << "no leg visible at phase " << walker.gait_phase_rad;
+    left_leg_x[k] = sum / n;
+  }
+  EXPECT_GT(left_leg_x[0], mover.x() + 3);
+  EXPECT_LT(left_leg_x[1], mover.x() - 3);
 }
 
 TEST_F(RendererTest, GroundGridsShowTheirKnownCellsOnly) {
