@@ -43,4 +43,21 @@ CameraView TopDownView(const Eigen::Vector3d& p_W, double height_m) {
   return view;
 }
 
+CameraView OrthographicTopDownView(const Eigen::Vector3d& p_W, double span_m) {
+  constexpr double kFovyDeg = 2.0;
+  CameraView view = TopDownView(p_W, 0.5 * span_m / std::tan(0.5 * kFovyDeg * M_PI / 180.0));
+  view.fovy_deg = kFovyDeg;
+  view.hide_canopy = true;
+  return view;
+}
+
+CameraView OrbitView(const Eigen::Vector3d& p_W, double t_s, double period_s) {
+  CameraView view;
+  view.lookat_W = p_W + Eigen::Vector3d(0, 0, 0.3);
+  view.distance_m = 6.0;
+  view.azimuth_deg = 360.0 * t_s / period_s;
+  view.elevation_deg = -25.0;
+  return view;
+}
+
 }  // namespace trav::renders

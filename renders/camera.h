@@ -18,20 +18,35 @@ struct CameraView {
   /// is made nearly orthographic: MuJoCo 2.2 has no orthographic projection.
   double fovy_deg{45.0};
   bool hide_canopy{false};  ///< do not draw tree crowns (geom group 2), so they hide nothing
+
+  /// The keys of scenario key `video.camera_pose` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("lookat", &lookat_W, {-1e4, 1e4});
+    a->Field("distance", &distance_m, {0.1, 1e4});
+    a->Field("azimuth", &azimuth_deg, {-360.0, 360.0});
+    a->Field("elevation", &elevation_deg, {-90.0, 90.0});
+    a->Field("fovy", &fovy_deg, {1.0, 150.0});
+    a->Field("hide_canopy", &hide_canopy);
+  }
 };
 
 /// Which camera a video uses.
 enum class CameraMode {
   kChase,     ///< behind and above the robot, following its heading smoothly
-  kOverview,  ///< the whole world from high above at an angle
-  kTopDown,   ///< straight down onto the robot
+  kOverview,  ///< the whole world from high above at an angle, tree crowns hidden
+  kTopDown,   ///< straight down onto the robot, nearly orthographic
+  kOrbit,     ///< circling the robot
+  kFixed,     ///< a pose given in the scenario
 };
 
 /// The names of CameraMode's values (common/enum_names.h).
-inline constexpr std::array<common::EnumName<CameraMode>, 3> kCameraModeNames{
+inline constexpr std::array<common::EnumName<CameraMode>, 5> kCameraModeNames{
     {{CameraMode::kChase, "chase"},
      {CameraMode::kOverview, "overview"},
-     {CameraMode::kTopDown, "top_down"}}};
+     {CameraMode::kTopDown, "top_down"},
+     {CameraMode::kOrbit, "orbit"},
+     {CameraMode::kFixed, "fixed"}}};
 constexpr const auto& EnumNames(CameraMode) { return kCameraModeNames; }
 
 /// Parameters of the chase camera.
@@ -62,5 +77,14 @@ CameraView OverviewView(const Eigen::Vector3d& center_W, const Eigen::Vector2d& 
 
 /// A view straight down onto `p_W` from `height_m` above it.
 CameraView TopDownView(const Eigen::Vector3d& p_W, double height_m);
+
+/// A nearly orthographic view straight down onto `p_W` showing `span_m` metres from the frame's
+/// top to its bottom: a 2 deg field of view from far above (MuJoCo 2.2 has no orthographic
+/// projection; heights of a few metres then shift points by under 2 %), tree crowns hidden.
+CameraView OrthographicTopDownView(const Eigen::Vector3d& p_W, double span_m);
+
+/// A view circling `p_W` once every `period_s` seconds (counter-clockwise from behind -x at t = 0),
+/// 6 m away and 25 deg above the horizon.
+CameraView OrbitView(const Eigen::Vector3d& p_W, double t_s, double period_s);
 
 }  // namespace trav::renders

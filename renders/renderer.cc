@@ -327,6 +327,12 @@ void DrawTextAt(const std::string& text, int font, int x, int y, const Eigen::Ve
 
 }  // namespace
 
+int Renderer::text_height_px() const { return mujoco_->context.charHeight; }
+
+int Renderer::TextWidthPx(const std::string& text) const {
+  return TextWidth(text, mjFONT_NORMAL, mujoco_->context);
+}
+
 void Renderer::Render(const sim::Simulation& simulation, const CameraView& view,
                       const Overlay& overlay, Image* image) {
   MujocoState& mj = *mujoco_;
@@ -367,16 +373,20 @@ void Renderer::Render(const sim::Simulation& simulation, const CameraView& view,
                   &mj.context);
       continue;
     }
-    // a card in the middle: the text in the big font on a dark translucent rectangle
+    // a card in the middle: the text on a dark translucent rectangle, in the big font if it fits
     const int lines = 1 + static_cast<int>(std::count(label.text.begin(), label.text.end(), '\n'));
-    const int width = TextWidth(label.text, mjFONT_BIG, mj.context) + 2 * mj.context.charHeightBig;
-    const int height = (lines + 1) * mj.context.charHeightBig;
+    const int font = TextWidth(label.text, mjFONT_BIG, mj.context) < 0.8 * view_width
+                         ? mjFONT_BIG
+                         : mjFONT_NORMAL;
+    const int line_height = font == mjFONT_BIG ? mj.context.charHeightBig : mj.context.charHeight;
+    const int width =
+        std::min(view_width, TextWidth(label.text, font, mj.context) + 2 * line_height);
+    const int height = std::min(config_.height, (lines + 1) * line_height);
     const mjrRect card = {(view_width - width) / 2, (config_.height - height) / 2, width, height};
     mjr_rectangle(card, 0.05f, 0.05f, 0.08f, 0.8f);
     draw_->Viewport(viewport.left, viewport.bottom, viewport.width, viewport.height);
-    DrawTextAt(label.text, mjFONT_BIG, card.left + mj.context.charHeightBig,
-               card.bottom + height - mj.context.charHeightBig / 2, Eigen::Vector3f::Ones(),
-               viewport, mj.context);
+    DrawTextAt(label.text, font, card.left + line_height, card.bottom + height - line_height / 2,
+               Eigen::Vector3f::Ones(), viewport, mj.context);
   }
 
   if (!overlay.panel.image.rgb.empty()) {

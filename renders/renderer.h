@@ -69,6 +69,11 @@ class Renderer {
 
   const RenderConfig& config() const { return config_; }
 
+  /// Height of a line of text in the renderer's normal font, and the width of `text` (one line)
+  /// in it [pixels] (for laying out panels).
+  int text_height_px() const;
+  int TextWidthPx(const std::string& text) const;
+
  private:
   struct MujocoState;
   RenderConfig config_;

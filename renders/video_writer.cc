@@ -30,7 +30,7 @@ bool FfmpegAvailable() {
   return false;
 }
 
-VideoWriter::VideoWriter(const std::string& path, int width, int height, double fps)
+VideoWriter::VideoWriter(const std::string& path, int width, int height, double fps, int crf)
     : path_(path), width_(width), height_(height) {
   if (!FfmpegAvailable()) {
     throw std::runtime_error("video needs ffmpeg on the PATH (install the ffmpeg package)");
@@ -40,12 +40,13 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height, double 
 
   const std::string size = std::to_string(width) + "x" + std::to_string(height);
   const std::string rate = fmt::format("{:g}", fps);
+  const std::string quality = std::to_string(crf);
   // absolute, so that no file name (one starting with '-') can reach ffmpeg as an option
   const std::string output = std::filesystem::absolute(path).string();
   std::vector<std::string> args = {
       "ffmpeg",        "-loglevel", "error",       "-nostdin",   "-y",         "-f",   "rawvideo",
       "-pixel_format", "rgb24",     "-video_size", size,         "-framerate", rate,   "-i",
-      "pipe:0",        "-c:v",      "libx264",     "-preset",    "veryfast",   "-crf", "23",
+      "pipe:0",        "-c:v",      "libx264",     "-preset",    "veryfast",   "-crf", quality,
       "-pix_fmt",      "yuv420p",   "-movflags",   "+faststart", "-f",         "mp4",  output};
   std::vector<char*> argv;
   for (std::string& arg : args) argv.push_back(arg.data());

@@ -12,9 +12,10 @@ namespace trav::renders {
 /// player opens it). ffmpeg runs as a separate process, so it costs the simulation little.
 class VideoWriter {
  public:
-  /// Starts ffmpeg writing `path` with frames of `width` x `height` at `fps` frames per second.
+  /// Starts ffmpeg writing `path` with frames of `width` x `height` at `fps` frames per second, at
+  /// x264's constant rate factor `crf` (0 lossless .. 51; 18 looks lossless, 23 is x264's default).
   /// @throws std::runtime_error if ffmpeg is not installed or cannot be started.
-  VideoWriter(const std::string& path, int width, int height, double fps);
+  VideoWriter(const std::string& path, int width, int height, double fps, int crf = 23);
   /// Closes the pipe and waits for ffmpeg if Close() was not called (errors are ignored there).
   ~VideoWriter();
   VideoWriter(const VideoWriter&) = delete;

@@ -489,8 +489,8 @@ duration: 60
 mode: navigate
 video:
   enabled: true
-  width: 640
-  height: 480
+  width: 1280
+  height: 720
   fps: 30
   camera: chase
 output:

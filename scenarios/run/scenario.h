@@ -102,18 +102,36 @@ struct DriveSegment {
   }
 };
 
-/// Video settings of a run.
+/// Video settings of a run (docs/video.md).
 struct VideoSettings {
+  VideoSettings() {
+    render.width = 1280;
+    render.height = 720;
+  }
   bool enabled{true};
-  renders::RenderConfig render{};
-  double fps{30.0};  ///< frames per second of simulation time, in (0, 120]
+  renders::RenderConfig render{};  ///< the frame: 1280 x 720 by default, the map panel included
+  double fps{30.0};                ///< frames per second of simulation time, in (0, 120]
   renders::CameraMode camera{renders::CameraMode::kChase};
+  renders::CameraView camera_pose{};  ///< the camera `fixed`'s pose
+  double orbit_period_s{24.0};        ///< one turn of the camera `orbit` [s]
+  double top_down_span_m{14.0};       ///< what the camera `top_down` shows top to bottom [m]
+  int lidar_frames{3};                ///< LiDAR frames drawn, the older fading out
+  bool map_overlay{true};             ///< the robot's map draped on the ground
+  int crf{20};                        ///< H.264 quality: x264's constant rate factor, 0..51
+  double end_card_s{2.0};             ///< the end card's time in a closed loop's video [s]
   /// The keys of scenario section `video` (common/archive.h).
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Field("enabled", &enabled);
     a->Field("fps", &fps, {1.0, 120.0});
     a->Enum("camera", &camera);
+    a->Map("camera_pose", &camera_pose);
+    a->Field("orbit_period", &orbit_period_s, {1.0, 3600.0});
+    a->Field("top_down_span", &top_down_span_m, {1.0, 1000.0});
+    a->Field("lidar_frames", &lidar_frames, {0, 50});
+    a->Field("map_overlay", &map_overlay);
+    a->Field("crf", &crf, {0, 51});
+    a->Field("end_card", &end_card_s, {0.0, 60.0});
     render.Serialize(a);
   }
 };

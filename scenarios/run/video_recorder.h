@@ -1,8 +1,10 @@
 #pragma once
 
+#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -20,10 +22,13 @@ namespace trav::scenarios {
 
 class VideoCamera;
 
-/// Records video.mp4 at the scenario's frame rate: the camera's view with the latest LiDAR frame's
-/// points (coloured by height) and, by mode, the tracked reference, the mapped layer, or in mode
-/// navigate the plan, a status line and the map panel beside the view (the driven path from
-/// `driven`), ending on a frame with the outcome.
+/// Records video.mp4 at the scenario's frame rate and camera (docs/video.md): the world with its
+/// ground painted by terrain type, movers as walkers and carts, the latest LiDAR frames' points
+/// (coloured by height, older frames fading), the map draped on the ground and, by mode, the
+/// tracked reference, or in mode navigate the plan as a ribbon, the MPC's horizon, the goal, the
+/// movers' predicted paths, a status line and the map panel beside the view (map, colour bar,
+/// scale bar, legend; the driven path from `driven`), ending on a frame with the outcome and an
+/// end card with the summary.
 class VideoRecorder : public LoopObserver {
  public:
   /// Opens `<output_dir>/video.mp4`; its render time goes to `loop->times()` as "render".
@@ -42,19 +47,32 @@ class VideoRecorder : public LoopObserver {
   int frames_written() const { return frames_written_; }
 
  private:
-  void WriteNavigationFrame(const ClosedLoop& loop, const std::string& status);
+  // Fills overlay_ for a frame now; `status` is the planner's status (navigate).
+  void ComposeOverlay(const ClosedLoop& loop, const std::string& status);
+  // The movers as walkers (capsules) and carts (boxes longer than wide), their geoms hidden.
+  void AddMovers(const ClosedLoop& loop);
+  // The goal's marker and the perceived movers' predicted paths.
+  void AddGoalAndPredictions(const ClosedLoop& loop);
+  renders::Panel MapPanel(const ClosedLoop& loop, const std::string& info) const;
+  void WriteFrame(const ClosedLoop& loop, const std::string& status);
 
   ModuleTimes* times_;
   const DrivenPath* driven_;
+  const VideoSettings& settings_;
   std::unique_ptr<renders::Renderer> renderer_;
   std::unique_ptr<renders::VideoWriter> video_;
   std::unique_ptr<VideoCamera> camera_;
   renders::Overlay overlay_;
   renders::Image frame_;
+  std::deque<renders::ColoredPoints> recent_points_;  // the last video.lidar_frames frames
+  std::optional<renders::GroundGrid> map_drape_;
+  renders::Polyline reference_, plan_, horizon_;
+  std::vector<double> walked_m_;  // distance each mover has walked [m]: its gait's phase
   Eigen::Matrix3Xf latest_points_W_;
   Eigen::MatrixXf no_map_;  // the panel's layer before the first map: all unknown
   double frame_period_s_;
   double next_frame_s_{0.0};
+  double last_frame_s_{0.0};
   int frames_written_{0};
 };
 

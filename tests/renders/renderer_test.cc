@@ -40,9 +40,11 @@ class RendererTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     simulation_ = WorldWithMoundAndMover(Eigen::Vector2d(1.5, 0.0), kMound_W, kMover_W).release();
+    // the camera's view is the left 320 x 240 pixels; a panel of 80 pixels is right of it
     RenderConfig config;
-    config.width = 320;
+    config.width = 400;
     config.height = 240;
+    config.panel_width = 80;
     config.backend = BackendUnderTest();
     renderer_ = new Renderer(simulation_, config);
   }
@@ -59,7 +61,7 @@ Renderer* RendererTest::renderer_ = nullptr;
 TEST_F(RendererTest, TopDownFrameShowsTheRobotWhereTheCameraShouldSeeIt) {
   Image image;
   renderer_->Render(*simulation_, TopDownView(Eigen::Vector3d(0, 0, 0), 6.0), {}, &image);
-  ASSERT_EQ(image.width, 320);
+  ASSERT_EQ(image.width, 400);
   ASSERT_EQ(image.height, 240);
   EXPECT_GT(GrayStandardDeviation(image), 5.0);
   // the robot is 1.5 m along +x from the point below the camera: right of the centre (the image's
@@ -258,6 +260,61 @@ TEST_F(RendererTest, ChaseCameraLooksAtTheRobotFromBehind) {
   const auto [centroid, count] = Centroid(image, IsRobotRed);
   ASSERT_GT(count, 50);
   EXPECT_NEAR(centroid.x(), 160, 20);
+}
+
+TEST_F(RendererTest, ThePanelIsDrawnRightOfTheViewWithItsTexts) {
+  Overlay overlay;
+  overlay.panel.image.width = 80;
+  overlay.panel.image.height = 240;
+  overlay.panel.image.rgb.assign(80 * 240 * 3, 0);
+  for (std::size_t i = 2; i < overlay.panel.image.rgb.size(); i += 3)
+    overlay.panel.image.rgb[i] = 200;
+  overlay.panel.texts.push_back({"MAP", Eigen::Vector2i(4, 100), Eigen::Vector3f(1, 1, 0)});
+  Image image;
+  renderer_->Render(*simulation_, TopDownView(Eigen::Vector3d(0, 0, 0), 6.0), overlay, &image);
+  int blue = 0, yellow_rows_low = 240, yellow_rows_high = 0, yellow = 0;
+  for (int y = 0; y < 240; ++y) {
+    for (int x = 320; x < 400; ++x) {
+      const std::uint8_t* p = image.Pixel(x, y);
+      blue += (p[0] == 0 && p[1] == 0 && p[2] == 200) ? 1 : 0;
+      if (p[0] > 200 && p[1] > 200 && p[2] < 100) {
+        ++yellow;
+        yellow_rows_low = std::min(yellow_rows_low, y);
+        yellow_rows_high = std::max(yellow_rows_high, y);
+      }
+    }
+  }
+  EXPECT_GT(blue, 80 * 240 * 9 / 10);  // the panel's own pixels, exactly, but for the text
+  ASSERT_GT(yellow, 10);
+  // the text's glyphs start at its top-left corner, row 100, and are one line high
+  EXPECT_GE(yellow_rows_low, 98);
+  EXPECT_LE(yellow_rows_high, 100 + renderer_->text_height_px());
+  // the camera's view is not covered: the robot is still where TopDownFrame... expects it
+  EXPECT_GT(Centroid(image, IsRobotRed).second, 50);
+  // a panel of the wrong size is refused
+  overlay.panel.image.width = 60;
+  EXPECT_THROW(
+      renderer_->Render(*simulation_, TopDownView(Eigen::Vector3d(0, 0, 0), 6.0), overlay, &image),
+      std::invalid_argument);
+}
+
+TEST_F(RendererTest, AnEndCardDarkensTheMiddleOfTheViewAndCarriesItsText) {
+  Overlay overlay;
+  overlay.texts.push_back({"success\ntime 12.0 s", TextCorner::kCenter});
+  Image image;
+  renderer_->Render(*simulation_, TopDownView(Eigen::Vector3d(0, 0, 0), 6.0), overlay, &image);
+  const auto [white, white_count] =
+      Centroid(image, [](int r, int g, int b) { return r > 240 && g > 240 && b > 240; });
+  ASSERT_GT(white_count, 30);
+  EXPECT_NEAR(white.x(), 160, 40);
+  EXPECT_NEAR(white.y(), 120, 30);
+  // the card is dark where the grass was: at the view's centre, left of the text
+  const std::uint8_t* p =
+      image.Pixel(160 - static_cast<int>(renderer_->TextWidthPx("time 12.0 s")) / 2 - 8, 120);
+  EXPECT_LT(p[0] + p[1] + p[2], 150);
+  // the corners are still grass
+  const std::uint8_t* corner = image.Pixel(5, 5);
+  EXPECT_GT(corner[1], corner[0] + 20);
 }
 
 TEST(TraversabilityColorTest, RunsFromGreenThroughYellowToRed) {

@@ -40,7 +40,7 @@ TEST(ScenarioTest, BuiltInDefaultIsAThirtyMetreTraverseOfWoodedHillsWithVideo) {
   EXPECT_EQ((dut.goal_W - dut.start_W.position).norm(), 30.0);
   EXPECT_EQ(dut.expected_outcome, Outcome::kSuccess);
   EXPECT_TRUE(dut.video.enabled);
-  EXPECT_EQ(dut.video.render.width, 640);
+  EXPECT_EQ(dut.video.render.width, 1280);
 }
 
 TEST(ScenarioTest, EveryKeyTakesEffect) {
