@@ -118,7 +118,7 @@ renders::GroundGrid DrawableMap(const common::GridLayers& map, const sim::Terrai
           static_cast<float>(world.GroundHeight(grid.geometry.CellCenter(ix, iy)));
     }
   }
-  grid.alpha = 0.5f;
+  grid.alpha = 0.4f;
   return grid;
 }
 
