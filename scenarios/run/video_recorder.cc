@@ -287,7 +287,7 @@ void VideoRecorder::ComposeOverlay(const ClosedLoop& loop, const std::string& st
         {fmt::format("t {:.1f} s   v {:.2f} m/s   goal {:.1f} m   {}", now.time_s, now.v_WB_B.x(),
                      (now.X_WB.translation().head<2>() - scenario.goal_W).norm(), status),
          renders::TextCorner::kTopLeft});
-    overlay.panel = MapPanel(loop, status);
+    overlay.panel = MapPanel(loop, fmt::format("t {:.1f} s   {}", now.time_s, status));
     AddGoalAndPredictions(loop);
   }
 }

@@ -253,6 +253,75 @@ TEST_F(RendererTest, GroundGridsShowTheirKnownCellsOnly) {
   EXPECT_GT(green.y(), 120 - 60);
 }
 
+TEST_F(RendererTest, AHazardousCellOfADrapedMapIsRedWhereItLies) {
+  // a 2 x 2 m map round (-1, -1), all free but one lethal 0.4 m square centred at (-0.6, -1.4)
+  GroundGrid grid;
+  grid.geometry =
+      common::GridGeometry::Centered(Eigen::Vector2d(-1.0, -1.0), Eigen::Vector2d(2.0, 2.0), 0.1);
+  grid.values = Eigen::MatrixXf::Zero(grid.geometry.num_x, grid.geometry.num_y);
+  grid.heights_m = Eigen::MatrixXf::Zero(grid.geometry.num_x, grid.geometry.num_y);
+  Eigen::Vector2d hazard_sum = Eigen::Vector2d::Zero();
+  int hazard_cells = 0;
+  for (int iy = 0; iy < grid.geometry.num_y; ++iy) {
+    for (int ix = 0; ix < grid.geometry.num_x; ++ix) {
+      const Eigen::Vector2d c = grid.geometry.CellCenter(ix, iy);
+      if ((c - Eigen::Vector2d(-0.6, -1.4)).cwiseAbs().maxCoeff() < 0.2) {
+        grid.values(ix, iy) = 1.0f;
+        hazard_sum += c;
+        ++hazard_cells;
+      }
+    }
+  }
+  ASSERT_GT(hazard_cells, 0);
+  grid.alpha = 0.8f;
+  Overlay overlay;
+  overlay.grids.push_back(grid);
+  Image image;
+  renderer_->Render(*simulation_, TopDownView(Eigen::Vector3d(0, 0, 0), 6.0), overlay, &image);
+  // red pixels left of the view's middle (the robot's red paint is at x = 1.5 m, right of it)
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  int count = 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < 160; ++x) {
+      const std::uint8_t* p = image.Pixel(x, y);
+      if (p[0] > p[1] + 80 && p[0] > p[2] + 80 && p[1] < 120) {
+        sum += Eigen::Vector2d(x, y);
+        ++count;
+      }
+    }
+  }
+  ASSERT_GT(count, 20);
+  const Eigen::Vector2d red = sum / count;
+  // the hazard's cells' centres, where their quads' corners average the red with the green
+  // around it: the red centroid lies over them
+  const Eigen::Vector2d expected = PixelOf(hazard_sum / hazard_cells);
+  EXPECT_NEAR(red.x(), expected.x(), 4);
+  EXPECT_NEAR(red.y(), expected.y(), 4);
+}
+
+TEST_F(RendererTest, CartsHaveABasketAndAHandleBehind) {
+  Cart cart;
+  cart.X_WO.translation() = Eigen::Vector3d(-1.0, 1.5, 0.5);  // facing +x
+  cart.half_extents_m = Eigen::Vector3d(0.5, 0.35, 0.5);
+  cart.rgba = Eigen::Vector4f(0.9f, 0.9f, 0.1f, 1.0f);
+  Overlay overlay;
+  overlay.carts.push_back(cart);
+  Image image;
+  renderer_->Render(*simulation_, TopDownView(Eigen::Vector3d(-1.0, 1.5, 0), 3.0), overlay, &image);
+  // from 3 m above its centre: the basket's yellow in the middle, the handle's grey bar behind it
+  // (left of the basket in the image, +x to the right)
+  const auto [basket, basket_count] =
+      Centroid(image, [](int r, int g, int b) { return r > 180 && g > 180 && b < 90; });
+  ASSERT_GT(basket_count, 500);
+  EXPECT_NEAR(basket.x(), 160, 4);
+  EXPECT_NEAR(basket.y(), 120, 4);
+  const auto [handle, handle_count] = Centroid(image, [](int r, int g, int b) {
+    return std::abs(r - g) < 12 && std::abs(g - b) < 15 && r > 120;
+  });
+  ASSERT_GT(handle_count, 10);
+  EXPECT_LT(handle.x(), basket.x() - 40);
+}
+
 TEST_F(RendererTest, ChaseCameraLooksAtTheRobotFromBehind) {
   ChaseCamera camera;
   Image image;
