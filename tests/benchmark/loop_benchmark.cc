@@ -1,9 +1,9 @@
 // The closed loop's real-time factor: the suite's hilly scenario (30 m traverse with LiDAR,
 // FSGP-BGK mapping, planning and MPC) for 8 s of simulated time, without video (budget 3x real
-// time or more) and with 640 x 480 video through OSMesa (0.5x or more). One run per benchmark;
-// the time includes terrain generation, world and BVH building and writing the outputs, as in
-// `trav run`. Counters: real_time_factor (simulated / wall seconds of RunScenario) and the share
-// of that wall time spent in each module (share_lidar, share_mapping, share_planning,
+// time or more) and with 640 x 480 or 1280 x 720 video through OSMesa (0.5x or more). One run per
+// benchmark; the time includes terrain generation, world and BVH building and writing the outputs,
+// as in `trav run`. Counters: real_time_factor (simulated / wall seconds of RunScenario) and the
+// share of that wall time spent in each module (share_lidar, share_mapping, share_planning,
 // share_control, share_physics, share_render) as summary.json's "compute" measures it, with
 // share_other for the rest (terrain, world, metrics, video encoding, files; with the mapper on
 // its own thread the shares overlap and share_other is what is left); and each module's cost
@@ -17,6 +17,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include <benchmark/benchmark.h>
@@ -63,13 +64,18 @@ trav::scenarios::ModuleTime TimeOf(const RunSummary& summary, const std::string&
   return time == summary.compute.end() ? trav::scenarios::ModuleTime{} : time->second;
 }
 
-void RunClosedLoop(benchmark::State& state, bool video, bool mapping_thread) {
+// A run of the benchmark's scenario; `video_size` (width, height) [pixels], or none.
+void RunClosedLoop(benchmark::State& state, std::optional<Eigen::Vector2i> video_size,
+                   bool mapping_thread) {
+  const bool video = video_size.has_value();
   Scenario scenario = trav::scenarios::LoadScenario(
       trav::common::YamlDocument::Load(std::string(TRAV_SOURCE_DIR) + kScenarioFile));
   scenario.duration_s = kDuration_s;
   scenario.video.enabled = video;
-  scenario.video.render.width = 640;
-  scenario.video.render.height = 480;
+  if (video) {
+    scenario.video.render.width = video_size->x();
+    scenario.video.render.height = video_size->y();
+  }
   scenario.video.render.backend = trav::renders::GlBackend::kOsmesa;
   const std::string model = trav::scenarios::RobotModelPath(scenario, TRAV_MODELS_DIR);
 
@@ -109,7 +115,7 @@ void RunClosedLoop(benchmark::State& state, bool video, bool mapping_thread) {
 }
 
 void BM_ClosedLoopNoVideo(benchmark::State& state) {
-  RunClosedLoop(state, /*video=*/false, /*mapping_thread=*/state.range(0) == 2);
+  RunClosedLoop(state, std::nullopt, /*mapping_thread=*/state.range(0) == 2);
 }
 BENCHMARK(BM_ClosedLoopNoVideo)
     ->ArgName("threads")
@@ -120,9 +126,14 @@ BENCHMARK(BM_ClosedLoopNoVideo)
     ->Unit(benchmark::kSecond);
 
 void BM_ClosedLoopVideo640x480(benchmark::State& state) {
-  RunClosedLoop(state, /*video=*/true, /*mapping_thread=*/true);
+  RunClosedLoop(state, Eigen::Vector2i(640, 480), /*mapping_thread=*/true);
 }
 BENCHMARK(BM_ClosedLoopVideo640x480)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+
+void BM_ClosedLoopVideo1280x720(benchmark::State& state) {
+  RunClosedLoop(state, Eigen::Vector2i(1280, 720), /*mapping_thread=*/true);
+}
+BENCHMARK(BM_ClosedLoopVideo1280x720)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
 
 }  // namespace
 
