@@ -214,7 +214,9 @@ Panel LayoutMapPanel(const Image& map, double span_m, int height_px,
           FillRect(&image, x + dx, row + dy, x + dx + 2, row + dy + 2, entry.rgb);
         }
         break;
-      case LegendEntry::Symbol::kBox:
+      case LegendEntry::Symbol::kBox:  // outlined in white, as Box draws a footprint
+        FillRect(&image, x + line_px / 4 - 1, row + line_px / 4 - 1, x + 3 * line_px / 4 + 1,
+                 row + 3 * line_px / 4 + 1, white);
         FillRect(&image, x + line_px / 4, row + line_px / 4, x + 3 * line_px / 4,
                  row + 3 * line_px / 4, entry.rgb);
         break;
