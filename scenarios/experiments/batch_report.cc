@@ -93,7 +93,9 @@ std::vector<std::string> ParameterPlots(const fs::path& folder, const std::strin
   }
   std::string csv =
       "value,success_rate,ci_low,ci_high,collision_rate,time_to_goal_median,path_ratio_median,"
-      "min_clearance_median,replans_per_s_median\n";
+      "min_clearance_median,replans_per_s_median,time_to_goal_p10,time_to_goal_p90,"
+      "path_ratio_p10,path_ratio_p90,min_clearance_p10,min_clearance_p90,replans_per_s_p10,"
+      "replans_per_s_p90\n";
   for (const auto& [value, group] : by_value) {
     int successes = 0, collisions = 0;
     std::vector<double> times, ratios, clearances, replan_rates;
@@ -117,54 +119,60 @@ std::vector<std::string> ParameterPlots(const fs::path& folder, const std::strin
     }
     const double n = static_cast<double>(group.size());
     const WilsonInterval interval = Wilson95(successes, static_cast<int>(group.size()));
-    auto median = [](const std::vector<double>& values) {
+    auto quantile = [](const std::vector<double>& values, double q) {
       return values.empty() ? std::string()
-                            : common::FormatNumber("%.6g", common::Quantile(values, 0.5));
+                            : common::FormatNumber("%.6g", common::Quantile(values, q));
     };
     csv += common::FormatNumber("%.6g", value) + "," + common::FormatNumber("%.6g", successes / n) +
            "," + common::FormatNumber("%.6g", interval.low) + "," +
            common::FormatNumber("%.6g", interval.high) + "," +
-           common::FormatNumber("%.6g", collisions / n) + "," + median(times) + "," +
-           median(ratios) + "," + median(clearances) + "," + median(replan_rates) + "\n";
+           common::FormatNumber("%.6g", collisions / n);
+    for (const std::vector<double>* values : {&times, &ratios, &clearances, &replan_rates}) {
+      csv += "," + quantile(*values, 0.5);
+    }
+    for (const std::vector<double>* values : {&times, &ratios, &clearances, &replan_rates}) {
+      csv += "," + quantile(*values, 0.1) + "," + quantile(*values, 0.9);
+    }
+    csv += "\n";
   }
   const std::string name = "vs_" + label;
   const std::string csv_path = (folder / (name + ".csv")).string();
   WriteTextFileAtomically(csv_path, csv);
+  const std::string spread = "10th-90th percentile of runs";
   const std::vector<LinePlot> plots = {
       {"success_vs_" + label + ".png",
-       "Success and collision rates against " + label + " (95 % Wilson interval of success)",
+       "Success and collision rates against " + label,
        "value",
        label,
        "fraction of runs",
-       {{"success_rate", "success rate"},
-        {"ci_low", "interval low"},
-        {"ci_high", "interval high"},
+       {{"success_rate", "success rate", "ci_low", "ci_high", "95 % Wilson interval of success"},
         {"collision_rate", "collision rate"}},
-       true,
        true},
       {"time_vs_" + label + ".png",
-       "Time to goal and path length ratio against " + label + " (medians of successful runs)",
+       "Time to goal and path length ratio against " + label + " (successful runs)",
        "value",
        label,
        "time to goal [s] / path length ratio",
-       {{"time_to_goal_median", "time to goal [s]"}, {"path_ratio_median", "path length ratio"}},
-       true,
+       {{"time_to_goal_median", "median time to goal [s]", "time_to_goal_p10", "time_to_goal_p90",
+         "time to goal, " + spread},
+        {"path_ratio_median", "median path length ratio", "path_ratio_p10", "path_ratio_p90",
+         "path length ratio, " + spread}},
        true},
       {"clearance_vs_" + label + ".png",
-       "Smallest gap to a mover against " + label + " (median over runs)",
+       "Smallest gap to a mover against " + label,
        "value",
        label,
        "min mover clearance [m]",
-       {{"min_clearance_median", "min mover clearance"}},
-       false,
-       true},
+       {{"min_clearance_median", "median min mover clearance", "min_clearance_p10",
+         "min_clearance_p90", spread}},
+       false},
       {"replans_vs_" + label + ".png",
-       "Plans per second against " + label + " (median over runs)",
+       "Plans per second against " + label,
        "value",
        label,
        "plans per simulated second",
-       {{"replans_per_s_median", "plans per second"}},
-       true,
+       {{"replans_per_s_median", "median plans per second", "replans_per_s_p10",
+         "replans_per_s_p90", spread}},
        true}};
   const PlotResult result = WriteLinePlots(csv_path, plots, folder.string());
   if (!result.message.empty()) notes->push_back(result.message);

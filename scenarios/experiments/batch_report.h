@@ -46,10 +46,11 @@ WilsonInterval Wilson95(int successes, int trials);
 ///   clearance, near misses, max roll and pitch, RMS lateral tracking error, mapping update and
 ///   real-time factor; the failed runs with their logs;
 /// - for each swept parameter with two or more numeric values (but seeds): vs_<label>.csv,
-///   success_vs_<label>.png (success rate with its interval, collision rate), time_vs_<label>.png
-///   (median time to goal and path length ratio of successful runs), clearance_vs_<label>.png
-///   (median smallest mover clearance) and replans_vs_<label>.png (median plans per simulated
-///   second) against it, over all other parameters.
+///   success_vs_<label>.png (success rate with its interval as a band, collision rate),
+///   time_vs_<label>.png (median time to goal and path length ratio of successful runs),
+///   clearance_vs_<label>.png (median smallest mover clearance) and replans_vs_<label>.png (median
+///   plans per simulated second), the medians with their 10th-90th percentile bands, against it,
+///   over all other parameters; each plot also as SVG.
 /// Runs without a result yet are counted as pending.
 void WriteBatchReport(const std::string& out_dir);
 

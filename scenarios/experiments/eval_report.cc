@@ -67,13 +67,14 @@ std::string ErrorOverTimeCsv(const std::vector<EvalSceneRecord>& scenes, const s
   }
   std::string csv = "t";
   for (const std::string& method : methods) csv += "," + method;
+  for (const std::string& method : methods) csv += "," + method + "_min," + method + "_max";
   csv += "\n";
   for (std::size_t k = 0; k < frames; ++k) {
     double t_sum = 0.0;
     int t_count = 0;
-    std::string row;
+    std::string row, ranges;
     for (const std::string& method : methods) {
-      double sum = 0.0;
+      double sum = 0.0, low = 0.0, high = 0.0;
       int count = 0;
       for (const EvalSceneRecord* scene : of_type) {
         const EvalMethodRecord* record = MethodRecord(*scene, method);
@@ -85,14 +86,21 @@ std::string ErrorOverTimeCsv(const std::vector<EvalSceneRecord>& scenes, const s
           ++t_count;
         }
         if (k < per_frame.mean_error.size() && per_frame.mean_error[k]) {
-          sum += *per_frame.mean_error[k];
+          const double error = *per_frame.mean_error[k];
+          low = count == 0 ? error : std::min(low, error);
+          high = count == 0 ? error : std::max(high, error);
+          sum += error;
           ++count;
         }
       }
-      row += "," + (count > 0 ? common::FormatNumber("%.6g", sum / count) : std::string());
+      const auto number = [count](double value) {
+        return count > 0 ? common::FormatNumber("%.6g", value) : std::string();
+      };
+      row += "," + number(sum / std::max(count, 1));
+      ranges += "," + number(low) + "," + number(high);
     }
     if (t_count == 0) continue;
-    csv += common::FormatNumber("%.3f", t_sum / t_count) + row + "\n";
+    csv += common::FormatNumber("%.3f", t_sum / t_count) + row + ranges + "\n";
   }
   return csv;
 }
@@ -449,10 +457,13 @@ void WriteErrorOverTime(const fs::path& folder, const EvalOptions& options,
                         const std::vector<EvalSceneRecord>& scenes,
                         std::vector<std::string>* notes) {
   std::vector<PlotSeries> method_series;
-  for (const std::string& method : options.methods) method_series.push_back({method, method});
+  for (const std::string& method : options.methods) {
+    method_series.push_back(
+        {method, method, method + "_min", method + "_max", method + ", range over scenes"});
+  }
   for (const std::string& terrain : options.terrains) {
     const LinePlot plot{"error_over_time_" + terrain + ".png",
-                        "Mapping error over time, " + terrain + " (mean over scenes)",
+                        "Mapping error over time, " + terrain + " (mean and range over scenes)",
                         "t",
                         "simulation time [s]",
                         "mean |traversability - ground truth|",

@@ -57,8 +57,9 @@ std::vector<EvalAggregate> AggregateScenes(const std::vector<EvalSceneRecord>& s
 /// - results.md: the paper's Table I (mean error and variance per terrain and method, next to the
 ///   paper's numbers), Table II (FSGP-BGK against the elevation map), Table III (BGK against
 ///   accumulation: memory and time), the inducing-point ablation, failed scenes, the command;
-/// - error_over_time_<terrain>.csv and .png: each method's mean error against time, averaged
-///   over the type's scenes frame by frame;
+/// - error_over_time_<terrain>.csv, .png and .svg: each method's mean error against time,
+///   averaged over the type's scenes frame by frame, with their range (<method>_min, _max) as a
+///   band;
 /// - ablation.csv, ablation_error.png and ablation_runtime.png when the ablation ran.
 /// Plots are skipped (and the markdown says so) where gnuplot is missing.
 void WriteEvalReport(const std::string& out_dir, const EvalOptions& options,

@@ -4,6 +4,7 @@
 #include <spawn.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -101,11 +102,24 @@ std::string Quote(const std::string& text) {
   return quoted + "'";
 }
 
-// The rows of `spec` as "x value..." lines, skipping rows with a non-finite value; empty when no
-// row has one.
+// The CSV columns a plot draws: x, then per series its column and its band's edges if any.
+std::vector<std::string> PlotColumns(const LinePlot& spec) {
+  std::vector<std::string> columns = {spec.x_column};
+  for (const PlotSeries& series : spec.series) {
+    columns.push_back(series.column);
+    if (!series.band_low.empty()) {
+      columns.push_back(series.band_low);
+      columns.push_back(series.band_high);
+    }
+  }
+  return columns;
+}
+
+// The rows of `spec` as "x value..." lines (PlotColumns' order), skipping rows with a non-finite
+// value; empty when no row has one.
 std::string DataBlock(const Table& table, const LinePlot& spec) {
-  std::vector<std::size_t> indices = {*table.Column(spec.x_column)};
-  for (const PlotSeries& series : spec.series) indices.push_back(*table.Column(series.column));
+  std::vector<std::size_t> indices;
+  for (const std::string& column : PlotColumns(spec)) indices.push_back(*table.Column(column));
   std::string block;
   for (const std::vector<double>& row : table.rows) {
     bool finite = true;
@@ -118,6 +132,41 @@ std::string DataBlock(const Table& table, const LinePlot& spec) {
     block += '\n';
   }
   return block;
+}
+
+// The colours of a plot's series, in order (Okabe and Ito's colour-blind safe palette).
+constexpr const char* kSeriesColours[] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7",
+                                          "#E69F00", "#56B4E9", "#000000", "#F0E442"};
+
+// Rows up to which a curve carries a marker at each row.
+constexpr std::size_t kMaxMarkedRows = 30;
+
+// The gnuplot plot command of `spec` over the data block `data` of `rows` rows: every band first
+// (translucent, behind the curves), then the curves.
+std::string PlotCommand(const LinePlot& spec, const std::string& data, std::size_t rows) {
+  std::vector<std::string> bands, curves;
+  std::size_t column = 2;
+  for (std::size_t s = 0; s < spec.series.size(); ++s) {
+    const PlotSeries& series = spec.series[s];
+    const std::string colour =
+        std::string("lc rgb '") + kSeriesColours[s % std::size(kSeriesColours)] + "'";
+    const std::string style = spec.dots                ? " with points pt 7 ps 0.3 "
+                              : rows <= kMaxMarkedRows ? " with linespoints lw 2 pt 7 ps 0.8 "
+                                                       : " with lines lw 1.5 ";
+    curves.push_back(data + " using 1:" + std::to_string(column) + style + colour + " title " +
+                     Quote(series.title));
+    ++column;
+    if (series.band_low.empty()) continue;
+    bands.push_back(
+        data + " using 1:" + std::to_string(column) + ":" + std::to_string(column + 1) +
+        " with filledcurves fs transparent solid 0.2 noborder " + colour + " title " +
+        Quote(series.band_title.empty() ? series.title + " (interval)" : series.band_title));
+    column += 2;
+  }
+  std::string command = "plot ";
+  bands.insert(bands.end(), curves.begin(), curves.end());
+  for (std::size_t i = 0; i < bands.size(); ++i) command += (i == 0 ? "" : ", ") + bands[i];
+  return command + "\n";
 }
 
 // Every finite value of the plot's series.
@@ -262,9 +311,9 @@ PlotResult PlotTable(const Table& table, const std::vector<LinePlot>& specs,
   const fs::path folder(output_dir);
   std::vector<std::pair<LinePlot, std::string>> plots;
   for (const LinePlot& spec : specs) {
-    std::string missing = table.Column(spec.x_column) ? "" : spec.x_column;
-    for (const PlotSeries& series : spec.series) {
-      if (!table.Column(series.column)) missing += (missing.empty() ? "" : ", ") + series.column;
+    std::string missing;
+    for (const std::string& column : PlotColumns(spec)) {
+      if (!table.Column(column)) missing += (missing.empty() ? "" : ", ") + column;
     }
     if (!missing.empty()) {
       reasons.push_back(spec.file + ": no column " + missing);
@@ -282,41 +331,36 @@ PlotResult PlotTable(const Table& table, const std::vector<LinePlot>& specs,
     return result;
   }
 
-  // the script: terminal, then per plot its data block, temporary output and curves
+  // the script: the style, then per plot its data block, the PNG, and the same plot as SVG
   const std::string tag = std::to_string(getpid());
   TemporaryFiles temporary;
   const std::string script_path = temporary.Add((folder / (".plots-" + tag + ".gp")).string());
   const std::string log_path = temporary.Add((folder / (".plots-" + tag + ".log")).string());
   const std::string size = std::to_string(options.width) + "," + std::to_string(options.height);
   std::string script =
-      "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
-      "  set terminal pngcairo size " +
-      size +
-      " noenhanced\n"
-      "} else {\n"
-      "  set terminal png size " +
-      size +
-      " noenhanced\n"
-      "}\n"
-      "set grid\n"
-      "set key below horizontal\n"
-      "set autoscale xfix\n";
-  std::vector<std::string> partial_paths;
+      "png_terminal = strstrt(GPVAL_TERMINALS, 'pngcairo') > 0 ? 'pngcairo' : 'png'\n"
+      "set grid lc rgb '#d8d8d8' lw 1\n"
+      "set border 3 lc rgb '#404040'\n"
+      "set tics nomirror\n"
+      "set key above horizontal\n"
+      "set autoscale xfix\n"
+      "set offsets 0, 0, graph 0.02, graph 0.02\n";
+  std::vector<std::pair<std::string, std::string>> partial_paths;  // PNG, SVG
   for (std::size_t p = 0; p < plots.size(); ++p) {
     const auto& [spec, block] = plots[p];
     const std::string data = "$data" + std::to_string(p);
-    partial_paths.push_back(
-        temporary.Add((folder / ("." + spec.file + ".partial-" + tag)).string()));
+    partial_paths.emplace_back(
+        temporary.Add((folder / ("." + spec.file + ".partial-" + tag)).string()),
+        temporary.Add((folder / ("." + SvgName(spec.file) + ".partial-" + tag)).string()));
     script += data + " << EOD\n" + block + "EOD\n";
-    script += "set output " + Quote(partial_paths.back()) + "\n";
+    script += "set terminal png_terminal size " + size + " noenhanced font ',10'\n";
+    script += "set output " + Quote(partial_paths.back().first) + "\n";
     script += Labels(table, spec);
-    script += "plot ";
-    for (std::size_t s = 0; s < spec.series.size(); ++s) {
-      script += (s == 0 ? "" : ", ") + data + " using 1:" + std::to_string(s + 2) +
-                (spec.dots ? " with points pt 7 ps 0.15" : " with lines lw 1.5") + " title " +
-                Quote(spec.series[s].title);
-    }
-    script += "\nunset output\n";
+    script += PlotCommand(spec, data,
+                          static_cast<std::size_t>(std::count(block.begin(), block.end(), '\n')));
+    script += "set terminal svg size " + size + " noenhanced dynamic font 'sans,10'\n";
+    script += "set output " + Quote(partial_paths.back().second) + "\n";
+    script += "replot\nunset output\n";
   }
   WriteTextFile(script_path, script);
 
@@ -326,8 +370,10 @@ PlotResult PlotTable(const Table& table, const std::vector<LinePlot>& specs,
   const int exit_status = run.end == ProcessEnd::kExited ? run.exit_code : -1;
   std::error_code error;
   bool complete = exit_status == 0;
-  for (const std::string& path : partial_paths) {
-    complete = complete && fs::is_regular_file(path, error) && fs::file_size(path, error) > 0;
+  for (const auto& [png, svg] : partial_paths) {
+    for (const std::string& path : {png, svg}) {
+      complete = complete && fs::is_regular_file(path, error) && fs::file_size(path, error) > 0;
+    }
   }
   if (!complete) {
     result.status = PlotStatus::kGnuplotFailed;
@@ -337,9 +383,13 @@ PlotResult PlotTable(const Table& table, const std::vector<LinePlot>& specs,
   }
   for (std::size_t p = 0; p < plots.size(); ++p) {
     const std::string& file = plots[p].first.file;
-    fs::rename(partial_paths[p], folder / file, error);
-    if (error) {
-      throw std::runtime_error("cannot write " + (folder / file).string() + ": " + error.message());
+    for (const auto& [partial, name] : {std::pair(partial_paths[p].first, file),
+                                        std::pair(partial_paths[p].second, SvgName(file))}) {
+      fs::rename(partial, folder / name, error);
+      if (error) {
+        throw std::runtime_error("cannot write " + (folder / name).string() + ": " +
+                                 error.message());
+      }
     }
     result.written.push_back(file);
   }
@@ -361,6 +411,10 @@ std::optional<double> RobustUpperLimit(std::vector<double> values) {
   const double largest = *std::max_element(at, values.end());
   if (!(percentile > 0.0) || largest <= 2.0 * percentile) return std::nullopt;
   return 1.2 * percentile;
+}
+
+std::string SvgName(const std::string& png_file) {
+  return fs::path(png_file).replace_extension(".svg").string();
 }
 
 bool ProgramAvailable(const std::string& program) {

@@ -28,8 +28,8 @@ enum class PlotStatus {
 /// The plots of a run that were written, and why the others were not.
 struct PlotResult {
   PlotStatus status{PlotStatus::kWritten};
-  /// File names written into the output folder, in the order speed.png, roll_pitch.png,
-  /// mapping_error.png, compute.png (each only if it had data).
+  /// PNG names written into the output folder, in the order speed.png, roll_pitch.png,
+  /// mapping_error.png, compute.png (each only if it had data); each has its SVG beside it.
   std::vector<std::string> written;
   /// Why plots are missing ("gnuplot is not installed ...", "compute.png: no compute columns
   /// ..."); empty when every plot was written.
@@ -38,15 +38,22 @@ struct PlotResult {
   [[nodiscard]] bool ok() const { return status == PlotStatus::kWritten; }
 };
 
-/// One curve of a line plot: a column of a CSV file against the plot's x column.
+/// One curve of a line plot: a column of a CSV file against the plot's x column, with an optional
+/// band between two other columns (an interval: drawn as a translucent area of the curve's colour
+/// behind it, titled `band_title`).
 struct PlotSeries {
   std::string column;
   std::string title;
+  std::string band_low{};   ///< column of the band's lower edge; empty: no band
+  std::string band_high{};  ///< column of the band's upper edge
+  std::string band_title{};
 };
 
-/// One PNG line plot of columns of a CSV file.
+/// One line plot of columns of a CSV file, written as PNG and as SVG beside it. Every plot has
+/// the same style: a light grid, the legend above the axes (never over the data or the labels),
+/// one colour per series in a fixed order, markers at the rows when there are at most 30.
 struct LinePlot {
-  std::string file;  ///< image name in the output folder ("speed.png")
+  std::string file;  ///< PNG name in the output folder ("speed.png"); the SVG: "speed.svg"
   std::string title;
   std::string x_column{"t"};
   std::string x_label{"simulation time [s]"};
@@ -88,17 +95,20 @@ std::optional<double> RobustUpperLimit(std::vector<double> values);
 /// - compute.png: the wall time of each module per row interval over t [ms]; not written when
 ///   the file has none of the compute columns.
 /// A plot is skipped when one of its columns is absent or none of its rows has finite values;
-/// rows with a field count other than the header's (a truncated last line) are ignored. The
-/// gnuplot script is a temporary file in `output_dir`, removed afterwards, and each image is
-/// written under a temporary name and renamed once gnuplot has succeeded, so no half-written
-/// PNG is ever left under a final name. A missing gnuplot or timeseries.csv, or a failing
-/// gnuplot, is reported in the result, not thrown.
+/// rows with a field count other than the header's (a truncated last line) are ignored. Each PNG
+/// has an SVG of the same name beside it. The gnuplot script is a temporary file in
+/// `output_dir`, removed afterwards, and each image is written under a temporary name and renamed
+/// once gnuplot has succeeded, so no half-written image is ever left under a final name. A missing
+/// gnuplot or timeseries.csv, or a failing gnuplot, is reported in the result, not thrown.
 /// @throws common::InputError if the options are out of range; std::runtime_error if
 /// timeseries.csv exists but cannot be read, or gnuplot cannot be started although found.
 [[nodiscard]] PlotResult WriteRunPlots(const std::string& output_dir,
                                        const PlotOptions& options = {});
 
-/// summary.json's "plots": the written file names as an array when gnuplot ran, else null.
+/// The SVG written beside the PNG `png_file` ("speed.png" -> "speed.svg").
+std::string SvgName(const std::string& png_file);
+
+/// summary.json's "plots": the written PNG names as an array when gnuplot ran, else null.
 nlohmann::json PlotsJson(const PlotResult& result);
 
 /// Whether `program` (a name on the PATH, or a path containing '/') is an executable file.

@@ -109,7 +109,7 @@ struct PngSize {
     TRAV_SKIP_UNLESS_CI("gnuplot is not installed (scripts/install-deps installs gnuplot-nox)"); \
   }
 
-TEST_F(PlotsTest, WritesEveryPlotAsPngOfTheAskedSize) {
+TEST_F(PlotsTest, WritesEveryPlotAsPngAndSvgOfTheAskedSize) {
   SKIP_WITHOUT_GNUPLOT();
   WriteTimeseries(/*with_compute=*/true);
   PlotOptions options;
@@ -126,12 +126,43 @@ TEST_F(PlotsTest, WritesEveryPlotAsPngOfTheAskedSize) {
     ASSERT_TRUE(ReadPngSize(dir_ / name, &size));
     EXPECT_EQ(size.width, 640u) << name;
     EXPECT_EQ(size.height, 360u) << name;
+    std::ifstream svg(dir_ / SvgName(name));
+    const std::string text((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
+    EXPECT_THAT(text, HasSubstr("<svg")) << SvgName(name);
+    EXPECT_THAT(text, HasSubstr("width=\"640\" height=\"360\"")) << SvgName(name);
   }
   // no script, log or partial image left behind
-  EXPECT_THAT(Files(), ElementsAre("compute.png", "mapping_error.png", "roll_pitch.png",
-                                   "speed.png", "timeseries.csv"));
+  EXPECT_THAT(Files(), ElementsAre("compute.png", "compute.svg", "mapping_error.png",
+                                   "mapping_error.svg", "roll_pitch.png", "roll_pitch.svg",
+                                   "speed.png", "speed.svg", "timeseries.csv"));
   EXPECT_EQ(PlotsJson(result),
             nlohmann::json({"speed.png", "roll_pitch.png", "mapping_error.png", "compute.png"}));
+}
+
+// A series with an interval gets a translucent band of its colour behind its curve, in the
+// legend under its own title; a band column missing is a reason, not a crash.
+TEST_F(PlotsTest, IntervalsAreDrawnAsBandsBehindTheirCurves) {
+  SKIP_WITHOUT_GNUPLOT();
+  std::ofstream(dir_ / "rates.csv") << "value,rate,low,high\n1,0.5,0.3,0.7\n2,0.8,0.6,0.9\n"
+                                       "3,0.9,0.75,0.97\n";
+  const LinePlot banded{"rates.png", "Rates",
+                        "value",     "value",
+                        "rate",      {{"rate", "success rate", "low", "high", "95 % interval"}}};
+  LinePlot missing = banded;
+  missing.file = "missing.png";
+  missing.series[0].band_high = "upper";
+  const PlotResult result =
+      WriteLinePlots((dir_ / "rates.csv").string(), {banded, missing}, dir_.string());
+  EXPECT_EQ(result.status, PlotStatus::kWritten) << result.message;
+  EXPECT_THAT(result.written, ElementsAre("rates.png"));
+  EXPECT_THAT(result.message, HasSubstr("missing.png: no column upper"));
+  std::ifstream svg(dir_ / "rates.svg");
+  const std::string text((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
+  EXPECT_THAT(text, HasSubstr("95 % interval"));
+  EXPECT_THAT(text, HasSubstr("success rate"));
+  // the band: a filled path in the series' colour (the palette's first), 20 % opaque
+  EXPECT_THAT(text, HasSubstr("fill = 'rgb(  0, 114, 178)'"));
+  EXPECT_THAT(text, HasSubstr("fill-opacity = '0.20"));
 }
 
 // A first frame's set-up (one row 100 times the others) does not flatten a plot: its range ends
