@@ -2,6 +2,7 @@
 
 #include <png.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -91,6 +92,56 @@ void WritePng16(const std::string& path, int width, int height,
   std::vector<png_bytep> rows(static_cast<std::size_t>(height));
   for (int y = 0; y < height; ++y) rows[static_cast<std::size_t>(y)] = bytes.data() + 2 * y * width;
   WriteRows(path, width, height, 16, PNG_COLOR_TYPE_GRAY, rows);
+}
+
+Image ReadPngRgb(const std::string& path, std::size_t max_pixels) {
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  if (png_image_begin_read_from_file(&png, path.c_str()) == 0) {
+    throw std::runtime_error("cannot read the PNG " + path + ": " + png.message);
+  }
+  if (static_cast<std::size_t>(png.width) * png.height > max_pixels) {
+    png_image_free(&png);
+    throw std::runtime_error(path + " has more than " + std::to_string(max_pixels) + " pixels");
+  }
+  png.format = PNG_FORMAT_RGB;
+  Image image;
+  image.width = static_cast<int>(png.width);
+  image.height = static_cast<int>(png.height);
+  image.rgb.resize(PNG_IMAGE_SIZE(png));
+  const png_color black{0, 0, 0};
+  if (png_image_finish_read(&png, &black, image.rgb.data(), 0, nullptr) == 0) {
+    throw std::runtime_error("cannot read the PNG " + path + ": " + png.message);
+  }
+  return image;
+}
+
+Image Downscale(const Image& image, int max_width, int max_height) {
+  const double scale = std::min({1.0, static_cast<double>(max_width) / image.width,
+                                 static_cast<double>(max_height) / image.height});
+  if (scale >= 1.0) return image;
+  Image out;
+  out.width = std::max(1, static_cast<int>(image.width * scale));
+  out.height = std::max(1, static_cast<int>(image.height * scale));
+  out.rgb.resize(static_cast<std::size_t>(3 * out.width * out.height));
+  for (int y = 0; y < out.height; ++y) {
+    const int y0 = y * image.height / out.height, y1 = (y + 1) * image.height / out.height;
+    for (int x = 0; x < out.width; ++x) {
+      const int x0 = x * image.width / out.width, x1 = (x + 1) * image.width / out.width;
+      int sum[3] = {0, 0, 0};
+      for (int sy = y0; sy < y1; ++sy) {
+        for (int sx = x0; sx < x1; ++sx) {
+          for (int c = 0; c < 3; ++c) sum[c] += image.Pixel(sx, sy)[c];
+        }
+      }
+      const int n = (y1 - y0) * (x1 - x0);
+      for (int c = 0; c < 3; ++c) {
+        out.rgb[static_cast<std::size_t>(3 * (y * out.width + x) + c)] =
+            static_cast<std::uint8_t>((sum[c] + n / 2) / n);
+      }
+    }
+  }
+  return out;
 }
 
 GrayImage16 ReadPng16(const std::string& path, std::size_t max_pixels) {

@@ -25,6 +25,16 @@ Image TraversabilityImage(const Eigen::MatrixXf& values);
 /// Writes an 8-bit RGB PNG. @throws std::runtime_error if the file cannot be written.
 void WritePng(const std::string& path, const Image& image);
 
+/// Reads a PNG of any colour type and depth as 8-bit RGB (alpha composed over black, gray
+/// expanded, 16-bit samples scaled). @throws std::runtime_error naming the file if it cannot be
+/// read or holds more than `max_pixels` pixels.
+Image ReadPngRgb(const std::string& path, std::size_t max_pixels);
+
+/// `image` shrunk to fit `max_width` x `max_height`, its aspect ratio kept, each pixel the mean of
+/// the source pixels it covers (a box filter); an image already within the size is returned as
+/// it is.
+Image Downscale(const Image& image, int max_width, int max_height);
+
 /// A grayscale image of 16-bit samples, rows top to bottom.
 struct GrayImage16 {
   int width{0};

@@ -18,6 +18,7 @@
 #include "common/statistics.h"
 #include "common/text.h"
 #include "scenarios/experiments/batch.h"
+#include "scenarios/experiments/contact_sheet.h"
 #include "scenarios/run/output_folder.h"
 #include "scenarios/run/plots.h"
 #include "scenarios/run/run_metrics.h"
@@ -402,6 +403,13 @@ void WriteBatchReport(const std::string& out_dir) {
   for (const Row& row : rows) ++outcomes[row.outcome];
   for (const auto& [outcome, count] : outcomes) md << "| " << outcome << " | " << count << " |\n";
   md << GroupsSection(rows) << FailedRunsSection(rows) << PlotsSection(folder, rows, labels);
+  const std::vector<std::string> sheet =
+      WriteContactSheet(out_dir, std::vector<BatchResult>(rows.begin(), rows.end()));
+  md << "\n## Contact sheet\n\nOne thumbnail per run, its outcome's colour round it, linked to "
+        "its video: [contact_sheet.html](contact_sheet.html).\n";
+  if (std::find(sheet.begin(), sheet.end(), "contact_sheet.png") != sheet.end()) {
+    md << "\n![contact sheet](contact_sheet.png)\n";
+  }
   WriteTextFileAtomically((folder / "report.md").string(), md.str());
 }
 

@@ -50,7 +50,8 @@ WilsonInterval Wilson95(int successes, int trials);
 ///   time_vs_<label>.png (median time to goal and path length ratio of successful runs),
 ///   clearance_vs_<label>.png (median smallest mover clearance) and replans_vs_<label>.png (median
 ///   plans per simulated second), the medians with their 10th-90th percentile bands, against it,
-///   over all other parameters; each plot also as SVG.
+///   over all other parameters; each plot also as SVG;
+/// - contact_sheet.html and contact_sheet.png (WriteContactSheet), linked from report.md.
 /// Runs without a result yet are counted as pending.
 void WriteBatchReport(const std::string& out_dir);
 

@@ -338,12 +338,13 @@ std::optional<nlohmann::json> ReadJsonIfPresent(const std::string& path) {
   return json;
 }
 
-void WriteTextFileAtomically(const std::string& path, const std::string& text) {
+void WriteFileAtomically(const std::string& path,
+                         const std::function<void(const std::string&)>& write) {
   const std::string partial = path + ".partial-" + std::to_string(getpid());
   std::error_code error;
   try {
-    WriteTextFile(partial, text);
-  } catch (const common::InputError&) {
+    write(partial);
+  } catch (...) {
     fs::remove(partial, error);
     throw;
   }
@@ -353,6 +354,10 @@ void WriteTextFileAtomically(const std::string& path, const std::string& text) {
     fs::remove(partial, error);
     throw common::InputError(path, "", "cannot write: " + message);
   }
+}
+
+void WriteTextFileAtomically(const std::string& path, const std::string& text) {
+  WriteFileAtomically(path, [&text](const std::string& partial) { WriteTextFile(partial, text); });
 }
 
 }  // namespace trav::scenarios

@@ -118,6 +118,13 @@ std::optional<nlohmann::json> ReadJsonIfPresent(const std::string& path);
 /// @throws common::InputError naming the file on failure (the temporary file is removed).
 void WriteTextFileAtomically(const std::string& path, const std::string& text);
 
+/// Writes a file through `write(partial_path)` under the temporary name "<path>.partial-<pid>" and
+/// renames it to `path` once `write` has returned: `path` holds a complete file or none; the
+/// partial file is removed if `write` throws (the exception passes on) or the rename fails.
+/// @throws common::InputError naming `path` if the rename fails.
+void WriteFileAtomically(const std::string& path,
+                         const std::function<void(const std::string&)>& write);
+
 /// Checks a stream that wrote `path` after closing it. @throws common::InputError naming the file
 /// (with the system's reason) if any write failed.
 void CheckWritten(const std::string& path, bool stream_ok);
