@@ -20,6 +20,8 @@ namespace fs = std::filesystem;
 
 constexpr int kFramePixels = 4;
 constexpr int kMaxColumns = 8;
+// Runs tiled in contact_sheet.png, at most (40 rows: 1664 x 8320 pixels); the HTML lists all.
+constexpr std::size_t kMaxTiledRuns = 320;
 // Map images larger than this are not read (a run's map_paths.png is 800 x 800).
 constexpr std::size_t kMaxImagePixels = 16'000'000;
 
@@ -98,8 +100,9 @@ std::vector<std::string> WriteContactSheet(const std::string& out_dir,
        << "green: ended as its scenario expects, red: otherwise. A thumbnail links to the run's "
        << "video when it has one.</p>\n<div class=\"sheet\">\n";
 
-  const int columns = std::min(kMaxColumns, std::max(1, static_cast<int>(results.size())));
-  const int rows = (static_cast<int>(results.size()) + columns - 1) / columns;
+  const std::size_t tiled = std::min(results.size(), kMaxTiledRuns);
+  const int columns = std::min(kMaxColumns, std::max(1, static_cast<int>(tiled)));
+  const int rows = (static_cast<int>(tiled) + columns - 1) / columns;
   const int cell = kThumbnailPixels + 2 * kFramePixels;
   renders::Image sheet;
   sheet.width = columns * cell;
@@ -111,9 +114,10 @@ std::vector<std::string> WriteContactSheet(const std::string& out_dir,
     const BatchResult& run = results[i];
     const fs::path run_folder = folder / "runs" / run.id;
     const std::string url = "runs/" + UrlPath(run.id) + "/";
-    // a thumbnail from the run's map, if it has one that reads
+    // a thumbnail from the run's map, if it has one that reads (read only for tiled runs)
+    const bool has_map = fs::is_regular_file(run_folder / "map_paths.png", error);
     std::optional<renders::Image> thumbnail;
-    if (fs::is_regular_file(run_folder / "map_paths.png", error)) {
+    if (has_map && i < tiled) {
       try {
         thumbnail = renders::Downscale(
             renders::ReadPngRgb((run_folder / "map_paths.png").string(), kMaxImagePixels),
@@ -122,7 +126,7 @@ std::vector<std::string> WriteContactSheet(const std::string& out_dir,
         thumbnail.reset();  // a damaged image: the cell says "no image"
       }
     }
-    const bool has_image = thumbnail.has_value();
+    const bool has_image = i < tiled ? thumbnail.has_value() : has_map;
     const bool has_video = fs::is_regular_file(run_folder / "video.mp4", error);
     // a run that failed to finish has only its record in failed/
     const std::string link = has_video   ? url + "video.mp4"
@@ -145,11 +149,12 @@ std::vector<std::string> WriteContactSheet(const std::string& out_dir,
     html << Html(run.outcome) << "</div>\n";
 
     // the PNG: the thumbnail centred in its cell, in a frame of the outcome's colour
+    if (i >= tiled) continue;
     const int x0 = static_cast<int>(i % columns) * cell, y0 = static_cast<int>(i / columns) * cell;
     Fill(&sheet, x0, y0, x0 + cell, y0 + cell, run.success ? kSuccessRgb : kFailureRgb);
     Fill(&sheet, x0 + kFramePixels, y0 + kFramePixels, x0 + cell - kFramePixels,
          y0 + cell - kFramePixels, kNoImageRgb);
-    if (!has_image) continue;
+    if (!thumbnail) continue;
     const int left = x0 + kFramePixels + (kThumbnailPixels - thumbnail->width) / 2;
     const int top = y0 + kFramePixels + (kThumbnailPixels - thumbnail->height) / 2;
     for (int y = 0; y < thumbnail->height; ++y) {

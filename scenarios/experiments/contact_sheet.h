@@ -17,8 +17,9 @@ constexpr int kThumbnailPixels = 200;
 ///   ended as its scenario expects, red otherwise), each linking to the run's video.mp4 when it
 ///   has one, else to its image, its summary or, for a run that failed to finish, its record
 ///   `failed/<id>.json`; a map that cannot be read counts as none;
-/// - contact_sheet.png: the same thumbnails tiled (at most 8 a row), each in a 4-pixel frame of its
-///   outcome's colour, grey where a run has no image; nothing when no run has one.
+/// - contact_sheet.png: the same thumbnails of the first 320 runs tiled (at most 8 a row), each in
+///   a 4-pixel frame of its outcome's colour, grey where a run has no image; nothing when none of
+///   them has one.
 /// Returns the files written.
 std::vector<std::string> WriteContactSheet(const std::string& out_dir,
                                            const std::vector<BatchResult>& results);
