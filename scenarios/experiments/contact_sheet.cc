@@ -3,15 +3,13 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <optional>
 #include <sstream>
-#include <stdexcept>
 #include <system_error>
 
 #include <Eigen/Core>
 
-#include "renders/image.h"
 #include "scenarios/run/output_folder.h"
+#include "scenarios/run/thumbnail_sheet.h"
 
 namespace trav::scenarios {
 namespace {
@@ -22,10 +20,7 @@ constexpr int kFramePixels = 4;
 constexpr int kMaxColumns = 8;
 // Runs tiled in contact_sheet.png, at most (40 rows: 1664 x 8320 pixels); the HTML lists all.
 constexpr std::size_t kMaxTiledRuns = 320;
-// Map images larger than this are not read (a run's map_paths.png is 800 x 800).
-constexpr std::size_t kMaxImagePixels = 16'000'000;
-
-const Eigen::Vector3i kSuccessRgb(40, 170, 70), kFailureRgb(210, 40, 40), kNoImageRgb(90, 90, 90);
+const Eigen::Vector3i kSuccessRgb(40, 170, 70), kFailureRgb(210, 40, 40);
 
 // `text` with HTML's special characters escaped (ids and parameter values come from files).
 std::string Html(const std::string& text) {
@@ -71,16 +66,6 @@ std::string UrlPath(const std::string& text) {
   return encoded;
 }
 
-// Fills the rectangle of columns [x0, x1) and rows [y0, y1) of `image`.
-void Fill(renders::Image* image, int x0, int y0, int x1, int y1, const Eigen::Vector3i& rgb) {
-  for (int y = y0; y < y1; ++y) {
-    for (int x = x0; x < x1; ++x) {
-      std::uint8_t* p = image->rgb.data() + 3 * (static_cast<std::size_t>(y) * image->width + x);
-      for (int c = 0; c < 3; ++c) p[c] = static_cast<std::uint8_t>(rgb[c]);
-    }
-  }
-}
-
 }  // namespace
 
 std::vector<std::string> WriteContactSheet(const std::string& out_dir,
@@ -100,33 +85,26 @@ std::vector<std::string> WriteContactSheet(const std::string& out_dir,
        << "green: ended as its scenario expects, red: otherwise. A thumbnail links to the run's "
        << "video when it has one.</p>\n<div class=\"sheet\">\n";
 
+  // the PNG first: it says which maps could be read
   const std::size_t tiled = std::min(results.size(), kMaxTiledRuns);
-  const int columns = std::min(kMaxColumns, std::max(1, static_cast<int>(tiled)));
-  const int rows = (static_cast<int>(tiled) + columns - 1) / columns;
-  const int cell = kThumbnailPixels + 2 * kFramePixels;
-  renders::Image sheet;
-  sheet.width = columns * cell;
-  sheet.height = rows * cell;
-  sheet.rgb.assign(static_cast<std::size_t>(3 * sheet.width * sheet.height), 255);
-  bool any_image = false;
+  std::vector<SheetTile> tiles;
   std::error_code error;
+  for (std::size_t i = 0; i < tiled; ++i) {
+    const fs::path map = folder / "runs" / results[i].id / "map_paths.png";
+    tiles.push_back({fs::is_regular_file(map, error) ? map.string() : std::string(),
+                     results[i].success ? kSuccessRgb : kFailureRgb});
+  }
+  const std::vector<bool> readable = WriteThumbnailSheet(
+      (folder / "contact_sheet.png").string(), tiles, kMaxColumns, kThumbnailPixels, kFramePixels);
+  const bool any_image = std::find(readable.begin(), readable.end(), true) != readable.end();
+
   for (std::size_t i = 0; i < results.size(); ++i) {
     const BatchResult& run = results[i];
     const fs::path run_folder = folder / "runs" / run.id;
     const std::string url = "runs/" + UrlPath(run.id) + "/";
-    // a thumbnail from the run's map, if it has one that reads (read only for tiled runs)
-    const bool has_map = fs::is_regular_file(run_folder / "map_paths.png", error);
-    std::optional<renders::Image> thumbnail;
-    if (has_map && i < tiled) {
-      try {
-        thumbnail = renders::Downscale(
-            renders::ReadPngRgb((run_folder / "map_paths.png").string(), kMaxImagePixels),
-            kThumbnailPixels, kThumbnailPixels);
-      } catch (const std::runtime_error&) {
-        thumbnail.reset();  // a damaged image: the cell says "no image"
-      }
-    }
-    const bool has_image = i < tiled ? thumbnail.has_value() : has_map;
+    // a map that cannot be read counts as none (runs beyond the PNG's: as it is)
+    const bool has_image =
+        i < tiled ? readable[i] : fs::is_regular_file(run_folder / "map_paths.png", error);
     const bool has_video = fs::is_regular_file(run_folder / "video.mp4", error);
     // a run that failed to finish has only its record in failed/
     const std::string link = has_video   ? url + "video.mp4"
@@ -147,31 +125,11 @@ std::vector<std::string> WriteContactSheet(const std::string& out_dir,
       html << Html(label) << " = " << Html(value) << "<br>";
     }
     html << Html(run.outcome) << "</div>\n";
-
-    // the PNG: the thumbnail centred in its cell, in a frame of the outcome's colour
-    if (i >= tiled) continue;
-    const int x0 = static_cast<int>(i % columns) * cell, y0 = static_cast<int>(i / columns) * cell;
-    Fill(&sheet, x0, y0, x0 + cell, y0 + cell, run.success ? kSuccessRgb : kFailureRgb);
-    Fill(&sheet, x0 + kFramePixels, y0 + kFramePixels, x0 + cell - kFramePixels,
-         y0 + cell - kFramePixels, kNoImageRgb);
-    if (!thumbnail) continue;
-    const int left = x0 + kFramePixels + (kThumbnailPixels - thumbnail->width) / 2;
-    const int top = y0 + kFramePixels + (kThumbnailPixels - thumbnail->height) / 2;
-    for (int y = 0; y < thumbnail->height; ++y) {
-      std::copy_n(thumbnail->Pixel(0, y), 3 * thumbnail->width,
-                  sheet.rgb.data() + 3 * (static_cast<std::size_t>(top + y) * sheet.width + left));
-    }
-    any_image = true;
   }
   html << "</div>\n</body></html>\n";
   WriteTextFileAtomically((folder / "contact_sheet.html").string(), html.str());
   written.push_back("contact_sheet.html");
-  if (any_image) {
-    WriteFileAtomically(
-        (folder / "contact_sheet.png").string(),
-        [&sheet](const std::string& partial) { renders::WritePng(partial, sheet); });
-    written.push_back("contact_sheet.png");
-  }
+  if (any_image) written.push_back("contact_sheet.png");
   return written;
 }
 
