@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/text.h"
+
 namespace trav::sim {
 namespace {
 
@@ -100,30 +102,6 @@ void FillHeightField(const Eigen::MatrixXf& height_m, const HeightFieldLayout& l
 
 namespace {
 
-// `text` as the value of a double-quoted XML attribute (a file path with any characters).
-std::string XmlAttribute(const std::string& text) {
-  std::string escaped;
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        escaped += "&amp;";
-        break;
-      case '"':
-        escaped += "&quot;";
-        break;
-      case '<':
-        escaped += "&lt;";
-        break;
-      case '>':
-        escaped += "&gt;";
-        break;
-      default:
-        escaped += c;
-    }
-  }
-  return escaped;
-}
-
 // An hfield asset: its samples filled from memory later (nrow x ncol), or read from `file`.
 std::string HeightFieldAsset(const std::string& name, int nrow, int ncol,
                              const Eigen::Vector2d& half, const HeightFieldLayout& layout,
@@ -133,7 +111,7 @@ std::string HeightFieldAsset(const std::string& name, int nrow, int ncol,
   if (file.empty()) {
     xml << "nrow=\"" << nrow << "\" ncol=\"" << ncol << "\"";
   } else {
-    xml << "file=\"" << XmlAttribute(file) << "\"";
+    xml << "file=\"" << common::EscapeMarkup(file) << "\"";
   }
   xml << " size=\"" << half.x() << " " << half.y() << " " << layout.z_top_m << " 1\"/>\n";
   return xml.str();
@@ -156,7 +134,7 @@ std::string BuildWorldXml(const TerrainWorld& world, const WorldOptions& options
   std::ostringstream xml;
   xml << std::setprecision(9);
   xml << "<mujoco model=\"trav_world\">\n"
-      << "  <include file=\"" << XmlAttribute(options.robot_model_path) << "\"/>\n"
+      << "  <include file=\"" << common::EscapeMarkup(options.robot_model_path) << "\"/>\n"
       << "  <option timestep=\"" << options.timestep_s << "\"/>\n"
       << "  <visual>\n"
       << "    <quality shadowsize=\"1024\" offsamples=\"0\" numslices=\"12\" numstacks=\"8\"/>\n"

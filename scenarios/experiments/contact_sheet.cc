@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "common/text.h"
 #include "scenarios/run/output_folder.h"
 #include "scenarios/run/thumbnail_sheet.h"
 
@@ -21,33 +22,6 @@ constexpr int kMaxColumns = 8;
 // Runs tiled in contact_sheet.png, at most (40 rows: 1664 x 8320 pixels); the HTML lists all.
 constexpr std::size_t kMaxTiledRuns = 320;
 const Eigen::Vector3i kSuccessRgb(40, 170, 70), kFailureRgb(210, 40, 40);
-
-// `text` with HTML's special characters escaped (ids and parameter values come from files).
-std::string Html(const std::string& text) {
-  std::string escaped;
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        escaped += "&amp;";
-        break;
-      case '<':
-        escaped += "&lt;";
-        break;
-      case '>':
-        escaped += "&gt;";
-        break;
-      case '"':
-        escaped += "&quot;";
-        break;
-      case '\'':
-        escaped += "&#39;";
-        break;
-      default:
-        escaped += c;
-    }
-  }
-  return escaped;
-}
 
 // A run folder's relative path component, percent-encoded for a URL.
 std::string UrlPath(const std::string& text) {
@@ -116,15 +90,16 @@ std::vector<std::string> WriteContactSheet(const std::string& out_dir,
          << "\">";
     if (has_image) {
       html << "<img src=\"" << url << "map_paths.png\" style=\"max-width:" << kThumbnailPixels
-           << "px;max-height:" << kThumbnailPixels << "px\" alt=\"" << Html(run.id) << "\">";
+           << "px;max-height:" << kThumbnailPixels << "px\" alt=\"" << common::EscapeMarkup(run.id)
+           << "\">";
     } else {
       html << "<div class=\"none\">no image</div>";
     }
-    html << "</a><br><b>" << Html(run.id) << "</b><br>";
+    html << "</a><br><b>" << common::EscapeMarkup(run.id) << "</b><br>";
     for (const auto& [label, value] : run.parameters) {
-      html << Html(label) << " = " << Html(value) << "<br>";
+      html << common::EscapeMarkup(label) << " = " << common::EscapeMarkup(value) << "<br>";
     }
-    html << Html(run.outcome) << "</div>\n";
+    html << common::EscapeMarkup(run.outcome) << "</div>\n";
   }
   html << "</div>\n</body></html>\n";
   WriteTextFileAtomically((folder / "contact_sheet.html").string(), html.str());
