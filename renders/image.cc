@@ -94,6 +94,19 @@ void WritePng16(const std::string& path, int width, int height,
   WriteRows(path, width, height, 16, PNG_COLOR_TYPE_GRAY, rows);
 }
 
+void FillRect(Image* image, int x0, int y0, int x1, int y1, const Eigen::Vector3i& rgb) {
+  x0 = std::max(x0, 0);
+  y0 = std::max(y0, 0);
+  x1 = std::min(x1, image->width);
+  y1 = std::min(y1, image->height);
+  for (int y = y0; y < y1; ++y) {
+    for (int x = x0; x < x1; ++x) {
+      std::uint8_t* p = image->rgb.data() + 3 * (static_cast<std::size_t>(y) * image->width + x);
+      for (int c = 0; c < 3; ++c) p[c] = static_cast<std::uint8_t>(std::clamp(rgb[c], 0, 255));
+    }
+  }
+}
+
 Image ReadPngRgb(const std::string& path, std::size_t max_pixels) {
   png_image png{};
   png.version = PNG_IMAGE_VERSION;

@@ -18,6 +18,10 @@ struct Image {
   const std::uint8_t* Pixel(int x, int y) const { return rgb.data() + 3 * (y * width + x); }
 };
 
+/// Fills the pixels of columns [x0, x1) and rows [y0, y1) of `image` that lie in it with `rgb`
+/// (components 0..255).
+void FillRect(Image* image, int x0, int y0, int x1, int y1, const Eigen::Vector3i& rgb);
+
 /// A grid layer (num_x, num_y), values in [0, 1], as an image with +y up: green (0) through yellow
 /// to red (1), unknown (NaN) grey. One pixel per cell.
 Image TraversabilityImage(const Eigen::MatrixXf& values);

@@ -49,13 +49,6 @@ void Segment(Image* image, const Eigen::Vector2d& a, const Eigen::Vector2d& b, i
   }
 }
 
-// Fills the rectangle of columns [x0, x1) and rows [y0, y1).
-void FillRect(Image* image, int x0, int y0, int x1, int y1, const Eigen::Vector3i& rgb) {
-  for (int y = y0; y < y1; ++y) {
-    for (int x = x0; x < x1; ++x) Put(image, x, y, rgb);
-  }
-}
-
 // A disc of radius `r` [pixels] at `c`, filled or as a ring.
 void Disc(Image* image, const Eigen::Vector2d& c, double r, bool filled,
           const Eigen::Vector3i& rgb) {

@@ -14,16 +14,6 @@ namespace {
 constexpr std::size_t kMaxImagePixels = 16'000'000;
 const Eigen::Vector3i kNoImageRgb(90, 90, 90);
 
-// Fills the rectangle of columns [x0, x1) and rows [y0, y1) of `image`.
-void Fill(renders::Image* image, int x0, int y0, int x1, int y1, const Eigen::Vector3i& rgb) {
-  for (int y = y0; y < y1; ++y) {
-    for (int x = x0; x < x1; ++x) {
-      std::uint8_t* p = image->rgb.data() + 3 * (static_cast<std::size_t>(y) * image->width + x);
-      for (int c = 0; c < 3; ++c) p[c] = static_cast<std::uint8_t>(rgb[c]);
-    }
-  }
-}
-
 // The image at `path` shrunk to fit `size` x `size`, or nothing if it cannot be read.
 std::optional<renders::Image> Thumbnail(const std::string& path, int size) {
   if (path.empty()) return std::nullopt;
@@ -49,9 +39,9 @@ std::vector<bool> WriteThumbnailSheet(const std::string& path, const std::vector
   sheet.rgb.assign(static_cast<std::size_t>(3 * sheet.width * sheet.height), 255);
   for (std::size_t i = 0; i < tiles.size(); ++i) {
     const int x0 = static_cast<int>(i % columns) * cell, y0 = static_cast<int>(i / columns) * cell;
-    Fill(&sheet, x0, y0, x0 + cell, y0 + cell, tiles[i].frame_rgb);
-    Fill(&sheet, x0 + frame_px, y0 + frame_px, x0 + cell - frame_px, y0 + cell - frame_px,
-         kNoImageRgb);
+    renders::FillRect(&sheet, x0, y0, x0 + cell, y0 + cell, tiles[i].frame_rgb);
+    renders::FillRect(&sheet, x0 + frame_px, y0 + frame_px, x0 + cell - frame_px,
+                      y0 + cell - frame_px, kNoImageRgb);
     const std::optional<renders::Image> thumbnail = Thumbnail(tiles[i].image_path, tile_px);
     if (!thumbnail) continue;
     readable[i] = true;
