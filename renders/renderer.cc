@@ -137,6 +137,15 @@ void DrawCart(const Cart& cart, mjvScene* scene) {
              X * Eigen::Vector3d(handle_x, 0.8 * half.y(), half.z()), 0.018, metal, scene);
 }
 
+// Copies `rows` rows of `width` RGB pixels from `source` to `destination` in reverse row order
+// (images are stored top-down, OpenGL and MuJoCo's textures bottom-up).
+void CopyRowsFlipped(const std::uint8_t* source, int width, int rows, std::uint8_t* destination) {
+  const std::size_t row_bytes = 3 * static_cast<std::size_t>(width);
+  for (int r = 0; r < rows; ++r) {
+    std::copy_n(source + row_bytes * r, row_bytes, destination + row_bytes * (rows - 1 - r));
+  }
+}
+
 // Removes from `scene` the geoms of the bodies in `bodies`.
 void HideBodies(const mjModel* model, const std::vector<int>& bodies, mjvScene* scene) {
   if (bodies.empty()) return;
@@ -169,12 +178,8 @@ void PaintGround(mjModel* model, GroundMaterial material) {
   const std::vector<std::uint8_t> rgb = GroundTexture(
       height_m, Eigen::Vector2d(2.0 * size[0], 2.0 * size[1]), material, model->tex_width[texture]);
   // MuJoCo maps a 2D texture's first row to the far (+y) edge of a height field
-  const std::size_t row_bytes = 3 * static_cast<std::size_t>(model->tex_width[texture]);
-  unsigned char* texels = model->tex_rgb + model->tex_adr[texture];
-  for (int r = 0; r < model->tex_height[texture]; ++r) {
-    std::copy_n(rgb.data() + row_bytes * r, row_bytes,
-                texels + row_bytes * (model->tex_height[texture] - 1 - r));
-  }
+  CopyRowsFlipped(rgb.data(), model->tex_width[texture], model->tex_height[texture],
+                  model->tex_rgb + model->tex_adr[texture]);
 }
 
 int GridPosition(TextCorner corner) {
@@ -373,50 +378,47 @@ void Renderer::Render(const sim::Simulation& simulation, const CameraView& view,
                   &mj.context);
       continue;
     }
-    // a card in the middle: the text on a dark translucent rectangle, in the big font if it fits
-    const int lines = 1 + static_cast<int>(std::count(label.text.begin(), label.text.end(), '\n'));
-    const int font = TextWidth(label.text, mjFONT_BIG, mj.context) < 0.8 * view_width
-                         ? mjFONT_BIG
-                         : mjFONT_NORMAL;
-    const int line_height = font == mjFONT_BIG ? mj.context.charHeightBig : mj.context.charHeight;
-    const int width =
-        std::min(view_width, TextWidth(label.text, font, mj.context) + 2 * line_height);
-    const int height = std::min(config_.height, (lines + 1) * line_height);
-    const mjrRect card = {(view_width - width) / 2, (config_.height - height) / 2, width, height};
-    mjr_rectangle(card, 0.05f, 0.05f, 0.08f, 0.8f);
-    draw_->Viewport(viewport.left, viewport.bottom, viewport.width, viewport.height);
-    DrawTextAt(label.text, font, card.left + line_height, card.bottom + height - line_height / 2,
-               Eigen::Vector3f::Ones(), viewport, mj.context);
+    DrawCard(label.text, viewport);
   }
 
-  if (!overlay.panel.image.rgb.empty()) {
-    const Image& panel = overlay.panel.image;
-    const std::size_t row_bytes = static_cast<std::size_t>(panel.width) * 3;
-    mj.panel_bottom_up.resize(row_bytes * panel.height);
-    for (int y = 0; y < panel.height; ++y) {
-      std::copy_n(panel.Pixel(0, y), row_bytes,
-                  mj.panel_bottom_up.data() + row_bytes * (panel.height - 1 - y));
-    }
-    const mjrRect panel_viewport = {view_width, 0, panel.width, panel.height};
-    mjr_drawPixels(mj.panel_bottom_up.data(), nullptr, panel_viewport, &mj.context);
-    draw_->Viewport(panel_viewport.left, panel_viewport.bottom, panel_viewport.width,
-                    panel_viewport.height);
-    for (const PanelText& text : overlay.panel.texts) {
-      DrawTextAt(text.text, mjFONT_NORMAL, text.top_left_px.x(),
-                 panel.height - text.top_left_px.y(), text.rgb, panel_viewport, mj.context);
-    }
-  }
+  if (!overlay.panel.image.rgb.empty()) DrawPanel(overlay.panel, view_width);
 
   const mjrRect frame = {0, 0, config_.width, config_.height};
   mjr_readPixels(mj.rgb_bottom_up.data(), nullptr, frame, &mj.context);
-  // OpenGL rows are bottom-up; images are top-down
   image->width = config_.width;
   image->height = config_.height;
-  const std::size_t row_bytes = static_cast<std::size_t>(config_.width) * 3;
-  image->rgb.resize(row_bytes * config_.height);
-  for (int y = 0; y < config_.height; ++y) {
-    std::copy_n(mj.rgb_bottom_up.data() + row_bytes * (config_.height - 1 - y), row_bytes,
-                image->rgb.data() + row_bytes * y);
+  image->rgb.resize(mj.rgb_bottom_up.size());
+  CopyRowsFlipped(mj.rgb_bottom_up.data(), config_.width, config_.height, image->rgb.data());
+}
+
+void Renderer::DrawCard(const std::string& text, const mjrRect& viewport) {
+  const mjrContext& context = mujoco_->context;
+  // the text on a dark translucent rectangle in the middle, in the big font if it fits
+  const int lines = 1 + static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+  const int font =
+      TextWidth(text, mjFONT_BIG, context) < 0.8 * viewport.width ? mjFONT_BIG : mjFONT_NORMAL;
+  const int line_height = font == mjFONT_BIG ? context.charHeightBig : context.charHeight;
+  const int width = std::min(viewport.width, TextWidth(text, font, context) + 2 * line_height);
+  const int height = std::min(viewport.height, (lines + 1) * line_height);
+  const mjrRect card = {(viewport.width - width) / 2, (viewport.height - height) / 2, width,
+                        height};
+  mjr_rectangle(card, 0.05f, 0.05f, 0.08f, 0.8f);
+  draw_->Viewport(viewport.left, viewport.bottom, viewport.width, viewport.height);
+  DrawTextAt(text, font, card.left + line_height, card.bottom + height - line_height / 2,
+             Eigen::Vector3f::Ones(), viewport, context);
+}
+
+void Renderer::DrawPanel(const Panel& panel, int left) {
+  MujocoState& mj = *mujoco_;
+  const Image& image = panel.image;
+  mj.panel_bottom_up.resize(image.rgb.size());
+  CopyRowsFlipped(image.rgb.data(), image.width, image.height, mj.panel_bottom_up.data());
+  const mjrRect viewport = {left, 0, image.width, image.height};
+  mjr_drawPixels(mj.panel_bottom_up.data(), nullptr, viewport, &mj.context);
+  draw_->Viewport(viewport.left, viewport.bottom, viewport.width, viewport.height);
+  for (const PanelText& text : panel.texts) {
+    DrawTextAt(text.text, mjFONT_NORMAL, text.top_left_px.x(), image.height - text.top_left_px.y(),
+               text.rgb, viewport, mj.context);
   }
 }
 

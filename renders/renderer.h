@@ -1,6 +1,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include "common/archive.h"
 #include "renders/camera.h"
@@ -8,6 +9,8 @@
 #include "renders/ground_texture.h"
 #include "renders/image.h"
 #include "renders/overlay.h"
+
+struct mjrRect_;  // MuJoCo's mjrRect, declared here so that no MuJoCo header leaks out
 
 namespace trav::sim {
 class Simulation;
@@ -76,6 +79,10 @@ class Renderer {
 
  private:
   struct MujocoState;
+  // A centred card with `text` over the camera's view `viewport` (TextCorner::kCenter).
+  void DrawCard(const std::string& text, const mjrRect_& viewport);
+  // The panel's image and texts at column `left` of the frame.
+  void DrawPanel(const Panel& panel, int left);
   RenderConfig config_;
   std::unique_ptr<GlContext> gl_;
   std::unique_ptr<GlDraw> draw_;
