@@ -234,9 +234,15 @@ VideoRecorder::~VideoRecorder() = default;
 
 void VideoRecorder::OnLidarFrame(const ClosedLoop& loop, const lidar::LidarFrame& frame,
                                  const Eigen::Matrix3Xf& points_W) {
-  recent_points_.push_back(DrawablePoints(frame, points_W));
-  while (static_cast<int>(recent_points_.size()) > settings_.lidar_frames) {
-    recent_points_.pop_front();
+  // the last video.lidar_frames frames: the latest opaque, older ones fading out
+  std::vector<renders::ColoredPoints>& recent = overlay_.points;
+  recent.push_back(DrawablePoints(frame, points_W));
+  const auto kept = static_cast<std::size_t>(settings_.lidar_frames);
+  if (recent.size() > kept) {
+    recent.erase(recent.begin(), recent.end() - static_cast<std::ptrdiff_t>(kept));
+  }
+  for (std::size_t k = 0; k < recent.size(); ++k) {
+    recent[k].rgba.row(3).setConstant(static_cast<float>(k + 1) / recent.size());
   }
   if (loop.navigator() != nullptr) latest_points_W_ = points_W;
 }
@@ -244,7 +250,7 @@ void VideoRecorder::OnLidarFrame(const ClosedLoop& loop, const lidar::LidarFrame
 void VideoRecorder::OnMapUpdate(const ClosedLoop& loop) {
   if (!settings_.map_overlay) return;
   const common::GridLayers* map = loop.navigator() != nullptr ? loop.navigation_map() : loop.map();
-  if (map != nullptr) map_drape_ = DrawableMap(*map, loop.world());
+  if (map != nullptr) overlay_.grids.assign(1, DrawableMap(*map, loop.world()));
 }
 
 void VideoRecorder::OnStepChecked(const ClosedLoop& loop, const LoopStep& step) {
@@ -269,15 +275,6 @@ void VideoRecorder::ComposeOverlay(const ClosedLoop& loop, const std::string& st
   if (!reference_.points_W.empty()) overlay.polylines.push_back(reference_);
   if (!plan_.points_W.empty()) overlay.polylines.push_back(plan_);
   if (!horizon_.points_W.empty()) overlay.polylines.push_back(horizon_);
-  // the latest frame opaque, older ones fading out
-  overlay.points.assign(recent_points_.begin(), recent_points_.end());
-  const int n = static_cast<int>(overlay.points.size());
-  for (int k = 0; k < n; ++k) {
-    overlay.points[static_cast<std::size_t>(k)].rgba.row(3).setConstant(static_cast<float>(k + 1) /
-                                                                        static_cast<float>(n));
-  }
-  overlay.grids.clear();
-  if (map_drape_.has_value()) overlay.grids.push_back(*map_drape_);
   AddMovers(loop);
   overlay.texts.clear();
   if (loop.navigator() != nullptr) {

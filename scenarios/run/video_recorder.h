@@ -1,8 +1,6 @@
 #pragma once
 
-#include <deque>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,10 +60,8 @@ class VideoRecorder : public LoopObserver {
   std::unique_ptr<renders::Renderer> renderer_;
   std::unique_ptr<renders::VideoWriter> video_;
   std::unique_ptr<VideoCamera> camera_;
-  renders::Overlay overlay_;
+  renders::Overlay overlay_;  // its points and grids are set as frames and maps arrive
   renders::Image frame_;
-  std::deque<renders::ColoredPoints> recent_points_;  // the last video.lidar_frames frames
-  std::optional<renders::GroundGrid> map_drape_;
   renders::Polyline reference_, plan_, horizon_;
   std::vector<double> walked_m_;  // distance each mover has walked [m]: its gait's phase
   Eigen::Matrix3Xf latest_points_W_;
