@@ -28,10 +28,11 @@ Eigen::Matrix4f LookAtMatrix(const Eigen::Vector3f& eye_W, const Eigen::Vector3f
 /// What MuJoCo 2.2's renderer cannot draw, drawn into the same frame after it with the same
 /// camera: screen-space points (a LiDAR frame as the sensor's rosette, not as cubes) and
 /// vertex-coloured translucent meshes (a map draped on the terrain). MuJoCo's scene holds only
-/// primitive geoms, each drawn with its own state changes, so tens of thousands of points or map
-/// cells would cost seconds per frame on a software renderer; here they are one immediate-mode
-/// batch each. Written against OpenGL 1.x (the compatibility profile MuJoCo 2.2 itself uses),
-/// with entry points looked up in the context's library, so nothing links a GL library.
+/// primitive geoms, each drawn with its own state changes and bounded by the scene's capacity
+/// (the earlier videos drew at most 1,200 points as cubes and 3,000 map cells as boxes); here
+/// they are one immediate-mode batch each. Written against OpenGL 1.x (the compatibility profile
+/// MuJoCo 2.2 itself uses), with entry points looked up in the context's library, so nothing links
+/// a GL library.
 class GlDraw {
  public:
   /// Looks up the entry points in `context`'s library. @throws std::runtime_error if one lacks.
