@@ -82,13 +82,18 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
   map_.Recenter(p_WB.head<2>());
   const common::GridGeometry& g = map_.geometry();
   const auto [low, high] = WindowCells(g, p_WB, config_.area.window_m);
+  const Eigen::Matrix2Xd inputs_xy = inputs.transpose();
+  inputs_buckets_.Rebuild(inputs_xy, BucketGrid::SideFor(inputs_xy, 2.0));
   std::vector<Eigen::Vector2i> cells;
   for (int ix = low.x(); ix <= high.x(); ++ix) {
     for (int iy = low.y(); iy <= high.y(); ++iy) {
       const Eigen::Vector2d c = g.CellCenter(ix, iy);
-      const double nearest =
-          std::sqrt((inputs.rowwise() - c.transpose()).rowwise().squaredNorm().minCoeff());
-      if (nearest <= config_.support_radius_m) cells.emplace_back(ix, iy);
+      inputs_buckets_.KNearest(
+          c, 1, config_.support_radius_m, [&](int j) { return (inputs_xy.col(j) - c).norm(); },
+          &nearest_);
+      if (!nearest_.empty() && nearest_.front().first <= config_.support_radius_m) {
+        cells.emplace_back(ix, iy);
+      }
     }
   }
   Eigen::MatrixXd test(static_cast<Eigen::Index>(cells.size()), 2);
@@ -97,7 +102,7 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
   Eigen::VectorXd f(test.rows()), variance(test.rows());
   Eigen::MatrixXd gradient(test.rows(), test.cols());
   gp_.Predict(test, f, gradient);
-  gp_.PredictVariance(test, variance);
+  variance_.Compute(gp_, cells, test, low, high, config_.variance_stride, variance);
   Eigen::MatrixXf& elevation = map_.Layer(layers::kElevation);
   for (std::size_t k = 0; k < cells.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);

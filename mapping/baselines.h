@@ -1,8 +1,12 @@
 #pragma once
 
+#include <vector>
+
 #include "common/random.h"
+#include "mapping/bucket_grid.h"
 #include "mapping/fsgp_config.h"
 #include "mapping/sparse_gp.h"
+#include "mapping/strided_variance.h"
 #include "mapping/traversability_mapper.h"
 #include "mapping/window.h"
 
@@ -16,6 +20,8 @@ struct SgpConfig {
   double length_scale_m{0.7};  ///< SE kernel over (x, y) in metres
   double noise_std_m{0.03};
   double support_radius_m{0.8};
+  int variance_stride{4};     ///< the variance layer exact on every n-th cell (StridedVariance;
+                              ///< scenario: mapping.variance_stride, as FSGP-BGK's)
   int score_window_cells{5};  ///< step and flatness over 5 x 5 cells
   double weight_step{0.4}, weight_flatness{0.4}, weight_slope{0.2};
   double step_critical_m{0.3}, flatness_critical_rad{0.5236}, slope_critical_rad{0.5236};
@@ -41,6 +47,9 @@ class SgpMapper final : public TraversabilityMapper {
   common::GridLayers map_;
   SparseGp gp_;
   WindowCrop crop_;
+  BucketGrid inputs_buckets_;  // the inducing points' (x, y): which cells have one near
+  std::vector<BucketGrid::Neighbour> nearest_;
+  StridedVariance variance_;
   ObstacleMarker obstacles_;
 };
 

@@ -239,7 +239,8 @@ void FsgpBgkMapper::PredictCells(const TrainingSet& training, const Eigen::Vecto
   auto elevation = prediction.elevation.Resize(t_count);
   auto df_du = s.df_du.Resize(t_count, 4);
   gp_.Predict(test, elevation, df_du);
-  StridedVariance(low, high);
+  variance_.Compute(gp_, prediction.cells, test, low, high, config_.variance_stride,
+                    prediction.variance.Resize(t_count));
   // the plane back in, and the slope over x and y only: d f / d x = a + sum_d d f / d u'_d R(x, d)
   // / s_x
   const Eigen::Vector3d& plane = inputs_.plane;
@@ -249,45 +250,6 @@ void FsgpBgkMapper::PredictCells(const TrainingSet& training, const Eigen::Vecto
     elevation[t] += plane[0] * raw(t, 0) + plane[1] * raw(t, 1) + plane[2];
     df_dx[t] = df_du.row(t).dot(inputs_.rotation.row(0)) / inputs_.scale[0] + plane[0];
     df_dy[t] = df_du.row(t).dot(inputs_.rotation.row(1)) / inputs_.scale[1] + plane[1];
-  }
-}
-
-void FsgpBgkMapper::StridedVariance(const Eigen::Vector2i& low, const Eigen::Vector2i& high) {
-  // the variance on every n-th cell; the others take it from the cell at the start of their block
-  const int stride = config_.variance_stride;
-  PredictionScratch& s = scratch_;
-  const std::vector<Eigen::Vector2i>& cells = prediction_.cells;
-  const auto test = s.test.view();
-  const auto t_count = static_cast<Eigen::Index>(cells.size());
-  s.sampled.clear();
-  for (Eigen::Index t = 0; t < t_count; ++t) {
-    const Eigen::Vector2i& cell = cells[static_cast<std::size_t>(t)];
-    if (cell.x() % stride == 0 && cell.y() % stride == 0) s.sampled.push_back(t);
-  }
-  const auto sampled_count = static_cast<Eigen::Index>(s.sampled.size());
-  auto sampled_inputs = s.sampled_inputs.Resize(sampled_count, test.cols());
-  for (Eigen::Index k = 0; k < sampled_count; ++k)
-    sampled_inputs.row(k) = test.row(s.sampled[static_cast<std::size_t>(k)]);
-  auto sampled_variance = s.sampled_variance.Resize(sampled_count);
-  gp_.PredictVariance(sampled_inputs, sampled_variance);
-  // the sampled variances on the window's cells (NaN elsewhere), indexed from `low`
-  const Eigen::Vector2i window_size = high - low + Eigen::Vector2i::Ones();
-  auto block_variance = s.block_variance.Resize(window_size.x(), window_size.y());
-  block_variance.setConstant(std::numeric_limits<double>::quiet_NaN());
-  for (Eigen::Index k = 0; k < sampled_count; ++k) {
-    const Eigen::Vector2i& cell =
-        cells[static_cast<std::size_t>(s.sampled[static_cast<std::size_t>(k)])];
-    block_variance(cell.x() - low.x(), cell.y() - low.y()) = sampled_variance[k];
-  }
-  auto variance = prediction_.variance.Resize(t_count);
-  for (Eigen::Index t = 0; t < t_count; ++t) {
-    const Eigen::Vector2i& cell = cells[static_cast<std::size_t>(t)];
-    const Eigen::Vector2i corner =
-        Eigen::Vector2i(cell.x() - cell.x() % stride, cell.y() - cell.y() % stride) - low;
-    const double v = (corner.array() >= 0).all() ? block_variance(corner.x(), corner.y())
-                                                 : std::numeric_limits<double>::quiet_NaN();
-    // a block whose corner cell is unsupported: the prior variance (least certain)
-    variance[t] = std::isnan(v) ? gp_.prior_variance() : v;
   }
 }
 

@@ -9,6 +9,7 @@
 #include "mapping/features.h"
 #include "mapping/fsgp_config.h"
 #include "mapping/sparse_gp.h"
+#include "mapping/strided_variance.h"
 #include "mapping/traversability_mapper.h"
 #include "mapping/window.h"
 
@@ -57,10 +58,6 @@ class FsgpBgkMapper final : public TraversabilityMapper {
     std::vector<Eigen::Vector2i> window_cells;
     std::vector<Eigen::Index> supported;
     common::ScratchMatrix<double> test, df_du;
-    std::vector<Eigen::Index> sampled;
-    common::ScratchMatrix<double> sampled_inputs;
-    common::ScratchMatrix<double, Eigen::Dynamic, 1> sampled_variance;
-    common::ScratchMatrix<double> block_variance;
   };
 
   // Fills inputs_ from the training set.
@@ -71,9 +68,6 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   // Fills prediction_ on the window's cells between low and high.
   void PredictCells(const TrainingSet& training, const Eigen::Vector2i& low,
                     const Eigen::Vector2i& high);
-  // The GP variance on every variance_stride-th cell of prediction_, spread over the others of
-  // its block.
-  void StridedVariance(const Eigen::Vector2i& low, const Eigen::Vector2i& high);
   // The preliminary score of each predicted cell fused into the map (BGK, or replaced); returns
   // the mean uncertainty weight w_sigma over the cells fused (NaN: none, or no fusion).
   double Fuse(double t_s);
@@ -96,6 +90,7 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   GpInputs inputs_;
   InverseDistanceWeighting idw_;
   PredictionScratch scratch_;
+  StridedVariance variance_;
   CellPrediction prediction_;
   ObstacleMarker obstacles_;
 };

@@ -83,6 +83,7 @@ Registry<MapperFactory>& Mappers() {
          sgp.area = s.mapping.area;
          // M: the inducing points of every GP mapper
          sgp.inducing_points = s.mapping.max_training_points;
+         sgp.variance_stride = s.mapping.variance_stride;
          return std::make_unique<mapping::SgpMapper>(sgp);
        }},
       {"em",

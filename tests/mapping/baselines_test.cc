@@ -1,8 +1,10 @@
 #include "mapping/baselines.h"
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -87,6 +89,52 @@ TEST(BaselinesTest, EveryBaselineGetsTheSharedGroundCropAndObstacleLayer) {
       }
     }
   }
+}
+
+// SGP predicts exactly the cells with an inducing point within its support radius (0.8 m): with
+// fewer points than M every point is one. Its variance layer is known wherever the elevation is,
+// shared by each 4 x 4 block of cells from its corner (variance_stride).
+TEST(BaselinesTest, SgpPredictsOnlyNearItsInducingPointsWithAStridedVariance) {
+  // flat ground on a 0.5 m lattice with a 3 m hole around (2.5, 2.5)
+  std::vector<Eigen::Vector3f> points;
+  for (int i = -10; i <= 10; ++i) {
+    for (int j = -10; j <= 10; ++j) {
+      const Eigen::Vector3f p(0.5f * i, 0.5f * j, 0.0f);
+      if (std::abs(p.x() - 2.5f) > 1.5f || std::abs(p.y() - 2.5f) > 1.5f) points.push_back(p);
+    }
+  }
+  const SgpConfig config;
+  ASSERT_LT(static_cast<int>(points.size()), config.inducing_points);
+  SgpMapper dut{config};
+  ASSERT_EQ(dut.Update(common::MakePointCloud(points), RobotAt(0, 0), 0.0).status,
+            MapUpdateStatus::kUpdated);
+  const common::GridLayers& map = dut.map();
+  const common::GridGeometry& g = map.geometry();
+  int known = 0, unknown = 0;
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const Eigen::Vector2d c = g.CellCenter(ix, iy);
+      if (c.cwiseAbs().maxCoeff() > 4.5) continue;  // the window
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const Eigen::Vector3f& p : points) {
+        nearest = std::min(nearest, (p.head<2>().cast<double>() - c).norm());
+      }
+      if (std::abs(nearest - config.support_radius_m) < 1e-3) continue;  // a tie
+      const bool elevation = !std::isnan(map.Layer(layers::kElevation)(ix, iy));
+      EXPECT_EQ(elevation, nearest < config.support_radius_m) << c.transpose();
+      const float variance = map.Layer(layers::kElevationVariance)(ix, iy);
+      EXPECT_EQ(elevation, !std::isnan(variance)) << c.transpose();
+      ++(elevation ? known : unknown);
+      if (!elevation) continue;
+      EXPECT_GT(variance, 0.0f);
+      const int cx = ix - ix % 4, cy = iy - iy % 4;
+      if (!std::isnan(map.Layer(layers::kElevation)(cx, cy))) {
+        EXPECT_EQ(variance, map.Layer(layers::kElevationVariance)(cx, cy)) << c.transpose();
+      }
+    }
+  }
+  EXPECT_GT(known, 1000);
+  EXPECT_GT(unknown, 10);  // the middle of the hole
 }
 
 }  // namespace
