@@ -41,7 +41,7 @@ struct RayHits {
 };
 
 /// An Embree 3 scene for casting rays against the simulated world. Static geometry is built once
-/// (BVH of build quality high); moving objects are instances whose poses can be updated between
+/// (BVH of medium build quality); moving objects are instances whose poses can be updated between
 /// casts. Casting is const and thread-safe; results do not depend on the number of threads.
 /// The version of the Embree library the ray scene is built with ("3.13.5").
 std::string EmbreeVersion();
