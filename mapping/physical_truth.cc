@@ -72,21 +72,38 @@ struct BodySamples {
   }
 };
 
-PoseAssessment Assess(const RestingSurface& surface, const Eigen::Vector2d& p_W, double yaw,
-                      const RestingBody& body, const BodySamples& samples,
+// The samples at one heading: each sample's offset from B's origin in W (R_WB p_B), in the order
+// of BodySamples, computed once for every cell the heading is assessed at; and the surface's
+// height under each wheel sample, storage reused from pose to pose.
+struct HeadingSamples {
+  std::array<std::vector<Eigen::Vector2d>, 4> wheels_W;
+  std::vector<Eigen::Vector2d> belly_W;
+  std::array<std::vector<double>, 4> wheel_heights;
+
+  HeadingSamples(const BodySamples& samples, double yaw) {
+    const Eigen::Matrix2d R_WB = Eigen::Rotation2Dd(yaw).toRotationMatrix();
+    for (std::size_t w = 0; w < 4; ++w) {
+      for (const BodySample& s : samples.wheels[w]) wheels_W[w].push_back(R_WB * s.p_B);
+      wheel_heights[w].resize(samples.wheels[w].size());
+    }
+    for (const BodySample& s : samples.belly) belly_W.push_back(R_WB * s.p_B);
+  }
+};
+
+PoseAssessment Assess(const RestingSurface& surface, const Eigen::Vector2d& p_W,
+                      const RestingBody& body, const BodySamples& samples, HeadingSamples* heading,
                       const GroundTruthConfig& config) {
-  const Eigen::Matrix2d R_WB = Eigen::Rotation2Dd(yaw).toRotationMatrix();
   PoseAssessment pose;
   if (!surface.Contains(p_W, samples.reach_m)) return pose;
   // the surface under every sample, and where each wheel's rim first touches it
-  std::array<std::vector<double>, 4> wheel_heights;
+  std::array<std::vector<double>, 4>& wheel_heights = heading->wheel_heights;
   std::array<double, 4> contact{};
   for (std::size_t w = 0; w < 4; ++w) {
     double axle = -std::numeric_limits<double>::infinity();
-    for (const BodySample& s : samples.wheels[w]) {
-      const double z = surface.HeightAt(p_W + R_WB * s.p_B);
-      wheel_heights[w].push_back(z);
-      axle = std::max(axle, z + s.rim_m);
+    for (std::size_t k = 0; k < samples.wheels[w].size(); ++k) {
+      const double z = surface.HeightAt(p_W + heading->wheels_W[w][k]);
+      wheel_heights[w][k] = z;
+      axle = std::max(axle, z + samples.wheels[w][k].rim_m);
     }
     contact[w] = axle - body.wheel_radius_m;
   }
@@ -120,8 +137,9 @@ PoseAssessment Assess(const RestingSurface& surface, const Eigen::Vector2d& p_W,
     pose.drop_m = std::max(pose.drop_m, drop);
   }
   pose.belly_m = -std::numeric_limits<double>::infinity();
-  for (const BodySample& s : samples.belly) {
-    pose.belly_m = std::max(pose.belly_m, residual(s.p_B, surface.HeightAt(p_W + R_WB * s.p_B)));
+  for (std::size_t k = 0; k < samples.belly.size(); ++k) {
+    pose.belly_m = std::max(
+        pose.belly_m, residual(samples.belly[k].p_B, surface.HeightAt(p_W + heading->belly_W[k])));
   }
   pose.pitch_rad = std::atan(gx);
   pose.roll_rad = std::atan(gy);
@@ -191,7 +209,9 @@ bool RestingSurface::Contains(const Eigen::Vector2d& p_W, double radius_m) const
 
 PoseAssessment AssessPose(const RestingSurface& surface, const Eigen::Vector2d& p_W, double yaw,
                           const RestingBody& body, const GroundTruthConfig& config) {
-  return Assess(surface, p_W, yaw, body, BodySamples(body), config);
+  const BodySamples samples(body);
+  HeadingSamples heading(samples, yaw);
+  return Assess(surface, p_W, body, samples, &heading, config);
 }
 
 std::string HeadingLayer(int k) { return fmt::format("traversability_h{:02d}", k); }
@@ -206,12 +226,12 @@ common::GridLayers ComputePhysicalTruth(const common::GridGeometry& map_geometry
   Eigen::MatrixXf& best = truth.Layer(layers::kTraversability);
   Eigen::MatrixXf& count = truth.Layer(kTraversableHeadings);
   for (int k = 0; k < config.headings; ++k) {
-    const double yaw = 2.0 * M_PI * k / config.headings;
+    HeadingSamples heading(samples, 2.0 * M_PI * k / config.headings);
     Eigen::MatrixXf& layer = truth.Layer(HeadingLayer(k));
     for (int mx = 0; mx < map_geometry.num_x; ++mx) {
       for (int my = 0; my < map_geometry.num_y; ++my) {
         const PoseAssessment pose =
-            Assess(surface, map_geometry.CellCenter(mx, my), yaw, body, samples, config);
+            Assess(surface, map_geometry.CellCenter(mx, my), body, samples, &heading, config);
         if (!pose.known) continue;
         layer(mx, my) = static_cast<float>(pose.cost);
       }
