@@ -27,7 +27,11 @@ struct NavigationSettings {
   double stuck_time_s{10.0};       ///< stuck: within `stuck_distance_m` of one place this long [s]
   double stuck_distance_m{0.3};    ///< [m]
   double planning_failure_time_s{5.0};  ///< no valid plan for this long is a planning failure [s]
-  double near_miss_clearance_m{0.3};    ///< a mover closer than this is a near miss [m], >= 0
+  /// Plans, but no progress: a robot that has stayed within `livelock_radius_m` of one spot for
+  /// this long (plans and freeing manoeuvres in a loop) is a planning failure [s]; 0 turns it off.
+  double livelock_time_s{30.0};
+  double livelock_radius_m{1.5};      ///< [m], > 0
+  double near_miss_clearance_m{0.3};  ///< a mover closer than this is a near miss [m], >= 0
 
   /// The planner knows every mover's true position and velocity; else it gets the movers it
   /// perceives in the scans within `mover_sensing_range_m` (mapping::MoverTracker).
@@ -50,6 +54,8 @@ struct NavigationSettings {
     a->Field("stuck_time", &stuck_time_s, {0.1, 86400});
     a->Field("stuck_distance", &stuck_distance_m, {0, 100});
     a->Field("planning_failure_time", &planning_failure_time_s, {0.1, 86400});
+    a->Field("livelock_time", &livelock_time_s, {0, 86400});
+    a->Field("livelock_radius", &livelock_radius_m, {0.01, 100});
     a->Field("near_miss_clearance", &near_miss_clearance_m, {0, 10});
   }
 };

@@ -59,8 +59,13 @@ std::optional<Outcome> StuckCondition::Check(const ClosedLoop& /*loop*/, const L
 
 std::optional<Outcome> PlanningFailureCondition::Check(const ClosedLoop& loop,
                                                        const LoopStep& step) {
-  if (loop.navigator() != nullptr &&
-      loop.navigator()->time_without_plan_s(step.state.time_s) > limit_s_) {
+  if (loop.navigator() == nullptr) return std::nullopt;
+  if (loop.navigator()->time_without_plan_s(step.state.time_s) > limit_s_) {
+    cause_ = "no_plan";
+    return Outcome::kPlanningFailure;
+  }
+  if (livelock_.Update(step.state.time_s, step.state.X_WB.translation().head<2>())) {
+    cause_ = "livelock";
     return Outcome::kPlanningFailure;
   }
   return std::nullopt;

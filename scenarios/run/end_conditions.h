@@ -81,15 +81,23 @@ class StuckCondition : public EndCondition {
   ProgressMonitor monitor_;
 };
 
-/// Planning failure: the navigator has had no valid plan for longer than the limit.
+/// Planning failure: the navigator has had no valid plan for longer than the limit, or it has
+/// plans but the robot gets nowhere with them (LivelockMonitor).
 class PlanningFailureCondition : public EndCondition {
  public:
-  explicit PlanningFailureCondition(double limit_s) : limit_s_(limit_s) {}
+  PlanningFailureCondition(double limit_s, double livelock_time_s, double livelock_radius_m)
+      : limit_s_(limit_s), livelock_(livelock_time_s, livelock_radius_m) {}
   Stage stage() const override { return Stage::kMission; }
   std::optional<Outcome> Check(const ClosedLoop& loop, const LoopStep& step) override;
 
+  /// Why the run failed: "no_plan" (no valid plan for the limit), "livelock" (plans, no progress);
+  /// empty while it has not.
+  const std::string& cause() const { return cause_; }
+
  private:
   double limit_s_;
+  LivelockMonitor livelock_;
+  std::string cause_;
 };
 
 /// Timeout: the scenario's duration ran out before the goal.

@@ -200,6 +200,25 @@ bool ProgressMonitor::Update(double t_s, const Eigen::Vector2d& position_W) {
   return t_s - anchor_time_s_ > window_s_;
 }
 
+LivelockMonitor::LivelockMonitor(double window_s, double radius_m)
+    : window_s_(window_s), radius_m_(radius_m), sample_period_s_(window_s / 120.0) {}
+
+bool LivelockMonitor::Update(double t_s, const Eigen::Vector2d& position_W) {
+  if (window_s_ <= 0.0) return false;
+  if (!samples_.empty() && t_s - samples_.back().t_s < sample_period_s_) return false;
+  samples_.push_back({t_s, position_W});
+  // keep the newest sample at least window_s old as the window's first
+  while (samples_.size() > 1 && t_s - samples_[1].t_s >= window_s_) samples_.pop_front();
+  if (t_s - samples_.front().t_s < window_s_) return false;
+  Eigen::Vector2d mean_W = Eigen::Vector2d::Zero();
+  for (const Sample& sample : samples_) mean_W += sample.position_W;
+  mean_W /= static_cast<double>(samples_.size());
+  for (const Sample& sample : samples_) {
+    if ((sample.position_W - mean_W).norm() > radius_m_) return false;
+  }
+  return true;
+}
+
 double ModuleTimes::Total(const std::string& module) const {
   const auto it = totals_ms_.find(module);
   return it == totals_ms_.end() ? 0.0 : it->second;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <deque>
 #include <map>
 #include <optional>
 #include <string>
@@ -113,6 +114,30 @@ class ProgressMonitor {
   Eigen::Vector2d anchor_W_{Eigen::Vector2d::Zero()};
   double anchor_time_s_{0.0};
   bool started_{false};
+};
+
+/// Detects a robot that moves but gets nowhere: back and forth between plans and freeing
+/// manoeuvres (a back-out, a turn, the plan again) round one spot, which ProgressMonitor does not
+/// see because each move leaves its small disc, and which keeps the navigator's no-plan patience
+/// from running because plans are found. Livelocked when, over the last `window_s` seconds, every
+/// position (sampled every window_s / 120) lay within `radius_m` of the positions' mean; a
+/// detour, however long, moves the mean away and never fires. `window_s` 0 turns it off.
+class LivelockMonitor {
+ public:
+  LivelockMonitor(double window_s, double radius_m);
+
+  /// Records the position at time t; true if livelocked.
+  bool Update(double t_s, const Eigen::Vector2d& position_W);
+
+ private:
+  struct Sample {
+    double t_s;
+    Eigen::Vector2d position_W;
+  };
+  double window_s_;
+  double radius_m_;
+  double sample_period_s_;
+  std::deque<Sample> samples_;
 };
 
 /// The modules timed per run (ModuleTimes), as named in summary.json's "compute" and

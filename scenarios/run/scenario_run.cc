@@ -224,12 +224,16 @@ RunSummary RunLoop(ClosedLoop* loop, const std::vector<LoopObserver*>& observers
   loop->AddEndCondition(std::move(collision));
   auto goal = std::make_unique<GoalCondition>(scenario.goal_W, scenario.navigation.goal_radius_m);
   const GoalCondition& goal_record = *goal;
+  const PlanningFailureCondition* planning_failure_record = nullptr;
   if (navigate) {
     loop->AddEndCondition(std::move(goal));
     loop->AddEndCondition(std::make_unique<StuckCondition>(scenario.navigation.stuck_time_s,
                                                            scenario.navigation.stuck_distance_m));
-    loop->AddEndCondition(
-        std::make_unique<PlanningFailureCondition>(scenario.navigation.planning_failure_time_s));
+    auto planning_failure = std::make_unique<PlanningFailureCondition>(
+        scenario.navigation.planning_failure_time_s, scenario.navigation.livelock_time_s,
+        scenario.navigation.livelock_radius_m);
+    planning_failure_record = planning_failure.get();
+    loop->AddEndCondition(std::move(planning_failure));
     loop->AddEndCondition(std::make_unique<TimeoutCondition>());
   }
 
@@ -258,6 +262,9 @@ RunSummary RunLoop(ClosedLoop* loop, const std::vector<LoopObserver*>& observers
   if (navigate) {
     summary.tracking = loop->navigator()->tracking_metrics();
     summary.navigation = SummarizeNavigation(*loop, summary, goal_record, movers, motion);
+    if (summary.outcome == Outcome::kPlanningFailure) {
+      summary.navigation->planning_failure_cause = planning_failure_record->cause();
+    }
   }
   summary.collision = collision_record.record();
   if (scenario.pose_noise.active()) {
@@ -351,6 +358,7 @@ void to_json(nlohmann::json& json, const NavigationMetrics& n) {
           {"fallbacks", FallbackCounts(n.fallbacks)},
           {"give_ways", n.give_ways},
           {"last_planner_status", n.last_planner_status},
+          {"planning_failure_cause", n.planning_failure_cause},
           {"mover_tracking_error_m", n.mover_tracking_error_m},
           {"perceived_mover_samples", n.perceived_mover_samples},
           {"false_mover_samples", n.false_mover_samples},

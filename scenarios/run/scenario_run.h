@@ -41,6 +41,9 @@ struct NavigationMetrics {
   /// Plans that fell back on a manoeuvre, by planner::Fallback (docs/navigation.md).
   std::array<int, planner::kFallbackNames.size()> fallbacks{};
   std::string last_planner_status;
+  /// Why a planning failure ended the run: "no_plan" or "livelock" (PlanningFailureCondition);
+  /// empty for every other outcome.
+  std::string planning_failure_cause;
   /// Movers perceived from the scans (navigation.movers_from_ground_truth false), sampled every
   /// physics step: the mean distance from each perceived mover to the nearest true one over those
   /// within kFalseMoverDistance_m (scenarios/run/recorders.h) of one [m], how many such samples

@@ -155,6 +155,20 @@ TEST(FailingScenarioTest, AGoalInAClosedRoomIsAPlanningFailure) {
   EXPECT_EQ(summary.outcome, Outcome::kPlanningFailure);
   EXPECT_NEAR(summary.sim_time_s, scenario.navigation.planning_failure_time_s, 0.01);
   EXPECT_EQ(summary.navigation->last_planner_status, "no-path");
+  EXPECT_EQ(summary.navigation->planning_failure_cause, "no_plan");
+}
+
+TEST(FailingScenarioTest, PlansThatGetNowhereEndAsAPlanningFailure) {
+  const Scenario scenario = LoadFile("failing/closed_room_mapped.yaml");
+  const RunSummary summary = RunHeadless(scenario, "room_mapped");
+  ASSERT_EQ(summary.outcome, Outcome::kPlanningFailure);
+  // plans were found all along (else the cause would be no_plan), but the robot stayed at one
+  // corner of the room for the livelock time, and the run ended well before its duration
+  EXPECT_EQ(summary.navigation->planning_failure_cause, "livelock");
+  EXPECT_GT(summary.sim_time_s, scenario.navigation.livelock_time_s);
+  EXPECT_LT(summary.sim_time_s, scenario.duration_s - 5.0);
+  EXPECT_GT(summary.navigation->fallbacks[static_cast<std::size_t>(planner::Fallback::kBackOut)],
+            10);
 }
 
 TEST(NavigationRunTest, TheSameScenarioGivesTheSameRun) {

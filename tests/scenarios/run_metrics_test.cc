@@ -32,6 +32,37 @@ TEST(ProgressMonitorTest, StuckOnlyAfterStayingInOnePlaceForTheWindow) {
   EXPECT_TRUE(dut.Update(20.3, {0.6, 0.0}));
 }
 
+// Positions every 0.125 s (exact in binary), with a 15 s window sampled every 0.125 s.
+TEST(LivelockMonitorTest, FiresForBackAndForthRoundOneSpotOnceTheWindowIsFull) {
+  LivelockMonitor dut(15.0, 1.0);
+  // a back-out of 0.6 m and the plan again, over and over: 0.6 m out and back every 2 s
+  auto back_and_forth = [](int k) { return Eigen::Vector2d(0.6 * ((k / 8) % 2), 0.0); };
+  for (int k = 0; k < 120; ++k) {
+    ASSERT_FALSE(dut.Update(0.125 * k, back_and_forth(k))) << "t = " << 0.125 * k;
+  }
+  EXPECT_TRUE(dut.Update(15.0, back_and_forth(120)));
+  // driving away: the window holds samples 3 m apart until it has moved past them
+  EXPECT_FALSE(dut.Update(15.125, {3.0, 0.0}));
+}
+
+TEST(LivelockMonitorTest, ASlowDriveOrADetourNeverFires) {
+  LivelockMonitor drive(15.0, 1.0);
+  LivelockMonitor detour(15.0, 1.0);
+  for (int k = 0; k <= 800; ++k) {
+    const double t = 0.125 * k;
+    // 0.2 m/s: 3 m per window, the ends 1.5 m from the mean
+    ASSERT_FALSE(drive.Update(t, {0.2 * t, 0.0})) << "t = " << t;
+    // a circle of 2 m radius driven at 0.5 m/s (a detour round an obstacle, again and again)
+    ASSERT_FALSE(detour.Update(t, 2.0 * Eigen::Vector2d(std::cos(0.25 * t), std::sin(0.25 * t))))
+        << "t = " << t;
+  }
+}
+
+TEST(LivelockMonitorTest, AZeroWindowTurnsItOff) {
+  LivelockMonitor dut(0.0, 1.0);
+  for (int k = 0; k <= 800; ++k) ASSERT_FALSE(dut.Update(0.125 * k, {0.0, 0.0}));
+}
+
 TEST(CompareLayersTest, MeanAndVarianceOverCellsKnownInBoth) {
   Eigen::MatrixXf predicted(2, 2), truth(2, 2);
   predicted << 0.1f, 0.5f, NAN, 0.9f;
