@@ -1,6 +1,5 @@
 #include "scenarios/run/end_conditions.h"
 
-#include <algorithm>
 #include <cmath>
 
 namespace trav::scenarios {
@@ -64,7 +63,11 @@ std::optional<Outcome> PlanningFailureCondition::Check(const ClosedLoop& loop,
     cause_ = "no_plan";
     return Outcome::kPlanningFailure;
   }
-  if (livelock_.Update(step.state.time_s, step.state.X_WB.translation().head<2>())) {
+  movers_W_.clear();
+  for (const planner::MovingObstacle& mover : loop.true_movers()) {
+    movers_W_.push_back(mover.PositionAt(step.state.time_s));
+  }
+  if (livelock_.Update(step.state.time_s, step.state.X_WB.translation().head<2>(), movers_W_)) {
     cause_ = "livelock";
     return Outcome::kPlanningFailure;
   }

@@ -98,6 +98,7 @@ class PlanningFailureCondition : public EndCondition {
   double limit_s_;
   LivelockMonitor livelock_;
   std::string cause_;
+  std::vector<Eigen::Vector2d> movers_W_;  // the movers' positions this step
 };
 
 /// Timeout: the scenario's duration ran out before the goal.

@@ -203,8 +203,15 @@ bool ProgressMonitor::Update(double t_s, const Eigen::Vector2d& position_W) {
 LivelockMonitor::LivelockMonitor(double window_s, double radius_m)
     : window_s_(window_s), radius_m_(radius_m), sample_period_s_(window_s / 120.0) {}
 
-bool LivelockMonitor::Update(double t_s, const Eigen::Vector2d& position_W) {
+bool LivelockMonitor::Update(double t_s, const Eigen::Vector2d& position_W,
+                             const std::vector<Eigen::Vector2d>& movers_W) {
   if (window_s_ <= 0.0) return false;
+  for (const Eigen::Vector2d& mover_W : movers_W) {
+    if ((mover_W - position_W).norm() < kMoverDistance_m) {
+      samples_.clear();
+      return false;
+    }
+  }
   if (!samples_.empty() && t_s - samples_.back().t_s < sample_period_s_) return false;
   samples_.push_back({t_s, position_W});
   // keep the newest sample at least window_s old as the window's first

@@ -121,13 +121,18 @@ class ProgressMonitor {
 /// see because each move leaves its small disc, and which keeps the navigator's no-plan patience
 /// from running because plans are found. Livelocked when, over the last `window_s` seconds, every
 /// position (sampled every window_s / 120) lay within `radius_m` of the positions' mean; a
-/// detour, however long, moves the mean away and never fires. `window_s` 0 turns it off.
+/// detour, however long, moves the mean away and never fires. Time with a mover within
+/// kMoverDistance_m of the robot does not count (the window starts again): waiting for traffic
+/// and giving way to it, back and forth, is not a livelock. `window_s` 0 turns it off.
 class LivelockMonitor {
  public:
+  static constexpr double kMoverDistance_m = 3.0;
+
   LivelockMonitor(double window_s, double radius_m);
 
-  /// Records the position at time t; true if livelocked.
-  bool Update(double t_s, const Eigen::Vector2d& position_W);
+  /// Records the position at time t with the movers' positions then; true if livelocked.
+  bool Update(double t_s, const Eigen::Vector2d& position_W,
+              const std::vector<Eigen::Vector2d>& movers_W = {});
 
  private:
   struct Sample {

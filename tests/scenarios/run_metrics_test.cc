@@ -58,6 +58,20 @@ TEST(LivelockMonitorTest, ASlowDriveOrADetourNeverFires) {
   }
 }
 
+TEST(LivelockMonitorTest, TimeWithAMoverNearDoesNotCount) {
+  LivelockMonitor dut(15.0, 1.0);
+  auto back_and_forth = [](int k) { return Eigen::Vector2d(0.6 * ((k / 8) % 2), 0.0); };
+  // a walker 2.9 m away for the first 10 s (giving way to it, back and forth), then 3.1 m
+  for (int k = 0; k <= 80; ++k) {
+    ASSERT_FALSE(dut.Update(0.125 * k, back_and_forth(k), {{0.0, 2.9}}));
+  }
+  // the window starts at 10.125 s, when the walker is no longer near
+  for (int k = 81; k < 201; ++k) {
+    ASSERT_FALSE(dut.Update(0.125 * k, back_and_forth(k), {{0.0, 3.1}})) << "t = " << 0.125 * k;
+  }
+  EXPECT_TRUE(dut.Update(25.125, back_and_forth(201), {{0.0, 3.1}}));
+}
+
 TEST(LivelockMonitorTest, AZeroWindowTurnsItOff) {
   LivelockMonitor dut(0.0, 1.0);
   for (int k = 0; k <= 800; ++k) ASSERT_FALSE(dut.Update(0.125 * k, {0.0, 0.0}));
