@@ -82,18 +82,23 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
   map_.Recenter(p_WB.head<2>());
   const common::GridGeometry& g = map_.geometry();
   const auto [low, high] = WindowCells(g, p_WB, config_.area.window_m);
-  const Eigen::Matrix2Xd inputs_xy = inputs.transpose();
-  inputs_buckets_.Rebuild(inputs_xy, BucketGrid::SideFor(inputs_xy, 2.0));
-  std::vector<Eigen::Vector2i> cells;
+  // the window's cells with an inducing point within the support radius: the cells FSGP-BGK
+  // predicts (the same search, InverseDistanceWeighting's nearest training point)
+  std::vector<Eigen::Vector2i> window_cells;
+  Eigen::Matrix2Xd centres_W(2, (high - low + Eigen::Vector2i::Ones()).prod());
   for (int ix = low.x(); ix <= high.x(); ++ix) {
     for (int iy = low.y(); iy <= high.y(); ++iy) {
-      const Eigen::Vector2d c = g.CellCenter(ix, iy);
-      inputs_buckets_.KNearest(
-          c, 1, config_.support_radius_m, [&](int j) { return (inputs_xy.col(j) - c).norm(); },
-          &nearest_);
-      if (!nearest_.empty() && nearest_.front().first <= config_.support_radius_m) {
-        cells.emplace_back(ix, iy);
-      }
+      centres_W.col(static_cast<Eigen::Index>(window_cells.size())) = g.CellCenter(ix, iy);
+      window_cells.emplace_back(ix, iy);
+    }
+  }
+  Eigen::Matrix3Xd inducing_W = Eigen::Matrix3Xd::Zero(3, m);
+  inducing_W.topRows<2>() = inputs.transpose();
+  support_.Compute(inducing_W, centres_W, 1, config_.support_radius_m);
+  std::vector<Eigen::Vector2i> cells;
+  for (std::size_t c = 0; c < window_cells.size(); ++c) {
+    if (support_.nearest_m()[static_cast<Eigen::Index>(c)] <= config_.support_radius_m) {
+      cells.push_back(window_cells[c]);
     }
   }
   Eigen::MatrixXd test(static_cast<Eigen::Index>(cells.size()), 2);

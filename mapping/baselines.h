@@ -3,7 +3,7 @@
 #include <vector>
 
 #include "common/random.h"
-#include "mapping/bucket_grid.h"
+#include "mapping/features.h"
 #include "mapping/fsgp_config.h"
 #include "mapping/sparse_gp.h"
 #include "mapping/strided_variance.h"
@@ -47,8 +47,7 @@ class SgpMapper final : public TraversabilityMapper {
   common::GridLayers map_;
   SparseGp gp_;
   WindowCrop crop_;
-  BucketGrid inputs_buckets_;  // the inducing points' (x, y): which cells have one near
-  std::vector<BucketGrid::Neighbour> nearest_;
+  InverseDistanceWeighting support_;  // which cells have an inducing point near
   StridedVariance variance_;
   ObstacleMarker obstacles_;
 };
