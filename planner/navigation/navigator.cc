@@ -22,13 +22,16 @@ constexpr double kStallTime_s = 1.0;
 // Spacing of the samples of the safety and lethal-cell checks along the plan [s].
 constexpr double kCheckStep_s = 0.05;
 // Giving way: movers predicted this far ahead [s] that would come within this gap of the stopped
-// robot's disc [m] make it move; the drives are straight, forward or backward, of these lengths
-// [m] at this speed [m/s], and one is taken only if it keeps at least this much more room [m]
-// than standing still.
+// robot's disc [m] make it move; the drives are straight lines of these lengths [m] at this speed
+// [m/s], forward or backward, after a turn in place at this yaw rate [rad/s] by one of these
+// angles off the heading [rad] (a step aside), and one is taken only if it keeps at least this
+// much more room [m] than standing still.
 constexpr double kGiveWayHorizon_s = 2.0;
 constexpr double kGiveWayGap_m = 0.3;
 constexpr double kGiveWayDistances_m[] = {0.4, 0.8, 1.2};
 constexpr double kGiveWaySpeed_m_s = 0.6;
+constexpr double kGiveWayYawRate_rad_s = 1.5;
+constexpr double kGiveWayTurns_rad[] = {0.0, -M_PI / 4.0, M_PI / 4.0, -M_PI / 2.0, M_PI / 2.0};
 constexpr double kGiveWayGain_m = 0.1;
 
 double YawOf(const common::RobotState& state) {
@@ -160,22 +163,26 @@ std::optional<common::Trajectory> Navigator::GiveWay(const common::RobotState& s
   start.yaw = YawOf(state);
   FallbackConfig drive = planner_.config().fallback;
   drive.creep_speed_m_s = kGiveWaySpeed_m_s;
+  drive.creep_yaw_rate_rad_s = kGiveWayYawRate_rad_s;
   const NavigationPlannerConfig& config = planner_.config();
   const CostMap& costs = CostMapOf(map);
   const std::vector<Eigen::Vector2d> body_B =
       config.footprint.BoundaryPoints_B(costs.geometry().resolution_m);
-  const Eigen::Vector2d forward_W(std::cos(start.yaw), std::sin(start.yaw));
   std::optional<common::Trajectory> best;
   double best_gap = standing + kGiveWayGain_m;
   for (const double sign : {-1.0, 1.0}) {
-    for (const double length : kGiveWayDistances_m) {
-      common::Trajectory candidate =
-          CreepAlong(start, {here_W, here_W + sign * length * forward_W}, sign < 0.0, drive);
-      const double gap = smallest_gap(&candidate, here_W, now, now + kGiveWayHorizon_s);
-      if (gap > best_gap &&
-          KeepsClear(costs.field(), candidate, body_B, config.optimizer.clearance_m)) {
-        best_gap = gap;
-        best = std::move(candidate);
+    for (const double turn : kGiveWayTurns_rad) {
+      const double yaw = start.yaw + turn;
+      const Eigen::Vector2d forward_W(std::cos(yaw), std::sin(yaw));
+      for (const double length : kGiveWayDistances_m) {
+        common::Trajectory candidate =
+            CreepAlong(start, {here_W, here_W + sign * length * forward_W}, sign < 0.0, drive);
+        const double gap = smallest_gap(&candidate, here_W, now, now + kGiveWayHorizon_s);
+        if (gap > best_gap &&
+            KeepsClear(costs.field(), candidate, body_B, config.optimizer.clearance_m)) {
+          best_gap = gap;
+          best = std::move(candidate);
+        }
       }
     }
   }

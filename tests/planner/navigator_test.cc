@@ -115,5 +115,29 @@ TEST(NavigatorTest, AStoppedRobotBacksAwayFromAMoverComingAtIt) {
   EXPECT_EQ(dut.statistics().plans, 1);
 }
 
+TEST(NavigatorTest, AStoppedRobotWithAWallBehindStepsAsideFromAMoverComingAtIt) {
+  planner::Navigator dut = MakeNavigator();
+  common::GridLayers map = OpenMap();
+  // a wall 0.7 m behind the base (0.4 m behind the robot's rear): no room to back away
+  const common::GridGeometry& g = map.geometry();
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const double x = g.CellCenter(ix, iy).x();
+      if (x < -0.7 && x > -1.1) map.Layer("traversability")(ix, iy) = 1.0f;
+    }
+  }
+  dut.Update(At(0.0, 0.0), &map, true, {});
+  // a walker 2.5 m ahead coming straight at the robot at 1 m/s: straight back is blocked and
+  // straight forward meets it, so the robot turns in place and drives out of its line
+  const planner::MovingObstacle walker{Eigen::Vector2d(2.5, 0.0), Eigen::Vector2d(-1.0, 0.0), 0.3,
+                                       0.02};
+  const planner::NavigatorTick tick = dut.Update(At(0.02, 0.0), &map, false, {walker});
+  EXPECT_TRUE(tick.safety_stop);
+  EXPECT_EQ(dut.statistics().give_ways, 1);
+  const Eigen::Vector2d end_W = dut.trajectory().points().back().position_W;
+  EXPECT_GT(std::abs(end_W.y()), 0.5);
+  EXPECT_GT(end_W.x(), -0.3);
+}
+
 }  // namespace
 }  // namespace trav::planner
