@@ -1,6 +1,9 @@
 // Scene generators for the paper's terrain classes (its section V).
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <optional>
+#include <vector>
 
 #include "sim/terrain_internal.h"
 
@@ -223,33 +226,89 @@ struct Room {
   Eigen::Vector2d high;
 };
 
+// A doorway in an axis-aligned wall: the wall lies at `wall_coordinate` on axis `normal_axis` and
+// the opening spans [low, high] along the other axis [m].
+struct Doorway {
+  int normal_axis;
+  double wall_coordinate;
+  double low;
+  double high;
+};
+
+// A uniform draw from [low, high] less the `excluded` intervals, or nothing if they cover it. One
+// draw of `random` whatever the exclusions, mapped onto what they leave: with none inside
+// [low, high] it is random->Uniform(low, high) exactly.
+std::optional<double> UniformOutside(double low, double high,
+                                     std::vector<std::array<double, 2>> excluded,
+                                     common::Random* random) {
+  std::sort(excluded.begin(), excluded.end());
+  std::vector<std::array<double, 2>> allowed;
+  double from = low;
+  for (const auto& [a, b] : excluded) {
+    if (a > from) allowed.push_back({from, std::min(a, high)});
+    from = std::max(from, b);
+    if (from >= high) break;
+  }
+  if (from < high) allowed.push_back({from, high});
+  double measure = 0.0;
+  for (const auto& [a, b] : allowed) measure += std::max(0.0, b - a);
+  const double u = random->Uniform(0.0, measure);
+  if (measure <= 0.0) return std::nullopt;
+  double left = u;
+  for (const auto& [a, b] : allowed) {
+    const double length = std::max(0.0, b - a);
+    if (left < length) return a + left;
+    left -= length;
+  }
+  return allowed.back()[1];
+}
+
 // Splits `room` recursively along its longer side until both sides are below twice the minimum;
-// each split adds a wall with a doorway.
+// each split adds a wall with a doorway. A wall never ends in a doorway of the room's sides: its
+// end stays half its thickness plus kDoorwayApproach_m clear of each one, so every doorway keeps
+// its full width and opens onto floor (a room too small for such a wall is not split).
 void SplitRoom(const Room& room, const IndoorParams& params, common::Random* random,
-               ObstaclePlacer* placer, std::vector<Room>* rooms) {
+               ObstaclePlacer* placer, std::vector<Room>* rooms, std::vector<Doorway>* doorways) {
+  constexpr double kDoorwayApproach_m = 0.4;
   const Eigen::Vector2d size = room.high - room.low;
   const int axis = size.x() >= size.y() ? 0 : 1;
   if (size[axis] < 2.0 * params.min_room_size_m) {
     rooms->push_back(room);
     return;
   }
-  const double cut = random->Uniform(room.low[axis] + params.min_room_size_m,
-                                     room.high[axis] - params.min_room_size_m);
   const int other = 1 - axis;
+  // the new wall's ends meet the room's two sides along `axis`
+  const double margin = 0.5 * params.wall_thickness_m + kDoorwayApproach_m;
+  std::vector<std::array<double, 2>> excluded;
+  for (const Doorway& doorway : *doorways) {
+    const bool on_side = doorway.normal_axis == other &&
+                         (std::abs(doorway.wall_coordinate - room.low[other]) < 1e-9 ||
+                          std::abs(doorway.wall_coordinate - room.high[other]) < 1e-9);
+    if (on_side) excluded.push_back({doorway.low - margin, doorway.high + margin});
+  }
+  const std::optional<double> cut =
+      UniformOutside(room.low[axis] + params.min_room_size_m,
+                     room.high[axis] - params.min_room_size_m, std::move(excluded), random);
+  if (!cut) {
+    rooms->push_back(room);
+    return;
+  }
   Eigen::Vector2d a = room.low;
   Eigen::Vector2d b = room.high;
-  a[axis] = cut;
-  b[axis] = cut;
+  a[axis] = *cut;
+  b[axis] = *cut;
   const double length = size[other];
   const double door = random->Uniform(0.5, length - params.door_width_m - 0.5);
   placer->AddWall(a, b, params.wall_height_m, params.wall_thickness_m,
                   {{door, door + params.door_width_m}}, kWall);
+  doorways->push_back(
+      {axis, *cut, room.low[other] + door, room.low[other] + door + params.door_width_m});
   Room first = room;
   Room second = room;
-  first.high[axis] = cut;
-  second.low[axis] = cut;
-  SplitRoom(first, params, random, placer, rooms);
-  SplitRoom(second, params, random, placer, rooms);
+  first.high[axis] = *cut;
+  second.low[axis] = *cut;
+  SplitRoom(first, params, random, placer, rooms, doorways);
+  SplitRoom(second, params, random, placer, rooms, doorways);
 }
 
 }  // namespace
@@ -267,7 +326,8 @@ void GenerateIndoor(const TerrainConfig& config, common::Random* random, Obstacl
                     {}, kWall);
   }
   std::vector<Room> rooms;
-  SplitRoom({low, high}, params, random, placer, &rooms);
+  std::vector<Doorway> doorways;
+  SplitRoom({low, high}, params, random, placer, &rooms, &doorways);
   const Eigen::Vector2d centre = 0.5 * (low + high);
   const Eigen::Vector2d half = 0.5 * (high - low);
   placer->Add("ceiling",
