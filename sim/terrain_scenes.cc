@@ -235,6 +235,15 @@ struct Doorway {
   double high;
 };
 
+// The distance from p_W to the opening of `doorway` [m].
+double DistanceToDoorway(const Eigen::Vector2d& p_W, const Doorway& doorway) {
+  const int along = 1 - doorway.normal_axis;
+  Eigen::Vector2d nearest;
+  nearest[doorway.normal_axis] = doorway.wall_coordinate;
+  nearest[along] = std::clamp(p_W[along], doorway.low, doorway.high);
+  return (p_W - nearest).norm();
+}
+
 // A uniform draw from [low, high] less the `excluded` intervals, or nothing if they cover it. One
 // draw of `random` whatever the exclusions, mapped onto what they leave: with none inside
 // [low, high] it is random->Uniform(low, high) exactly.
@@ -336,7 +345,11 @@ void GenerateIndoor(const TerrainConfig& config, common::Random* random, Obstacl
                   PoseAt(Eigen::Vector3d(centre.x(), centre.y(), params.wall_height_m + 0.05), 0.0),
                   Eigen::Vector3d(half.x(), half.y(), 0.05), kWall, ObstacleRole::kCeiling));
 
-  // furniture away from the walls (so doorways stay open): boxes and tables with thin legs
+  // furniture away from the walls and kDoorwayClearance_m clear of every doorway (a piece of at
+  // most kFurnitureRadius_m round its centre), so that doorways stay open: boxes and tables with
+  // thin legs
+  constexpr double kFurnitureRadius_m = 0.85;
+  constexpr double kDoorwayClearance_m = 1.0;
   for (const Room& room : rooms) {
     const double inset = 1.2;
     if ((room.high - room.low).minCoeff() < 2.0 * inset + 0.5) continue;
@@ -344,6 +357,11 @@ void GenerateIndoor(const TerrainConfig& config, common::Random* random, Obstacl
       const Eigen::Vector2d p(random->Uniform(room.low.x() + inset, room.high.x() - inset),
                               random->Uniform(room.low.y() + inset, room.high.y() - inset));
       if (!placer->IsFree(p, 0.9)) continue;
+      const bool near_doorway =
+          std::any_of(doorways.begin(), doorways.end(), [&](const Doorway& doorway) {
+            return DistanceToDoorway(p, doorway) < kFurnitureRadius_m + kDoorwayClearance_m;
+          });
+      if (near_doorway) continue;
       const double yaw = random->Uniform(0, M_PI);
       if (random->Bernoulli(0.5)) {
         const Eigen::Vector3d box(random->Uniform(0.2, 0.6), random->Uniform(0.2, 0.6),

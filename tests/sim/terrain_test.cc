@@ -163,11 +163,12 @@ TEST(TerrainStatisticsTest, IndoorHasRoomsACeilingAndADoorInEveryInnerWall) {
   EXPECT_EQ(world.height_m.cwiseAbs().maxCoeff(), 0.0f);
 }
 
-// The cells of `world`'s extent, at `resolution_m`, that a disc of `radius_m` can reach from the
-// first free one, walls (obstacles named "wall...") as the only obstacles: a flood fill of the
-// cells farther than radius_m from every wall box. Returns the reached and the free cells' counts.
-std::pair<int, int> CellsReachableAmongWalls(const TerrainWorld& world, double resolution_m,
-                                             double radius_m) {
+// The free cells of `world`'s extent at `resolution_m` for a disc of `radius_m` (farther than
+// radius_m from every wall, and with `furniture` every piece of furniture on the floor) and the
+// largest set of them that the disc can move between (4-connected). Returns the largest set's and
+// the free cells' counts.
+std::pair<int, int> CellsReachable(const TerrainWorld& world, double resolution_m, double radius_m,
+                                   bool furniture) {
   const Eigen::Vector2d low = world.geometry.origin_W;
   const Eigen::Vector2i size = (world.geometry.Extent() / resolution_m).array().floor().cast<int>();
   Eigen::MatrixXi state =
@@ -175,56 +176,79 @@ std::pair<int, int> CellsReachableAmongWalls(const TerrainWorld& world, double r
   auto centre = [&](int ix, int iy) {
     return Eigen::Vector2d(low + resolution_m * Eigen::Vector2d(ix + 0.5, iy + 0.5));
   };
-  int free_cells = 0;
+  for (const Obstacle& obstacle : world.obstacles) {
+    const bool wall = obstacle.name.rfind("wall", 0) == 0;
+    // furniture on the floor: boxes and table legs (a table's top is above the robot)
+    const bool on_floor =
+        obstacle.name.rfind("furniture", 0) == 0 || obstacle.name.rfind("table_leg", 0) == 0;
+    if (!wall && !(furniture && on_floor)) continue;
+    // upright (turned about z only); a cylinder (a leg) as the square round it
+    const Eigen::Vector2d half = obstacle.shape == common::ShapeType::kBox
+                                     ? Eigen::Vector2d(obstacle.size.head<2>())
+                                     : Eigen::Vector2d::Constant(obstacle.size.x());
+    const Eigen::Matrix2d R_WO = obstacle.X_WO.linear().topLeftCorner<2, 2>();
+    const Eigen::Vector2d p_WO = obstacle.X_WO.translation().head<2>();
+    const double reach = half.norm() + radius_m;
+    const Eigen::Vector2i first =
+        ((p_WO - low).array() / resolution_m - reach / resolution_m).floor().cast<int>().max(0);
+    const Eigen::Vector2i last = ((p_WO - low).array() / resolution_m + reach / resolution_m)
+                                     .ceil()
+                                     .cast<int>()
+                                     .min(size.array() - 1);
+    for (int ix = first.x(); ix <= last.x(); ++ix) {
+      for (int iy = first.y(); iy <= last.y(); ++iy) {
+        const Eigen::Vector2d p_O = R_WO.transpose() * (centre(ix, iy) - p_WO);
+        if ((p_O.cwiseAbs() - half).cwiseMax(0.0).norm() <= radius_m) state(ix, iy) = 1;
+      }
+    }
+  }
+  const int free_cells = static_cast<int>((state.array() == 0).count());
+  // label the free cells' 4-connected components; the largest is what the robot can reach
+  int largest = 0;
+  std::vector<Eigen::Vector2i> stack;
   for (int ix = 0; ix < size.x(); ++ix) {
     for (int iy = 0; iy < size.y(); ++iy) {
-      for (const Obstacle& obstacle : world.obstacles) {
-        if (obstacle.name.rfind("wall", 0) != 0) continue;
-        const Eigen::Vector3d p_O =
-            obstacle.X_WO.inverse() * Eigen::Vector3d(centre(ix, iy).x(), centre(ix, iy).y(),
-                                                      obstacle.X_WO.translation().z());
-        const Eigen::Vector2d outside =
-            (p_O.head<2>().cwiseAbs() - obstacle.size.head<2>()).cwiseMax(0.0);
-        if (outside.norm() <= radius_m) state(ix, iy) = 1;
+      if (state(ix, iy) != 0) continue;
+      int component = 0;
+      stack.emplace_back(ix, iy);
+      while (!stack.empty()) {
+        const Eigen::Vector2i c = stack.back();
+        stack.pop_back();
+        if ((c.array() < 0).any() || (c.array() >= size.array()).any() || state(c.x(), c.y()) != 0)
+          continue;
+        state(c.x(), c.y()) = 2;
+        ++component;
+        for (const Eigen::Vector2i& step : {Eigen::Vector2i(1, 0), Eigen::Vector2i(-1, 0),
+                                            Eigen::Vector2i(0, 1), Eigen::Vector2i(0, -1)}) {
+          stack.push_back(c + step);
+        }
       }
-      free_cells += state(ix, iy) == 0;
+      largest = std::max(largest, component);
     }
   }
-  std::vector<Eigen::Vector2i> stack;
-  for (int ix = 0; ix < size.x() && stack.empty(); ++ix) {
-    for (int iy = 0; iy < size.y() && stack.empty(); ++iy) {
-      if (state(ix, iy) == 0) stack.emplace_back(ix, iy);
-    }
-  }
-  int reached = 0;
-  while (!stack.empty()) {
-    const Eigen::Vector2i c = stack.back();
-    stack.pop_back();
-    if ((c.array() < 0).any() || (c.array() >= size.array()).any() || state(c.x(), c.y()) != 0)
-      continue;
-    state(c.x(), c.y()) = 2;
-    ++reached;
-    for (const Eigen::Vector2i& step : {Eigen::Vector2i(1, 0), Eigen::Vector2i(-1, 0),
-                                        Eigen::Vector2i(0, 1), Eigen::Vector2i(0, -1)}) {
-      stack.push_back(c + step);
-    }
-  }
-  return {reached, free_cells};
+  return {largest, free_cells};
 }
 
 // A split wall ending in a doorway of the room's sides cuts the doorway into two slits: the seed
 // that showed it (the suite's building at seed 203) lost its only way between the two halves of the
-// building. Every room must be reachable from every other for the robot (0.57 m wide, 0.35 m of
-// radius with a margin) through doorways of their full width.
-TEST(TerrainStatisticsTest, IndoorDoorwaysAreNeverBlockedByAnotherWall) {
+// building; furniture next to a doorway narrows its approach (hard/indoor_doors at seed 211). The
+// robot (0.57 m wide: a disc of 0.45 m radius, with a margin) must be able to move between all but
+// 3 % of the floor, furniture and table legs included (what it cannot reach: the floor between a
+// table's legs and beside furniture; a room cut off is 13 % or more of this building). With the
+// walls' rule alone 54 of these 440 worlds failed, with neither 110.
+TEST(TerrainStatisticsTest, IndoorDoorwaysAreNeverBlockedByAWallOrFurniture) {
   for (std::uint64_t seed = 1; seed <= 220; ++seed) {
-    TerrainConfig config = Config(TerrainType::kIndoor, seed);
-    config.size_m = {16, 12};
-    config.indoor.door_width_m = 1.5;
-    config.indoor.min_room_size_m = 5.0;
-    const auto [reached, free_cells] = CellsReachableAmongWalls(GenerateTerrain(config), 0.1, 0.45);
-    ASSERT_GT(free_cells, 0);
-    EXPECT_EQ(reached, free_cells) << "seed " << seed;
+    for (const double door_width_m : {1.2, 1.5}) {
+      TerrainConfig config = Config(TerrainType::kIndoor, seed);
+      config.size_m = {16, 12};
+      config.indoor.door_width_m = door_width_m;
+      config.indoor.min_room_size_m = 5.0;
+      const auto [reached, free_cells] = CellsReachable(GenerateTerrain(config), 0.1, 0.45, true);
+      ASSERT_GT(free_cells, 0);
+      EXPECT_GE(reached, 0.97 * free_cells)
+          << "seed " << seed << ", doors " << door_width_m << " m: " << reached << " of "
+          << free_cells << " cells reached";
+    }
   }
 }
 
