@@ -90,8 +90,12 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
         }
       }
       bool face = highest(ix, iy) - ground > min_span_m;
-      // a step above a side neighbour's top (a neighbour without points, at -infinity, is skipped)
+      // a step above a side neighbour's top (a neighbour without points, at -infinity, is skipped),
+      // or within a cell that holds its neighbourhood's lowest point: a face whose foot the sensor
+      // does not see (a low wall just ahead, whose lowest points are where the lowest beam meets
+      // it, no ground beside them; rubble on a slope has lower ground beside it)
       if (max_step_m > 0.0) {
+        face = face || (lowest(ix, iy) <= ground && highest(ix, iy) - lowest(ix, iy) > max_step_m);
         const std::array<Eigen::Vector2i, 4> sides{
             {{ix - 1, iy}, {ix + 1, iy}, {ix, iy - 1}, {ix, iy + 1}}};
         for (const Eigen::Vector2i& n : sides) {

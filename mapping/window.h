@@ -46,11 +46,14 @@ class ObstacleMarker {
   /// point of the cell lies more than `min_span_m` above the lowest point of its 3 x 3 cell
   /// neighbourhood (a vertical face: wall, trunk, box side, even where the face's points are
   /// sparse), or more than `max_step_m` (> 0; 0 disables the test) above the highest point of a
-  /// side neighbour with points (a step the robot cannot climb, however low: a platform, a curb),
-  /// 0 where neither holds, NaN where the cell has no point. Ground of slope a rises at most
-  /// 2 sqrt(2) resolution tan(a) across the neighbourhood and resolution tan(a) from a side
-  /// neighbour: 0.3 m and 0.15 m at 0.2 m cells mean slopes steeper than about 28 and 37 deg read
-  /// as faces. Valid until the next call, as roughness().
+  /// side neighbour with points, or of the cell's own lowest point where no point of the
+  /// neighbourhood lies lower (a step the robot cannot climb, however low: a platform, a curb, a
+  /// low wall whose foot the sensor does not see from close by), 0 where none holds, NaN where
+  /// the cell has no point. Ground of slope a rises at most 2 sqrt(2) resolution tan(a) across the
+  /// neighbourhood, resolution tan(a) from a side neighbour and sqrt(2) resolution tan(a) within a
+  /// cell: 0.3 m and 0.15 m at 0.2 m cells mean slopes steeper than about 28 deg (across the
+  /// neighbourhood or a cell's diagonal) can read as faces. Valid until the next call, as
+  /// roughness().
   common::ScratchMatrix<float>::ConstView Cells(const Eigen::Ref<const Eigen::Matrix3Xf>& points_W,
                                                 const common::GridGeometry& g,
                                                 const Eigen::Vector2i& low,

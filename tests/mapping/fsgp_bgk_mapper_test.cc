@@ -182,6 +182,37 @@ TEST(ObstacleCellsTest, AStepHigherThanTheClimbableOneIsAnObstacleHoweverLow) {
   }
 }
 
+// A wall 0.45 m high, 1 m ahead of a sensor 0.32 m above the ground: the lowest beam (7 deg down)
+// meets its face 0.2 m up, and the ground before it lies in the blind zone, so its points span
+// 0.2 to 0.45 m with nothing lower beside them. Seen so (found on the suite's ruin at seed 208,
+// where the robot drove into such a wall), only the vertical extent within the cell shows the face.
+TEST(ObstacleCellsTest, ALowWallSeenFromCloseByIsAnObstacleThoughItsFootIsHidden) {
+  const common::GridGeometry g =
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(4, 4), 0.2);
+  std::vector<Eigen::Vector3f> points;
+  for (double y = -1.0; y <= 1.0; y += 0.05) {
+    for (double z = 0.2; z <= 0.45 + 1e-9; z += 0.05) {
+      points.emplace_back(1.01f, static_cast<float>(y), static_cast<float>(z));
+    }
+    // its top, 0.2 m thick
+    for (double x = 1.05; x <= 1.2; x += 0.05) {
+      points.emplace_back(static_cast<float>(x), static_cast<float>(y), 0.45f);
+    }
+  }
+  const Eigen::Matrix3Xf cloud = common::MakePointCloud(points).points;
+  const Eigen::Vector2i low(0, 0), high(g.num_x - 1, g.num_y - 1);
+  ObstacleMarker marker;
+  const Eigen::MatrixXf dut = marker.Cells(cloud, g, low, high, 0.3, 0.15);
+  const int face = g.CellIndex({1.01, 0.0})->x();
+  for (int iy = g.CellIndex({0.0, -0.9})->y(); iy <= g.CellIndex({0.0, 0.9})->y(); ++iy) {
+    EXPECT_EQ(dut(face, iy), 1.0f) << iy;
+    EXPECT_EQ(dut(face + 1, iy), 0.0f) << iy;  // the top alone: no face
+  }
+  // without the step test the 0.25 m of face seen is no obstacle: the robot drove into it
+  const Eigen::MatrixXf without = marker.Cells(cloud, g, low, high, 0.3, 0.0);
+  EXPECT_EQ(without(face, g.CellIndex({0.0, 0.0})->y()), 0.0f);
+}
+
 TEST(FsgpBgkMapperTest, AWallIsUntraversableAndItsCellsClearWhenSeenFree) {
   FsgpBgkMapper dut(FsgpConfig{});
   common::PointCloud scan = Surface([](double, double) { return 0.0; }, {0, 0});
