@@ -211,6 +211,18 @@ TEST(ObstacleCellsTest, ALowWallSeenFromCloseByIsAnObstacleThoughItsFootIsHidden
   // without the step test the 0.25 m of face seen is no obstacle: the robot drove into it
   const Eigen::MatrixXf without = marker.Cells(cloud, g, low, high, 0.3, 0.0);
   EXPECT_EQ(without(face, g.CellIndex({0.0, 0.0})->y()), 0.0f);
+
+  // rubble on a slope: a cell whose points span 0.16 m beside a cell whose ground lies lower (its
+  // foot is seen) is no face; without the condition on the lowest point it closed a gap of the
+  // suite's ruin at seed 109
+  std::vector<Eigen::Vector3f> rubble;
+  for (double z = 0.0; z <= 0.16 + 1e-9; z += 0.02) rubble.emplace_back(1.05f, 0.05f, z);
+  for (double z = -0.05; z <= 0.05 + 1e-9; z += 0.05) rubble.emplace_back(0.85f, 0.05f, z);
+  const Eigen::MatrixXf slope =
+      marker.Cells(common::MakePointCloud(rubble).points, g, low, high, 0.3, 0.15);
+  const Eigen::Vector2i spanning = *g.CellIndex({1.05, 0.05}), lower = *g.CellIndex({0.85, 0.05});
+  EXPECT_EQ(slope(spanning.x(), spanning.y()), 0.0f);
+  EXPECT_EQ(slope(lower.x(), lower.y()), 0.0f);
 }
 
 TEST(FsgpBgkMapperTest, AWallIsUntraversableAndItsCellsClearWhenSeenFree) {
