@@ -115,6 +115,12 @@ CostMap::CostMap(const common::GridLayers& map, const CostMapConfig& config)
     : geometry_(map.geometry()), config_(config), layer_(map.Layer(config.cost_layer)) {
   if (map.Has(config.speed.roughness_layer)) roughness_ = map.Layer(config.speed.roughness_layer);
   if (map.Has(config.slope.elevation_layer)) elevation_ = map.Layer(config.slope.elevation_layer);
+  if (!config.operating_area_W) return;
+  for (int ix = 0; ix < geometry_.num_x; ++ix) {
+    for (int iy = 0; iy < geometry_.num_y; ++iy) {
+      if (!config.operating_area_W->contains(geometry_.CellCenter(ix, iy))) layer_(ix, iy) = 1.0f;
+    }
+  }
 }
 
 CostMap::~CostMap() = default;

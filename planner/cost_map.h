@@ -2,9 +2,11 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "common/archive.h"
 #include "common/check.h"
@@ -92,7 +94,13 @@ struct CostMapConfig {
   /// distance [m] (the footprint's circumscribed radius plus the clearance): the search prefers
   /// the middle of passages, where the robot can turn. Not a scenario key; 0: no band.
   double band_radius_m{0.0};
-  double band_cost{0.5};     ///< extra cost next to the blocked cells, in [0, 1]
+  double band_cost{0.5};  ///< extra cost next to the blocked cells, in [0, 1]
+  /// Where the robot may go [m]: CostMap reads every cell whose centre lies outside as lethal, so
+  /// that the inflation keeps the whole footprint inside. The closed loop sets it to the world's
+  /// extent: beyond the edge of a simulated world there is no ground to drive on, and the sensor,
+  /// seeing nothing there, would leave it unknown and plannable. Not a scenario key; none: no
+  /// limit.
+  std::optional<Eigen::AlignedBox2d> operating_area_W;
   TerrainSpeedConfig speed;  ///< the terrain's speed limits (CostField::SpeedLimit)
   SlopeLimits slope;         ///< the steepest pitch and roll
 
@@ -168,6 +176,7 @@ class CostField;
 /// are built on first use. Not thread-safe (the lazy parts).
 class CostMap {
  public:
+  /// The cells outside `config.operating_area_W` read as lethal (cost 1) for every part.
   /// @throws std::out_of_range if the map lacks `config.cost_layer`.
   CostMap(const common::GridLayers& map, const CostMapConfig& config);
   ~CostMap();

@@ -154,6 +154,9 @@ ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& option
     // the robot's outline from the robot file, for the search and the optimiser alike
     planner::NavigationPlannerConfig planner = scenario.planner;
     planner.footprint = simulation_->RobotFootprint();
+    // the ground ends at the world's edge
+    planner.search.operating_area_W.emplace(world_.geometry.origin_W,
+                                            world_.geometry.origin_W + world_.geometry.Extent());
     navigator_.emplace(scenario.navigation, planner, scenario.mpc, scenario.goal_W,
                        FindPathSearch(scenario.planner_method)(scenario),
                        FindController(scenario.controller_method)(scenario));

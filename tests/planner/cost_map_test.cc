@@ -92,6 +92,24 @@ TEST(CostMapTest, InflationBlocksCellsCloserToALethalCellThanItsRadius) {
   }
 }
 
+TEST(CostMapTest, CellsOutsideTheOperatingAreaAreLethalForEveryPart) {
+  // a free 4 x 4 m map, the area its left half (x <= 0)
+  CostMapConfig config;
+  config.inflation_radius_m = 0.3;
+  config.operating_area_W.emplace(Eigen::Vector2d(-2.0, -2.0), Eigen::Vector2d(0.0, 2.0));
+  const CostMap dut(ConstantMap(4.0, 0.0f), config);
+  EXPECT_FALSE(dut.LethalAt({0.0, 0.0}));  // on the border: inside
+  EXPECT_TRUE(dut.LethalAt({0.1, 0.0}));
+  EXPECT_TRUE(dut.LethalAt({1.9, -1.9}));
+  // the search keeps the inflation radius from the border: cells x = 0.1 are lethal, so centres
+  // closer than 0.3 m + half a cell to them are blocked (x >= -0.2), the others free
+  EXPECT_TRUE(std::isinf(dut.search().CostAt({-0.2, 0.5})));
+  EXPECT_EQ(dut.search().CostAt({-0.3, 0.5}), 0.0);
+  EXPECT_TRUE(std::isinf(dut.search().SegmentCost({-1.0, 0.0}, {1.0, 0.0})));
+  // without an area the same map is free everywhere
+  EXPECT_FALSE(CostMap(ConstantMap(4.0, 0.0f), CostMapConfig{}).LethalAt({1.9, -1.9}));
+}
+
 TEST(CostMapTest, TheBandChargesCellsNearTheInflationLinearlyLess) {
   common::GridLayers map = ConstantMap(2.0, 0.25f);
   map.Layer("traversability")(10, 10) = 1.0f;

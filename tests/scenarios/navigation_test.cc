@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -156,6 +157,17 @@ TEST(FailingScenarioTest, AGoalInAClosedRoomIsAPlanningFailure) {
   EXPECT_NEAR(summary.sim_time_s, scenario.navigation.planning_failure_time_s, 0.01);
   EXPECT_EQ(summary.navigation->last_planner_status, "no-path");
   EXPECT_EQ(summary.navigation->planning_failure_cause, "no_plan");
+}
+
+TEST(FailingScenarioTest, TheRobotNeverPlansRoundAWallOffTheWorld) {
+  // the sensor sees nothing beyond the world's edges (unknown cells, plannable at their cost):
+  // without the operating area the robot drove round the wall's end and rolled over the edge
+  const RunSummary summary = RunHeadless(LoadFile("failing/wall_across_world.yaml"), "edge");
+  ASSERT_EQ(summary.outcome, Outcome::kPlanningFailure);
+  EXPECT_EQ(summary.navigation->planning_failure_cause, "no_plan");
+  EXPECT_LT(summary.final_pose_W.position.x(), -0.5);  // before the wall
+  EXPECT_LT(std::abs(summary.final_pose_W.position.y()), 2.5);
+  EXPECT_LT(std::max(summary.max_pitch_deg, summary.max_roll_deg), 5.0);
 }
 
 TEST(FailingScenarioTest, PlansThatGetNowhereEndAsAPlanningFailure) {
