@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Cholesky>
+
 namespace trav::mapping {
 
 void WindowCrop::Crop(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
@@ -29,27 +31,41 @@ void WindowCrop::Crop(const common::PointCloud& points_W, const Eigen::Vector3d&
   if (!std::isfinite(max_height_above_ground_m) || kept == 0) {
     window = below_robot_.view();
   } else {
-    // the lowest point of each 1 m column stands for the ground there
+    // the lowest point of each 1 m column stands for the ground there, with the plane through
+    // the lowest points of its 3 x 3 columns
     constexpr double kColumn_m = 1.0;
     const int columns = static_cast<int>(std::ceil(window_m / kColumn_m)) + 1;
-    column_ground_.assign(static_cast<std::size_t>(columns * columns),
-                          std::numeric_limits<float>::infinity());
-    auto column_of = [&](const Eigen::Vector3f& p) {
-      const int cx =
-          std::clamp(static_cast<int>((p.x() - p_WB.x() + half) / kColumn_m), 0, columns - 1);
-      const int cy =
-          std::clamp(static_cast<int>((p.y() - p_WB.y() + half) / kColumn_m), 0, columns - 1);
-      return static_cast<std::size_t>(cy * columns + cx);
+    const auto n_columns = static_cast<std::size_t>(columns * columns);
+    const Eigen::Vector3f no_point(0.0f, 0.0f, std::numeric_limits<float>::infinity());
+    column_lowest_.assign(n_columns, no_point);
+    column_plane_.assign(n_columns, Eigen::Vector3f::Zero());
+    auto column_xy = [&](const Eigen::Vector3f& p) {
+      return Eigen::Vector2i(
+          std::clamp(static_cast<int>((p.x() - p_WB.x() + half) / kColumn_m), 0, columns - 1),
+          std::clamp(static_cast<int>((p.y() - p_WB.y() + half) / kColumn_m), 0, columns - 1));
+    };
+    auto index = [&](const Eigen::Vector2i& c) {
+      return static_cast<std::size_t>(c.y() * columns + c.x());
     };
     const auto all = below_robot_.view();
     for (Eigen::Index i = 0; i < kept; ++i) {
-      float& lowest = column_ground_[column_of(all.col(i))];
-      lowest = std::min(lowest, all(2, i));
+      Eigen::Vector3f& lowest = column_lowest_[index(column_xy(all.col(i)))];
+      if (all(2, i) < lowest.z()) lowest = all.col(i);
     }
+    for (int cx = 0; cx < columns; ++cx) {
+      for (int cy = 0; cy < columns; ++cy) {
+        column_plane_[index({cx, cy})] = GroundPlane(cx, cy, columns, p_WB);
+      }
+    }
+    const auto x_B = static_cast<float>(p_WB.x()), y_B = static_cast<float>(p_WB.y());
     Eigen::Index low = 0;
     for (Eigen::Index i = 0; i < kept; ++i) {
-      if (all(2, i) <= column_ground_[column_of(all.col(i))] + max_height_above_ground_m)
-        window.col(low++) = all.col(i);
+      const Eigen::Vector3f p = all.col(i);
+      const std::size_t c = index(column_xy(p));
+      const Eigen::Vector3f& plane = column_plane_[c];
+      const float ground = std::max(
+          column_lowest_[c].z(), plane.x() + plane.y() * (p.x() - x_B) + plane.z() * (p.y() - y_B));
+      if (p.z() <= ground + max_height_above_ground_m) window.col(low++) = p;
     }
     window_.Resize(3, low);
   }
@@ -110,6 +126,34 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
     }
   }
   return cells_.const_view();
+}
+
+Eigen::Vector3f WindowCrop::GroundPlane(int cx, int cy, int columns,
+                                        const Eigen::Vector3d& p_WB) const {
+  // least squares over the lowest points, about the robot (float-safe coordinates)
+  constexpr double kMaxGradient = 1.0;  // tan 45 deg: steeper than the robot drives (40 deg)
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (int jx = std::max(0, cx - 1); jx <= std::min(columns - 1, cx + 1); ++jx) {
+    for (int jy = std::max(0, cy - 1); jy <= std::min(columns - 1, cy + 1); ++jy) {
+      const Eigen::Vector3f& q = column_lowest_[static_cast<std::size_t>(jy * columns + jx)];
+      if (std::isinf(q.z())) continue;
+      const Eigen::Vector3d a(1.0, q.x() - p_WB.x(), q.y() - p_WB.y());
+      normal += a * a.transpose();
+      rhs += a * static_cast<double>(q.z());
+      ++n;
+    }
+  }
+  // fewer than three points, or all on a line: no plane (the column's lowest point alone)
+  const Eigen::Vector3f none(-std::numeric_limits<float>::infinity(), 0.0f, 0.0f);
+  if (n < 3) return none;
+  const Eigen::LDLT<Eigen::Matrix3d> solver(normal);
+  if (solver.info() != Eigen::Success || solver.rcond() < 1e-6) return none;
+  Eigen::Vector3d c = solver.solve(rhs);
+  const double gradient = c.tail<2>().norm();
+  if (gradient > kMaxGradient) c.tail<2>() *= kMaxGradient / gradient;
+  return c.cast<float>();
 }
 
 std::pair<Eigen::Vector2i, Eigen::Vector2i> WindowCells(const common::GridGeometry& g,

@@ -21,9 +21,12 @@ class WindowCrop {
  public:
   /// The valid points of `points_W` in the square window of side `window_m` around the robot, no
   /// higher than `max_height_above_m` above its base and, if finite, no higher than
-  /// `max_height_above_ground_m` above the lowest point of their 1 m column (the local ground:
-  /// walls and trunks keep only their foot). Counts the input, the NaN or infinite points dropped
-  /// and the points kept in `result`.
+  /// `max_height_above_ground_m` above the local ground (walls and trunks keep only their foot):
+  /// the higher of the lowest point of their 1 m column and the plane fitted through the lowest
+  /// points of that column and its eight neighbours (its slope clamped at 45 deg), at the point.
+  /// The plane keeps slopes whole: ground of slope a rises up to sqrt(2) tan(a) m across a
+  /// column, more than the crop height above 12 deg. Counts the input, the NaN or infinite points
+  /// dropped and the points kept in `result`.
   void Crop(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB, double window_m,
             double max_height_above_m, double max_height_above_ground_m, MapUpdateResult* result);
 
@@ -35,7 +38,13 @@ class WindowCrop {
 
  private:
   common::ScratchMatrix<float, 3> window_, below_robot_;
-  std::vector<float> column_ground_;  // the lowest point of each 1 m column
+  // The plane z = c0 + c1 (x - x_B) + c2 (y - y_B) through the lowest points of column (cx, cy)
+  // and its neighbours, by least squares; c0 = -infinity where they do not fix a plane.
+  Eigen::Vector3f GroundPlane(int cx, int cy, int columns, const Eigen::Vector3d& p_WB) const;
+
+  // Per 1 m column: its lowest point (z infinite without points) and GroundPlane.
+  std::vector<Eigen::Vector3f> column_lowest_;
+  std::vector<Eigen::Vector3f> column_plane_;
 };
 
 /// Marks the faces that a ground crop removed in a map's obstacle layer, reusing its storage

@@ -114,6 +114,34 @@ TEST(CropWindowTest, KeepsTheWindowAndOnlyTheFootOfTallStructures) {
   EXPECT_EQ(result.window_points, 44);
 }
 
+TEST(CropWindowTest, KeepsASlopeWholeAndCropsAWallOnIt) {
+  // a 30 deg slope along x every 0.1 m: it rises 0.58 m across a 1 m column, so a crop at 0.3 m
+  // above each column's lowest point alone cut the upper part of every column away
+  const double rise = std::tan(30.0 * M_PI / 180.0);
+  std::vector<Eigen::Vector3f> points;
+  for (int ix = -49; ix <= 49; ++ix) {
+    for (int iy = -49; iy <= 49; ++iy) {
+      points.emplace_back(0.1f * static_cast<float>(ix), 0.1f * static_cast<float>(iy),
+                          static_cast<float>(rise * 0.1 * ix));
+    }
+  }
+  const Eigen::Index slope_points = static_cast<Eigen::Index>(points.size());
+  // a wall face at x = 2.05 standing on the slope, a point every 0.1 m from 0.05 to 1.45 m up
+  for (int k = 0; k < 15; ++k) {
+    points.emplace_back(2.05f, 0.55f, static_cast<float>(rise * 2.05 + 0.05 + 0.1 * k));
+  }
+  MapUpdateResult result;
+  WindowCrop dut;
+  dut.Crop(common::MakePointCloud(points), Eigen::Vector3d(0, 0, 0.1), 10.0, 10.0, 0.3, &result);
+  // every point of the slope and the wall's foot (0.05, 0.15, 0.25 m up): the ground there is
+  // the plane through the columns' lowest points, which all lie on the slope
+  EXPECT_EQ(result.window_points, slope_points + 3);
+  const auto kept = dut.window();
+  for (Eigen::Index i = 0; i < kept.cols(); ++i) {
+    EXPECT_LE(kept(2, i), rise * kept(0, i) + 0.3 + 1e-5) << kept.col(i).transpose();
+  }
+}
+
 TEST(ObstacleCellsTest, AFaceAboveItsNeighbourhoodIsAnObstacleAndASlopeIsNot) {
   const common::GridGeometry g =
       common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(2, 2), 0.2);
