@@ -59,7 +59,7 @@ struct MapArea {
   double map_size_m{30.0};   ///< side of the world-anchored rolling map [m], >= window
   /// Points higher than this above the base are ignored (tree crowns, ceilings) [m].
   double max_height_above_robot_m{1.0};
-  /// Points higher than this above the lowest point of their 1 m column are not terrain [m] (> 0):
+  /// Points higher than this above the local ground (WindowCrop) are not terrain [m] (> 0):
   /// the regression sees only the foot of walls and trunks, and cells whose points span more than
   /// this in height are marked untraversable (layer `obstacle`).
   double max_height_above_ground_m{0.3};
