@@ -229,12 +229,11 @@ Simulation::Simulation(const TerrainWorld& terrain, const common::Pose2& start_W
     }
   }
 
+  // the bare ground: the movers' tracks and the obstacles' heights at a contact
+  ground_.config = terrain.config;
+  ground_.geometry = terrain.geometry;
+  ground_.height_m = terrain.height_m;
   // movers: tracks over the bare ground, at their pose at t = 0
-  if (!movers.empty()) {
-    ground_.config = terrain.config;
-    ground_.geometry = terrain.geometry;
-    ground_.height_m = terrain.height_m;
-  }
   for (const MovingObstacle& mover : movers) {
     const int body = RequireId(model_.get(), mjOBJ_BODY, ("mover_" + mover.name).c_str());
     mover_mocap_ids_.push_back(model_->body_mocapid[body]);
@@ -446,11 +445,14 @@ void Simulation::RobotContacts(std::vector<RobotContact>* contacts) const {
     report.wheel = robot.kind == GeomKind::kWheel ? robot.index : -1;
     report.target_index = other.index;
     report.target_name = other.name;
-    report.target_height_m = other.height_m;
     report.p_W = Eigen::Vector3d(contact.pos[0], contact.pos[1], contact.pos[2]);
     // MuJoCo's normal points from geom1 to geom2
     const Eigen::Vector3d normal(contact.frame[0], contact.frame[1], contact.frame[2]);
     report.normal_W = robot_first ? Eigen::Vector3d(-normal) : normal;
+    report.target_height_m = other.kind == GeomKind::kObstacle
+                                 ? ObstacleHeightAt(robot_first ? contact.geom2 : contact.geom1,
+                                                    report.p_W, report.normal_W, other.height_m)
+                                 : other.height_m;
     report.penetration_m = std::max(0.0, -contact.dist);
     if (contact.efc_address >= 0) {
       mjtNum force[6];
@@ -459,6 +461,25 @@ void Simulation::RobotContacts(std::vector<RobotContact>* contacts) const {
     }
     contacts->push_back(report);
   }
+}
+
+double Simulation::ObstacleHeightAt(int geom, const Eigen::Vector3d& p_W,
+                                    const Eigen::Vector3d& normal_W, double fallback_m) const {
+  // 1 cm inside the face along the normal's horizontal part (the normal points to the robot)
+  constexpr double kInside_m = 0.01;
+  Eigen::Vector2d inward = -normal_W.head<2>();
+  const double horizontal = inward.norm();
+  Eigen::Vector2d p = p_W.head<2>();
+  if (horizontal > 1e-9) p += kInside_m / horizontal * inward;
+  // straight down from above the geom's bounding sphere onto the geom alone
+  const mjtNum* centre = data_->geom_xpos + 3 * geom;
+  const mjtNum start[3] = {p.x(), p.y(), centre[2] + model_->geom_rbound[geom] + 1.0};
+  const mjtNum down[3] = {0.0, 0.0, -1.0};
+  const mjtNum distance =
+      mju_rayGeom(centre, data_->geom_xmat + 9 * geom, model_->geom_size + 3 * geom, start, down,
+                  model_->geom_type[geom]);
+  if (distance < 0.0) return fallback_m;
+  return start[2] - distance - ground_.GroundHeight(p);
 }
 
 void Simulation::SetWheelSpeedCommands(const common::WheelSpeeds& speeds_rad_s) {

@@ -50,9 +50,15 @@ enum class ContactTarget {
   kMover,     ///< a moving obstacle
 };
 
-/// Static obstacles whose top is at most this high above the ground under their centre [m] (the
-/// ruin's rubble) pass under the chassis: the Scout Mini's ground clearance.
+/// Static obstacles whose top is at most this high above the ground where the chassis touches
+/// them [m] pass under it: the Scout Mini's ground clearance.
 constexpr double kDriveOverHeight_m = 0.115;
+
+/// Static obstacles whose top is at most this high above the ground where a wheel touches them
+/// [m] are climbed, not hit: at 1 m/s the Scout Mini climbs a 0.16 m step and not a 0.17 m one
+/// (tests/sim/simulation_test.cc, ClimbsSixteenCentimetresAtOneMetrePerSecondButNotSeventeen).
+/// The ruin's rubble (up to 0.15 m) is such an obstacle.
+constexpr double kClimbableStep_m = 0.16;
 
 /// One contact between the robot and the world, from MuJoCo's contact list.
 struct RobotContact {
@@ -64,8 +70,9 @@ struct RobotContact {
   int target_index{-1};
   /// Obstacle or mover name, "ground" for the terrain; valid while the Simulation lives.
   std::string_view target_name;
-  /// Height of the target's top above the ground under its centre [m] (the top of its bounding
-  /// box; a mover's full height); 0 for the terrain.
+  /// Height of the target above the ground [m]: a static obstacle's top over the contact point
+  /// (its surface on the vertical 1 cm inside the touched face: a tilted slab met at its low edge
+  /// is that edge's height, not its centre's), a mover's full height; 0 for the terrain.
   double target_height_m{0.0};
   Eigen::Vector3d p_W{Eigen::Vector3d::Zero()};        ///< contact point, midway between surfaces
   Eigen::Vector3d normal_W{Eigen::Vector3d::UnitZ()};  ///< unit normal from the target to the robot
@@ -76,21 +83,25 @@ struct RobotContact {
 };
 
 /// The collision rule of the outcome classification: any part of the robot (chassis or wheel)
-/// touching a mover, or a static obstacle taller than `drive_over_height_m` (a wheel against a tree
-/// trunk or a wall is a collision: the wheels stick out 3 cm beyond the chassis, so driving into a
-/// wall touches it with the wheels first). A static obstacle touched from above (contact normal
-/// within about 45 deg of up: the robot on top of it, or going over the edge of a ledge) is not a
-/// collision either, as the robot got there without hitting a face. Contacts with the terrain are
-/// never collisions; the chassis on the terrain (a belly on a ridge) is reported as a body contact
-/// with kTerrain.
+/// touching a mover; the chassis touching a static obstacle taller than `drive_over_height_m`
+/// where it touches it; a wheel touching one taller there than `climbable_step_m` (a wheel against
+/// a tree trunk or a wall is a collision: the wheels stick out 3 cm beyond the chassis, so driving
+/// into a wall touches it with the wheels first; a wheel meeting rubble it climbs is not). A static
+/// obstacle touched from above (contact normal within about 45 deg of up: the robot on top of it,
+/// or going over the edge of a ledge) is not a collision either, as the robot got there without
+/// hitting a face. Contacts with the terrain are never collisions; the chassis on the terrain (a
+/// belly on a ridge) is reported as a body contact with kTerrain.
 inline bool IsCollision(const RobotContact& contact,
-                        double drive_over_height_m = kDriveOverHeight_m) {
+                        double drive_over_height_m = kDriveOverHeight_m,
+                        double climbable_step_m = kClimbableStep_m) {
   constexpr double kFromAbove = 0.7;  // cos 45 deg
   switch (contact.target) {
     case ContactTarget::kTerrain:
       return false;
     case ContactTarget::kObstacle:
-      return contact.target_height_m > drive_over_height_m && contact.normal_W.z() < kFromAbove;
+      return contact.target_height_m >
+                 (contact.part == RobotPart::kWheel ? climbable_step_m : drive_over_height_m) &&
+             contact.normal_W.z() < kFromAbove;
     case ContactTarget::kMover:
       return true;
   }
@@ -195,6 +206,11 @@ class Simulation {
     std::string_view name;  // into the model's names (a mover's without the "mover_" prefix)
   };
   void ClassifyGeoms(const TerrainWorld& terrain);
+  // RobotContact::target_height_m of obstacle geom `geom` touched at p_W with normal_W (from the
+  // obstacle to the robot); `fallback_m` (its top above the ground under its centre) where the
+  // vertical misses the geom.
+  double ObstacleHeightAt(int geom, const Eigen::Vector3d& p_W, const Eigen::Vector3d& normal_W,
+                          double fallback_m) const;
   void PlaceRobot(const TerrainWorld& terrain, const common::Pose2& start_W);
   common::Footprint MeasureFootprint() const;
   void CheckMoverIndex(int index) const;

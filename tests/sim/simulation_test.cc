@@ -541,9 +541,9 @@ TEST(SimulationContactTest, DrivingIntoAWallIsACollisionAndOverRubbleIsNot) {
         collided = true;
         collision_x = dut.State().X_WB.translation().x();
         EXPECT_EQ(contact.target_name, "wall");
-        EXPECT_NEAR(contact.target_height_m, 0.5, 1e-12);
+        EXPECT_NEAR(contact.target_height_m, 0.5, 1e-9);
       } else {
-        EXPECT_NEAR(contact.target_height_m, 0.05, 1e-12);
+        EXPECT_NEAR(contact.target_height_m, 0.05, 1e-9);
       }
     }
   }
@@ -551,6 +551,60 @@ TEST(SimulationContactTest, DrivingIntoAWallIsACollisionAndOverRubbleIsNot) {
   EXPECT_TRUE(collided);
   // the front wheels meet the wall's face at x = 2.4
   EXPECT_NEAR(collision_x, 2.4 - 0.2255 - 0.0875, 0.02);
+}
+
+TEST(SimulationContactTest, AWheelClimbsWhatItCanAndTheChassisPassesOverItsClearance) {
+  RobotContact contact;
+  contact.target = ContactTarget::kObstacle;
+  contact.normal_W = Eigen::Vector3d(-1.0, 0.0, 0.0);  // a face, from the side
+  for (const double height_m : {0.10, 0.14, 0.16, 0.17}) {
+    contact.target_height_m = height_m;
+    contact.part = RobotPart::kWheel;
+    EXPECT_EQ(IsCollision(contact), height_m > kClimbableStep_m) << height_m;
+    contact.part = RobotPart::kBody;
+    EXPECT_EQ(IsCollision(contact), height_m > kDriveOverHeight_m) << height_m;
+  }
+  // from above (on top of it, or over a ledge's edge) nothing is a collision
+  contact.normal_W = Eigen::Vector3d(-0.6, 0.0, 0.8);
+  contact.target_height_m = 1.0;
+  EXPECT_FALSE(IsCollision(contact));
+  contact.target = ContactTarget::kMover;
+  EXPECT_TRUE(IsCollision(contact));
+}
+
+TEST(SimulationContactTest, ATiltedSlabIsAsHighAsItIsWhereTheRobotTouchesIt) {
+  // a 1 x 2 x 0.2 m slab tilted 10 deg about y, its near top edge 0.08 m above the ground at
+  // x = 1 and its far one 0.25 m: its top above the ground under its centre is 0.25 m
+  const double tilt = 10.0 * M_PI / 180.0;
+  Obstacle slab;
+  slab.name = "slab";
+  slab.shape = ShapeType::kBox;
+  slab.size = Eigen::Vector3d(0.5, 1.0, 0.1);
+  slab.X_WO.linear() = Eigen::AngleAxisd(-tilt, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Eigen::Vector3d near_top_O(-0.5, 0.0, 0.1);
+  const double centre_z = 0.08 - (slab.X_WO.linear() * near_top_O).z();
+  slab.X_WO.translation() =
+      Eigen::Vector3d(1.0 - (slab.X_WO.linear() * near_top_O).x(), 0.0, centre_z);
+  TerrainWorld world = SmallFlatWorld();
+  world.obstacles.push_back(slab);
+  Simulation dut(world, common::Pose2{}, Options());
+  Drive(&dut, {0.5, 0.0});
+  std::vector<RobotContact> contacts;
+  for (int step = 0; step < 3000; ++step) {
+    ASSERT_EQ(dut.Step(), StepStatus::kOk);
+    dut.RobotContacts(&contacts);
+    for (const RobotContact& contact : contacts) {
+      if (contact.target != ContactTarget::kObstacle) continue;
+      // the first touch: a front wheel at the near edge, 0.08 m high there (the top 1 cm inside
+      // the face is 1.8 mm higher), not the 0.25 m of the slab's highest point
+      EXPECT_EQ(contact.part, RobotPart::kWheel);
+      EXPECT_GT(contact.target_height_m, 0.08 - 1e-3);
+      EXPECT_LT(contact.target_height_m, 0.08 + 0.01 * std::tan(tilt) + 1e-3);
+      EXPECT_FALSE(IsCollision(contact));
+      return;
+    }
+  }
+  ADD_FAILURE() << "the robot never touched the slab";
 }
 
 TEST(SimulationMoverTest, AMoverIsWhereItWasPut) {
