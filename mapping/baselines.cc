@@ -124,8 +124,7 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
   stage.Restart();
   ScoreCells(cells);
   if (config_.area.obstacle_layer) {
-    obstacles_.Mark(crop_.below_robot(), low, high, config_.area, p_WB, t_s, kObstacleMargin,
-                    &map_);
+    obstacles_.Mark(crop_, low, high, config_.area, p_WB, t_s, kObstacleMargin, &map_);
   }
   result.observed_cells = static_cast<int>(cells.size());
   result.times.fusion = stage.ElapsedMilliseconds();
@@ -259,8 +258,7 @@ MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
     }
   }
   if (config_.area.obstacle_layer) {
-    obstacles_.Mark(crop_.below_robot(), low, high, config_.area, p_WB, t_s, kObstacleMargin,
-                    &map_);
+    obstacles_.Mark(crop_, low, high, config_.area, p_WB, t_s, kObstacleMargin, &map_);
   }
   result.times.smoothing = stage.ElapsedMilliseconds();
   return result;

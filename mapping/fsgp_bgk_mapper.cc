@@ -189,8 +189,8 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   Smooth(low, high);
   if (config_.area.obstacle_layer) {
     // the smoothed cost changed in the window and its margin: the closing must be redone there
-    obstacles_.Mark(crop_.below_robot(), low, high, config_.area, p_WB, t_s,
-                    std::max(SmoothingRadiusCells(), 2), &map_);
+    obstacles_.Mark(crop_, low, high, config_.area, p_WB, t_s, std::max(SmoothingRadiusCells(), 2),
+                    &map_);
   }
   result.times.smoothing = stage.ElapsedMilliseconds();
   return result;

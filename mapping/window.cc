@@ -28,40 +28,34 @@ void WindowCrop::Crop(const common::PointCloud& points_W, const Eigen::Vector3d&
   }
   below_robot_.Resize(3, kept);
   auto window = window_.Resize(3, kept);
+  column_lowest_.clear();
+  column_plane_.clear();
   if (!std::isfinite(max_height_above_ground_m) || kept == 0) {
     window = below_robot_.view();
   } else {
     // the lowest point of each 1 m column stands for the ground there, with the plane through
     // the lowest points of its 3 x 3 columns
-    constexpr double kColumn_m = 1.0;
-    const int columns = static_cast<int>(std::ceil(window_m / kColumn_m)) + 1;
-    const auto n_columns = static_cast<std::size_t>(columns * columns);
+    p_WB_ = p_WB;
+    half_window_m_ = half;
+    columns_ = std::max(1, static_cast<int>(std::ceil(window_m / kColumn_m - 1e-9)));
     const Eigen::Vector3f no_point(0.0f, 0.0f, std::numeric_limits<float>::infinity());
-    column_lowest_.assign(n_columns, no_point);
-    column_plane_.assign(n_columns, Eigen::Vector3f::Zero());
-    auto column_xy = [&](const Eigen::Vector3f& p) {
-      return Eigen::Vector2i(
-          std::clamp(static_cast<int>((p.x() - p_WB.x() + half) / kColumn_m), 0, columns - 1),
-          std::clamp(static_cast<int>((p.y() - p_WB.y() + half) / kColumn_m), 0, columns - 1));
-    };
-    auto index = [&](const Eigen::Vector2i& c) {
-      return static_cast<std::size_t>(c.y() * columns + c.x());
-    };
+    column_lowest_.assign(static_cast<std::size_t>(columns_ * columns_), no_point);
+    column_plane_.resize(column_lowest_.size());
     const auto all = below_robot_.view();
     for (Eigen::Index i = 0; i < kept; ++i) {
-      Eigen::Vector3f& lowest = column_lowest_[index(column_xy(all.col(i)))];
+      Eigen::Vector3f& lowest = column_lowest_[ColumnOf(all(0, i), all(1, i))];
       if (all(2, i) < lowest.z()) lowest = all.col(i);
     }
-    for (int cx = 0; cx < columns; ++cx) {
-      for (int cy = 0; cy < columns; ++cy) {
-        column_plane_[index({cx, cy})] = GroundPlane(cx, cy, columns, p_WB);
+    for (int cx = 0; cx < columns_; ++cx) {
+      for (int cy = 0; cy < columns_; ++cy) {
+        column_plane_[static_cast<std::size_t>(cy * columns_ + cx)] = GroundPlane(cx, cy);
       }
     }
     const auto x_B = static_cast<float>(p_WB.x()), y_B = static_cast<float>(p_WB.y());
     Eigen::Index low = 0;
     for (Eigen::Index i = 0; i < kept; ++i) {
       const Eigen::Vector3f p = all.col(i);
-      const std::size_t c = index(column_xy(p));
+      const std::size_t c = ColumnOf(p.x(), p.y());
       const Eigen::Vector3f& plane = column_plane_[c];
       const float ground = std::max(
           column_lowest_[c].z(), plane.x() + plane.y() * (p.x() - x_B) + plane.z() * (p.y() - y_B));
@@ -75,7 +69,8 @@ void WindowCrop::Crop(const common::PointCloud& points_W, const Eigen::Vector3d&
 
 common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
     const Eigen::Ref<const Eigen::Matrix3Xf>& points_W, const common::GridGeometry& g,
-    const Eigen::Vector2i& low, const Eigen::Vector2i& high, double min_span_m, double max_step_m) {
+    const Eigen::Vector2i& low, const Eigen::Vector2i& high, double min_span_m, double max_step_m,
+    const WindowCrop* ground) {
   const Eigen::Vector2i size = high - low + Eigen::Vector2i::Ones();
   auto lowest = lowest_.Resize(size.x(), size.y());
   auto highest = highest_.Resize(size.x(), size.y());
@@ -96,29 +91,41 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
   cells.setConstant(std::numeric_limits<float>::quiet_NaN());
   auto roughness = roughness_.Resize(size.x(), size.y());
   roughness.setConstant(std::numeric_limits<float>::quiet_NaN());
+  const auto resolution = static_cast<float>(g.resolution_m);
   for (int ix = 0; ix < size.x(); ++ix) {
     for (int iy = 0; iy < size.y(); ++iy) {
       if (std::isinf(lowest(ix, iy))) continue;
-      float ground = lowest(ix, iy);
+      // the ground plane's slope here, and its rise from cell (jx, jy) to this one
+      const Eigen::Vector2f slope =
+          ground != nullptr ? ground->GroundGradient(g.CellCenter(low.x() + ix, low.y() + iy))
+                            : Eigen::Vector2f::Zero();
+      auto rise = [&](int jx, int jy) {
+        return resolution *
+               (slope.x() * static_cast<float>(ix - jx) + slope.y() * static_cast<float>(iy - jy));
+      };
+      float foot = lowest(ix, iy);
       for (int jx = std::max(0, ix - 1); jx <= std::min(size.x() - 1, ix + 1); ++jx) {
         for (int jy = std::max(0, iy - 1); jy <= std::min(size.y() - 1, iy + 1); ++jy) {
-          ground = std::min(ground, lowest(jx, jy));
+          foot = std::min(foot, lowest(jx, jy) + rise(jx, jy));
         }
       }
-      bool face = highest(ix, iy) - ground > min_span_m;
+      bool face = highest(ix, iy) - foot > min_span_m;
       // a step above a side neighbour's top (a neighbour without points, at -infinity, is skipped),
       // or within a cell that holds its neighbourhood's lowest point: a face whose foot the sensor
       // does not see (a low wall just ahead, whose lowest points are where the lowest beam meets
       // it, no ground beside them; rubble on a slope has lower ground beside it)
       if (max_step_m > 0.0) {
-        face = face || (lowest(ix, iy) <= ground && highest(ix, iy) - lowest(ix, iy) > max_step_m);
+        const float within = std::sqrt(2.0f) * resolution * slope.norm();
+        face = face ||
+               (lowest(ix, iy) <= foot && highest(ix, iy) - lowest(ix, iy) - within > max_step_m);
         const std::array<Eigen::Vector2i, 4> sides{
             {{ix - 1, iy}, {ix + 1, iy}, {ix, iy - 1}, {ix, iy + 1}}};
         for (const Eigen::Vector2i& n : sides) {
           if ((n.array() < 0).any() || n.x() >= size.x() || n.y() >= size.y() ||
               std::isinf(highest(n.x(), n.y())))
             continue;
-          face = face || highest(ix, iy) - highest(n.x(), n.y()) > max_step_m;
+          face =
+              face || highest(ix, iy) - (highest(n.x(), n.y()) + rise(n.x(), n.y())) > max_step_m;
         }
       }
       cells(ix, iy) = face ? 1.0f : 0.0f;
@@ -128,18 +135,31 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
   return cells_.const_view();
 }
 
-Eigen::Vector3f WindowCrop::GroundPlane(int cx, int cy, int columns,
-                                        const Eigen::Vector3d& p_WB) const {
+std::size_t WindowCrop::ColumnOf(double x_m, double y_m) const {
+  const int cx =
+      std::clamp(static_cast<int>((x_m - p_WB_.x() + half_window_m_) / kColumn_m), 0, columns_ - 1);
+  const int cy =
+      std::clamp(static_cast<int>((y_m - p_WB_.y() + half_window_m_) / kColumn_m), 0, columns_ - 1);
+  return static_cast<std::size_t>(cy * columns_ + cx);
+}
+
+Eigen::Vector2f WindowCrop::GroundGradient(const Eigen::Vector2d& p_W) const {
+  if (column_plane_.empty()) return Eigen::Vector2f::Zero();
+  const Eigen::Vector3f& plane = column_plane_[ColumnOf(p_W.x(), p_W.y())];
+  return std::isinf(plane.x()) ? Eigen::Vector2f::Zero() : Eigen::Vector2f(plane.tail<2>());
+}
+
+Eigen::Vector3f WindowCrop::GroundPlane(int cx, int cy) const {
   // least squares over the lowest points, about the robot (float-safe coordinates)
   constexpr double kMaxGradient = 1.0;  // tan 45 deg: steeper than the robot drives (40 deg)
   Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
   Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
   int n = 0;
-  for (int jx = std::max(0, cx - 1); jx <= std::min(columns - 1, cx + 1); ++jx) {
-    for (int jy = std::max(0, cy - 1); jy <= std::min(columns - 1, cy + 1); ++jy) {
-      const Eigen::Vector3f& q = column_lowest_[static_cast<std::size_t>(jy * columns + jx)];
+  for (int jx = std::max(0, cx - 1); jx <= std::min(columns_ - 1, cx + 1); ++jx) {
+    for (int jy = std::max(0, cy - 1); jy <= std::min(columns_ - 1, cy + 1); ++jy) {
+      const Eigen::Vector3f& q = column_lowest_[static_cast<std::size_t>(jy * columns_ + jx)];
       if (std::isinf(q.z())) continue;
-      const Eigen::Vector3d a(1.0, q.x() - p_WB.x(), q.y() - p_WB.y());
+      const Eigen::Vector3d a(1.0, q.x() - p_WB_.x(), q.y() - p_WB_.y());
       normal += a * a.transpose();
       rhs += a * static_cast<double>(q.z());
       ++n;
@@ -186,15 +206,15 @@ void ObstacleMarker::CloseMask() {
   neighbourhood(dilated_.view(), true, closed_.Resize(nx, ny));
 }
 
-void ObstacleMarker::Mark(const Eigen::Ref<const Eigen::Matrix3Xf>& below_robot,
-                          const Eigen::Vector2i& low, const Eigen::Vector2i& high,
-                          const MapArea& area, const Eigen::Vector3d& p_WB, double t_s,
-                          int margin_cells, common::GridLayers* map) {
+void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
+                          const Eigen::Vector2i& high, const MapArea& area,
+                          const Eigen::Vector3d& p_WB, double t_s, int margin_cells,
+                          common::GridLayers* map) {
   // the faces the height regression cannot see (their points were cropped as not terrain): the
   // latest observation of each cell decides, so a cell seen free again clears
   const common::GridGeometry& g = map->geometry();
-  const auto seen =
-      Cells(below_robot, g, low, high, area.max_height_above_ground_m, area.max_step_m);
+  const auto seen = Cells(crop.below_robot(), g, low, high, area.max_height_above_ground_m,
+                          area.max_step_m, &crop);
   Eigen::MatrixXf& obstacle = map->Layer(layers::kObstacle);
   Eigen::MatrixXf& seen_s = map->Layer(layers::kObstacleSeen);
   Eigen::MatrixXf& rough = map->Layer(layers::kRoughness);

@@ -36,13 +36,28 @@ class WindowCrop {
   /// `max_height_above_m` above the base).
   common::ScratchMatrix<float, 3>::ConstView below_robot() const { return below_robot_.view(); }
 
+  /// The last crop's ground gradient (dz/dx, dz/dy) at p_W: its plane's in p_W's column (a point
+  /// off the window: the nearest column's); zero where no plane was fitted or after a crop
+  /// without the ground crop.
+  Eigen::Vector2f GroundGradient(const Eigen::Vector2d& p_W) const;
+
  private:
-  common::ScratchMatrix<float, 3> window_, below_robot_;
+  static constexpr double kColumn_m = 1.0;  // the columns' side
+
+  // Index of the column of (x_m, y_m) in the last crop's window (clamped to it: the points on
+  // its far borders fall in the last columns).
+  std::size_t ColumnOf(double x_m, double y_m) const;
   // The plane z = c0 + c1 (x - x_B) + c2 (y - y_B) through the lowest points of column (cx, cy)
   // and its neighbours, by least squares; c0 = -infinity where they do not fix a plane.
-  Eigen::Vector3f GroundPlane(int cx, int cy, int columns, const Eigen::Vector3d& p_WB) const;
+  Eigen::Vector3f GroundPlane(int cx, int cy) const;
 
-  // Per 1 m column: its lowest point (z infinite without points) and GroundPlane.
+  common::ScratchMatrix<float, 3> window_, below_robot_;
+  // The last ground crop's window: its centre (the base), half its side and columns along a side.
+  Eigen::Vector3d p_WB_{Eigen::Vector3d::Zero()};
+  double half_window_m_{0.0};
+  int columns_{0};
+  // Per 1 m column: its lowest point (z infinite without points) and GroundPlane; empty after a
+  // crop without the ground crop.
   std::vector<Eigen::Vector3f> column_lowest_;
   std::vector<Eigen::Vector3f> column_plane_;
 };
@@ -58,25 +73,29 @@ class ObstacleMarker {
   /// side neighbour with points, or of the cell's own lowest point where no point of the
   /// neighbourhood lies lower (a step the robot cannot climb, however low: a platform, a curb, a
   /// low wall whose foot the sensor does not see from close by), 0 where none holds, NaN where
-  /// the cell has no point. Ground of slope a rises at most 2 sqrt(2) resolution tan(a) across the
-  /// neighbourhood, resolution tan(a) from a side neighbour and sqrt(2) resolution tan(a) within a
-  /// cell: 0.3 m and 0.15 m at 0.2 m cells mean slopes steeper than about 28 deg (across the
-  /// neighbourhood or a cell's diagonal) can read as faces. Valid until the next call, as
-  /// roughness().
+  /// the cell has no point. With `ground` (the crop of these points), every comparison is made
+  /// above the crop's ground plane at the cell (WindowCrop::GroundGradient): a neighbour's point
+  /// counts as risen by the plane's rise between the two cells' centres, and a cell's own span
+  /// less the plane's rise across its diagonal. Without it, ground of slope a rises up to
+  /// 2 sqrt(2) resolution tan(a) across the neighbourhood, resolution tan(a) from a side
+  /// neighbour and sqrt(2) resolution tan(a) within a cell: at 0.2 m cells slopes steeper than
+  /// about 28 deg read as faces; with it, slopes up to the robot's 40 deg do not. Valid until the
+  /// next call, as roughness().
   common::ScratchMatrix<float>::ConstView Cells(const Eigen::Ref<const Eigen::Matrix3Xf>& points_W,
                                                 const common::GridGeometry& g,
                                                 const Eigen::Vector2i& low,
                                                 const Eigen::Vector2i& high, double min_span_m,
-                                                double max_step_m);
+                                                double max_step_m,
+                                                const WindowCrop* ground = nullptr);
 
   /// Per cell of the last Cells call: common::Roughness of the highest points (NaN where the cell
   /// has no point; a neighbour without points is left out) [m].
   common::ScratchMatrix<float>::ConstView roughness() const { return roughness_.const_view(); }
 
-  /// Marks the faces the ground crop removed and the steps (Cells of `below_robot`, the window
-  /// before the crop, with the crop height `area.max_height_above_ground_m` and the step
-  /// `area.max_step_m`) in layer `obstacle` of `map` between `low` and `high`: the latest
-  /// observation of a cell decides, so a cell seen free again clears, and a face cell stamps
+  /// Marks the faces the ground crop removed and the steps (Cells of `crop`'s window before the
+  /// ground crop, above its ground plane, with the crop height `area.max_height_above_ground_m`
+  /// and the step `area.max_step_m`) in layer `obstacle` of `map` between `low` and `high`: the
+  /// latest observation of a cell decides, so a cell seen free again clears, and a face cell stamps
   /// layer `obstacle_seen` with `t_s`; layer `roughness` takes roughness() where a cell has
   /// points. A face cell within `area.blind_radius_m` of the base at
   /// p_WB that no point has shown for longer than `area.obstacle_memory_s` (> 0) is forgotten:
@@ -84,9 +103,9 @@ class ObstacleMarker {
   /// layer `traversability` to 1 on the obstacle mask closed by one cell, within `margin_cells` of
   /// the window (at least the cells whose cost the mapper rewrote). The obstacle layer FSGP-BGK
   /// and the baselines share.
-  void Mark(const Eigen::Ref<const Eigen::Matrix3Xf>& below_robot, const Eigen::Vector2i& low,
-            const Eigen::Vector2i& high, const MapArea& area, const Eigen::Vector3d& p_WB,
-            double t_s, int margin_cells, common::GridLayers* map);
+  void Mark(const WindowCrop& crop, const Eigen::Vector2i& low, const Eigen::Vector2i& high,
+            const MapArea& area, const Eigen::Vector3d& p_WB, double t_s, int margin_cells,
+            common::GridLayers* map);
 
  private:
   // The closing (dilation, then erosion) of mask_ by the 3 x 3 cell square, into closed_.

@@ -171,6 +171,53 @@ TEST(ObstacleCellsTest, AFaceAboveItsNeighbourhoodIsAnObstacleAndASlopeIsNot) {
   EXPECT_TRUE(std::isnan(marker.Cells(Eigen::Matrix3Xf(3, 0), g, low, high, 0.3, 0.15)(3, 3)));
 }
 
+TEST(ObstacleCellsTest, AboveTheCropsGroundPlaneASteepSlopeIsNoFaceAndAWallOnItIs) {
+  // a 35 deg slope along the diagonal, every 5 cm, and a 0.5 m wall face on it at x = 1.05
+  const common::GridGeometry g =
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(4, 4), 0.2);
+  const double rise = std::tan(35.0 * M_PI / 180.0) / std::sqrt(2.0);  // along x and along y
+  auto ground_z = [&](double x, double y) { return rise * (x + y); };
+  std::vector<Eigen::Vector3f> points;
+  for (int ix = -40; ix < 40; ++ix) {
+    for (int iy = -40; iy < 40; ++iy) {
+      const double x = 0.05 * ix, y = 0.05 * iy;
+      points.emplace_back(static_cast<float>(x), static_cast<float>(y),
+                          static_cast<float>(ground_z(x, y)));
+    }
+  }
+  for (int iy = -9; iy <= 9; ++iy) {
+    for (int k = 1; k <= 10; ++k) {
+      const double y = 0.05 * iy;
+      points.emplace_back(1.05f, static_cast<float>(y),
+                          static_cast<float>(ground_z(1.05, y) + 0.05 * k));
+    }
+  }
+  const common::PointCloud cloud = common::MakePointCloud(points);
+  MapUpdateResult result;
+  WindowCrop crop;
+  crop.Crop(cloud, Eigen::Vector3d(0, 0, 0.1), 4.0, 10.0, 0.3, &result);
+  EXPECT_NEAR(crop.GroundGradient({0.3, -0.6}).x(), rise, 1e-5);
+  EXPECT_NEAR(crop.GroundGradient({0.3, -0.6}).y(), rise, 1e-5);
+  const Eigen::Vector2i low(0, 0), high(g.num_x - 1, g.num_y - 1);
+  ObstacleMarker marker;
+  const Eigen::MatrixXf dut = marker.Cells(cloud.points, g, low, high, 0.3, 0.15, &crop);
+  // the wall's cells (x = 1.0, y = -0.4 to 0.4) and no other
+  int faces = 0;
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      if (std::isnan(dut(ix, iy))) continue;
+      const Eigen::Vector2d c = g.CellCenter(ix, iy);
+      const bool wall = std::abs(c.x() - 1.0) < 1e-9 && std::abs(c.y()) < 0.45;
+      EXPECT_EQ(dut(ix, iy), wall ? 1.0f : 0.0f) << c.transpose();
+      faces += dut(ix, iy) == 1.0f ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(faces, 5);
+  // against the lowest point of the neighbourhood alone the slope itself reads as faces
+  const Eigen::MatrixXf level = marker.Cells(cloud.points, g, low, high, 0.3, 0.15);
+  EXPECT_GT((level.array() == 1.0f).count(), 100);
+}
+
 // A platform whose edge stands at x = 0.12 (in the cell of centre 0.2), sampled every 5 cm.
 Eigen::Matrix3Xf PlatformCloud(double height_m) {
   std::vector<Eigen::Vector3f> points;
