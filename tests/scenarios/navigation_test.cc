@@ -170,17 +170,17 @@ TEST(FailingScenarioTest, TheRobotNeverPlansRoundAWallOffTheWorld) {
   EXPECT_LT(std::max(summary.max_pitch_deg, summary.max_roll_deg), 5.0);
 }
 
-TEST(FailingScenarioTest, PlansThatGetNowhereEndAsAPlanningFailure) {
+TEST(FailingScenarioTest, AClosedRoomSeenFromTheScansIsAPlanningFailure) {
   const Scenario scenario = LoadFile("failing/closed_room_mapped.yaml");
   const RunSummary summary = RunHeadless(scenario, "room_mapped");
   ASSERT_EQ(summary.outcome, Outcome::kPlanningFailure);
-  // plans were found all along (else the cause would be no_plan), but the robot stayed at one
-  // corner of the room for the livelock time, and the run ended well before its duration
-  EXPECT_EQ(summary.navigation->planning_failure_cause, "livelock");
-  EXPECT_GT(summary.sim_time_s, scenario.navigation.livelock_time_s);
-  EXPECT_LT(summary.sim_time_s, scenario.duration_s - 5.0);
-  EXPECT_GT(summary.navigation->fallbacks[static_cast<std::size_t>(planner::Fallback::kBackOut)],
-            10);
+  // the mapped walls close the room in every frame, so no plan is found and the run ends at the
+  // planning failure time after the room is seen, well before the livelock time and the duration
+  // (before the crop's ground plane and the face tests above it, each frame's noise opened paths
+  // along the walls and the run ended by livelock; LivelockMonitorTest covers that ending)
+  EXPECT_EQ(summary.navigation->planning_failure_cause, "no_plan");
+  EXPECT_LT(summary.sim_time_s, scenario.navigation.livelock_time_s);
+  EXPECT_GT(summary.sim_time_s, scenario.navigation.planning_failure_time_s);
 }
 
 TEST(NavigationRunTest, TheSameScenarioGivesTheSameRun) {
