@@ -174,10 +174,10 @@ TEST(FailingScenarioTest, AClosedRoomSeenFromTheScansIsAPlanningFailure) {
   const Scenario scenario = LoadFile("failing/closed_room_mapped.yaml");
   const RunSummary summary = RunHeadless(scenario, "room_mapped");
   ASSERT_EQ(summary.outcome, Outcome::kPlanningFailure);
-  // the mapped walls close the room in every frame, so no plan is found and the run ends at the
-  // planning failure time after the room is seen, well before the livelock time and the duration
-  // (before the crop's ground plane and the face tests above it, each frame's noise opened paths
-  // along the walls and the run ended by livelock; LivelockMonitorTest covers that ending)
+  // no plan is found into the room, and the run ends at the planning failure time after the room
+  // is seen, well before the livelock time and the duration (before the changes of 2026-11-27,
+  // docs/navigation.md, each frame's noise opened paths along the walls and the run ended by
+  // livelock; LivelockMonitorTest covers that ending)
   EXPECT_EQ(summary.navigation->planning_failure_cause, "no_plan");
   EXPECT_LT(summary.sim_time_s, scenario.navigation.livelock_time_s);
   EXPECT_GT(summary.sim_time_s, scenario.navigation.planning_failure_time_s);
