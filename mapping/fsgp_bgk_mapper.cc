@@ -65,7 +65,7 @@ void FsgpBgkMapper::StandardiseInputs(const TrainingSet& training) {
 
 double BgkUpdate(double m_pre, double variance_pre, double t_s, double decay_rate, double epsilon,
                  double fixed_gain, float* m, float* variance, float* t0_s,
-                 double variance_reference) {
+                 std::optional<double> reference_variance) {
   if (std::isnan(*m)) {
     *m = static_cast<float>(m_pre);
     *variance = static_cast<float>(variance_pre);
@@ -76,8 +76,9 @@ double BgkUpdate(double m_pre, double variance_pre, double t_s, double decay_rat
   double w_sigma = 1.0 / (*variance + epsilon);
   if (fixed_gain > 0.0) {
     w_sigma = fixed_gain;
-  } else if (variance_reference > 0.0) {
-    w_sigma = 1.0 / (epsilon * (*variance / variance_reference + 1.0));
+  } else if (reference_variance) {
+    constexpr double kFloor = 1e-12;
+    w_sigma = 2.0 / (epsilon * ((*variance + kFloor) / (*reference_variance + kFloor) + 1.0));
   }
   *m = static_cast<float>((w_t * w_sigma * *m + m_pre) / (w_t * w_sigma + 1.0));
   *variance = static_cast<float>((w_t * *variance + variance_pre) / (w_t + 1.0));
@@ -265,9 +266,7 @@ double FsgpBgkMapper::Fuse(double t_s) {
   Eigen::MatrixXf& fused = fused_.Layer(kFused);
   Eigen::MatrixXf& fused_variance = map_.Layer(layers::kTraversabilityVariance);
   Eigen::MatrixXf& last = map_.Layer(layers::kLastObserved);
-  // the frame's mean predicted variance: the reference of the normalised uncertainty weight
-  const double variance_reference =
-      config_.normalise_variance && variances.size() > 0 ? variances.mean() : 0.0;
+  const double frame_mean_variance = variances.size() > 0 ? variances.mean() : 0.0;
   for (std::size_t k = 0; k < prediction.cells.size(); ++k) {
     const auto s = static_cast<Eigen::Index>(k);
     const Eigen::Vector2i& cell = prediction.cells[k];
@@ -283,9 +282,15 @@ double FsgpBgkMapper::Fuse(double t_s) {
     float& v_cell = fused_variance(cell.x(), cell.y());
     float& t_cell = last(cell.x(), cell.y());
     if (config_.fuse) {
+      std::optional<double> reference;
+      if (config_.variance_reference == VarianceReference::kFrameMean) {
+        reference = frame_mean_variance;
+      } else if (config_.variance_reference == VarianceReference::kPrediction) {
+        reference = variance;
+      }
       const double w_sigma =
           BgkUpdate(score, variance, t_s, config_.decay_rate, config_.variance_epsilon,
-                    config_.fixed_gain, &m_cell, &v_cell, &t_cell, variance_reference);
+                    config_.fixed_gain, &m_cell, &v_cell, &t_cell, reference);
       if (!std::isnan(w_sigma)) {
         weight_sum += w_sigma;
         ++weights;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -97,13 +98,15 @@ class FsgpBgkMapper final : public TraversabilityMapper {
 
 /// The BGK update of one cell (the paper's equations): with w_t = exp(-lambda (t - t0)) and
 /// w_sigma = 1 / (sigma^2 + eps) (or `fixed_gain` when > 0), M <- (w_t w_sigma M + M_pre) /
-/// (w_t w_sigma + 1) and sigma^2 <- (w_t sigma^2 + sigma_pre^2) / (w_t + 1). With a
-/// `variance_reference` > 0 the weight is normalised: w_sigma = 1 / (eps (sigma^2 /
-/// variance_reference + 1)), 1 / (2 eps) at the reference whatever the GP's variance scale. An
-/// unknown cell (NaN) takes the new values. Returns the w_sigma used (NaN for an unknown cell).
+/// (w_t w_sigma + 1) and sigma^2 <- (w_t sigma^2 + sigma_pre^2) / (w_t + 1). Given a
+/// `reference_variance` the weight is relative to it: w_sigma = 2 / (eps ((sigma^2 + d) /
+/// (reference + d) + 1)), between 0 and 2 / eps and 1 / eps at the reference, as the paper's weight
+/// is for variances far below eps, whatever the GP's variance scale (d = 1e-12, so that two zero
+/// variances weigh 1 / eps too). An unknown cell (NaN) takes the new values. Returns the w_sigma
+/// used (NaN for an unknown cell).
 double BgkUpdate(double m_pre, double variance_pre, double t_s, double decay_rate, double epsilon,
                  double fixed_gain, float* m, float* variance, float* t0_s,
-                 double variance_reference = 0.0);
+                 std::optional<double> reference_variance = std::nullopt);
 
 /// Normalised preliminary score: w_kappa N(kappa) + w_g N(g) + w_slope N(slope), N(a) = min(a /
 /// max, 1).

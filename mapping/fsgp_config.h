@@ -23,6 +23,24 @@ inline constexpr std::array<common::EnumName<KernelType>, 2> kKernelTypeNames{
      {KernelType::kRationalQuadratic, "rational_quadratic"}}};
 constexpr const auto& EnumNames(KernelType) { return kKernelTypeNames; }
 
+/// What BGK's uncertainty weight w_sigma measures a cell's fused variance sigma^2 against
+/// (BgkUpdate). The GP's variances are far below the paper's eps = 0.1, so the paper's weight
+/// 1 / (sigma^2 + eps) is about 1 / eps on every cell; a relative weight 2 / (eps (sigma^2 /
+/// reference + 1)) varies with the variance around 1 / eps whatever its scale.
+enum class VarianceReference {
+  kNone,        ///< the paper's weight 1 / (sigma^2 + eps)
+  kFrameMean,   ///< relative to the frame's mean predicted variance
+  kPrediction,  ///< relative to the new prediction's own variance: a cell's old value counts the
+                ///< more, the less certain the new prediction is than it
+};
+
+/// The names of VarianceReference's values (common/enum_names.h).
+inline constexpr std::array<common::EnumName<VarianceReference>, 3> kVarianceReferenceNames{
+    {{VarianceReference::kNone, "none"},
+     {VarianceReference::kFrameMean, "frame_mean"},
+     {VarianceReference::kPrediction, "prediction"}}};
+constexpr const auto& EnumNames(VarianceReference) { return kVarianceReferenceNames; }
+
 /// Hyperparameters of the sparse GP (inputs standardised per dimension: x, y, kappa, g).
 struct GpHyperparameters {
   KernelType kernel{KernelType::kSquaredExponential};
@@ -121,11 +139,10 @@ struct FsgpConfig {
   /// > 0: a fixed-gain filter, w_sigma = fixed_gain whatever the variance (the ablation of BGK's
   /// uncertainty weighting); 0: BGK.
   double fixed_gain{0.0};
-  /// true: the uncertainty weight relative to the frame's mean predicted variance (BgkUpdate's
-  /// variance_reference), so that it varies with the variance around 1 / (2 eps) however small the
-  /// GP's variances are (with the plain weight they are far below eps and every cell weighs 1 /
-  /// eps alike, docs/evaluation.md).
-  bool normalise_variance{false};
+  /// What the uncertainty weight measures a cell's variance against (docs/evaluation.md: the
+  /// prediction's variance beats a fixed-gain filter of the same mean weight; the paper's plain
+  /// weight is one).
+  VarianceReference variance_reference{VarianceReference::kPrediction};
   double smoothing_sigma_m{0.2};  ///< Gaussian smoothing [m] (0: none)
   double smoothing_radius_m{0.4};
   int accumulate_frames{1};  ///< FSGP-Accumulation: frames of clouds fed together (1: off)
@@ -166,7 +183,7 @@ struct FsgpConfig {
     a->Field("decay_rate", &decay_rate, {0, 100});
     a->Field("variance_epsilon", &variance_epsilon, {1e-09, 10});
     a->Field("fixed_gain", &fixed_gain, {0, 1e6});
-    a->Field("normalise_variance", &normalise_variance);
+    a->Enum("variance_reference", &variance_reference);
     a->Field("smoothing_sigma", &smoothing_sigma_m, {0, 5});
     a->Field("smoothing_radius", &smoothing_radius_m, {0, 10});
     a->Field("accumulate_frames", &accumulate_frames, {1, 100});

@@ -564,21 +564,21 @@ TEST(BgkUpdateTest, AFixedGainWeighsEveryCellAlike) {
   EXPECT_NEAR(BgkUpdate(0.2, 0.01, 5.0, 0.01, 0.1, 0.0, &bgk_m, &bgk_v, &bgk_t), 1.0 / 0.6, 1e-9);
 }
 
-// The normalised weight takes the variance relative to a reference: GP variances far below eps
+// The relative weight takes the variance relative to a reference: GP variances far below eps
 // (where the plain weight is 1 / eps for every cell) still weigh a certain cell above an uncertain
-// one, 1 / (2 eps) at the reference.
-TEST(BgkUpdateTest, TheNormalisedWeightActsOnSmallVariances) {
+// one, 1 / eps at the reference.
+TEST(BgkUpdateTest, TheRelativeWeightActsOnSmallVariances) {
   constexpr double kEps = 0.1, kReference = 0.002;
   float at_m = 0.8f, at_v = 0.002f, at_t = 5.0f;
   float certain_m = 0.8f, certain_v = 0.0005f, certain_t = 5.0f;
   float vague_m = 0.8f, vague_v = 0.006f, vague_t = 5.0f;
   EXPECT_NEAR(BgkUpdate(0.2, 0.002, 5.0, 0.01, kEps, 0.0, &at_m, &at_v, &at_t, kReference),
-              1.0 / (2.0 * kEps), 1e-6);
+              1.0 / kEps, 1e-5);
   EXPECT_NEAR(
       BgkUpdate(0.2, 0.002, 5.0, 0.01, kEps, 0.0, &certain_m, &certain_v, &certain_t, kReference),
-      1.0 / (kEps * (0.0005 / kReference + 1.0)), 1e-5);
+      2.0 / (kEps * (0.0005 / kReference + 1.0)), 1e-4);
   EXPECT_NEAR(BgkUpdate(0.2, 0.002, 5.0, 0.01, kEps, 0.0, &vague_m, &vague_v, &vague_t, kReference),
-              1.0 / (kEps * (0.006 / kReference + 1.0)), 1e-5);
+              2.0 / (kEps * (0.006 / kReference + 1.0)), 1e-4);
   // the certain cell keeps more of its 0.8, the uncertain one moves more toward the new 0.2
   EXPECT_GT(certain_m, at_m);
   EXPECT_LT(vague_m, at_m);
@@ -589,13 +589,37 @@ TEST(BgkUpdateTest, TheNormalisedWeightActsOnSmallVariances) {
               1.0 / 0.1005, 1e-3);
 }
 
-// The mapper reports the weight its fusion used: the uncertainty weight 1 / (sigma^2 + eps) by
-// default, exactly the fixed gain when one is set; no weight on the first frame (nothing to fuse).
+// Relative to the new prediction's variance, a cell's old value counts the more, the less
+// certain the new prediction is than it: twice as certain a cell weighs 2 / (eps (1/2 + 1)), half
+// as certain 2 / (eps (2 + 1)); equal variances (zero too) weigh 1 / eps, the paper's weight for
+// variances far below eps.
+TEST(BgkUpdateTest, RelativeToThePredictionACellKeepsMoreOfItsValueAgainstAVaguerPrediction) {
+  constexpr double kEps = 0.1;
+  float vague_m = 0.8f, vague_v = 0.002f, vague_t = 5.0f;
+  float sharp_m = 0.8f, sharp_v = 0.002f, sharp_t = 5.0f;
+  float zero_m = 0.8f, zero_v = 0.0f, zero_t = 5.0f;
+  const double w_vague = 2.0 / (kEps * 1.5), w_sharp = 2.0 / (kEps * 3.0);
+  EXPECT_NEAR(BgkUpdate(0.2, 0.004, 5.0, 0.01, kEps, 0.0, &vague_m, &vague_v, &vague_t, 0.004),
+              w_vague, 1e-5);
+  EXPECT_NEAR(BgkUpdate(0.2, 0.001, 5.0, 0.01, kEps, 0.0, &sharp_m, &sharp_v, &sharp_t, 0.001),
+              w_sharp, 1e-5);
+  EXPECT_NEAR(BgkUpdate(0.2, 0.0, 5.0, 0.01, kEps, 0.0, &zero_m, &zero_v, &zero_t, 0.0), 1.0 / kEps,
+              1e-9);
+  EXPECT_NEAR(vague_m, (0.8 * w_vague + 0.2) / (w_vague + 1.0), 1e-6);
+  EXPECT_NEAR(sharp_m, (0.8 * w_sharp + 0.2) / (w_sharp + 1.0), 1e-6);
+  EXPECT_GT(vague_m, sharp_m);
+  EXPECT_FLOAT_EQ(zero_m, (0.8f * 10.0f + 0.2f) / 11.0f);
+}
+
+// The mapper reports the weight its fusion used: the paper's uncertainty weight 1 / (sigma^2 +
+// eps) with `variance_reference: none`, exactly the fixed gain when one is set; no weight on the
+// first frame (nothing to fuse).
 TEST(FsgpBgkMapperTest, ReportsTheFusionWeightAndTakesAFixedGain) {
   const auto ground = [](double x, double) { return 0.1 * x; };
   for (const double gain : {0.0, 4.0}) {
     FsgpConfig config;
     config.fixed_gain = gain;
+    config.variance_reference = VarianceReference::kNone;
     FsgpBgkMapper dut(config);
     EXPECT_TRUE(
         std::isnan(dut.Update(Surface(ground, {0, 0}), RobotAt(0, 0), 0.0).mean_fusion_weight));
@@ -609,6 +633,16 @@ TEST(FsgpBgkMapperTest, ReportsTheFusionWeightAndTakesAFixedGain) {
       EXPECT_NE(weight, 4.0);
     }
   }
+  // the default, relative to the prediction: where a frame predicts as surely as the map holds,
+  // the paper's 1 / eps (to the training subsets' difference); where it predicts less surely (a
+  // smaller cloud: cells at its rim were inside the first), the map's value counts more
+  FsgpBgkMapper relative{FsgpConfig{}};
+  const double eps = FsgpConfig{}.variance_epsilon;
+  relative.Update(Surface(ground, {0, 0}), RobotAt(0, 0), 0.0);
+  EXPECT_NEAR(relative.Update(Surface(ground, {0, 0}), RobotAt(0, 0), 1.0).mean_fusion_weight,
+              1.0 / eps, 0.01);
+  EXPECT_GT(relative.Update(Surface(ground, {0, 0}, 2.0), RobotAt(0, 0), 2.0).mean_fusion_weight,
+            1.05 / eps);  // 10.67; the paper's weight stays below 1 / eps
 }
 
 TEST(BgkUpdateTest, OldValuesDecayWithTime) {

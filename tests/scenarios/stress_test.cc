@@ -29,9 +29,11 @@ TEST(StressTest, LowDensityTrafficOnOpenGround) {
   // (seed 1 of two movers was hit by a mover until the mapper's own voxel grid and neighbour
   // search replaced PCL's, which moved the trajectory; the robot passed until the map took effect
   // 0.05 s after its frame (navigation.mapping_latency), which moved it again: a random walker
-  // walks into it at 28.4 s, while it drives at 0.43 m/s)
+  // walks into it at 28.4 s, while it drives at 0.43 m/s; since the BGK weight is relative to the
+  // prediction's variance, mapping/README.md step 8, the map and the trajectory moved once more
+  // and it reaches the goal)
   const std::map<std::string, std::string> expected = {
-      {"stress_open_mover_count-2_traffic.seed-1", "collision"},
+      {"stress_open_mover_count-2_traffic.seed-1", "success"},
       {"stress_open_mover_count-2_traffic.seed-2", "success"},
       {"stress_open_mover_count-4_traffic.seed-1", "success"},
       {"stress_open_mover_count-4_traffic.seed-2", "success"}};
