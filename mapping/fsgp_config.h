@@ -135,7 +135,7 @@ struct FsgpConfig {
   // fusion and smoothing
   bool fuse{true};                 ///< BGK fusion (false: FSGP, the latest frame's score)
   double decay_rate{1.0 / 600.0};  ///< lambda [1/s]
-  double variance_epsilon{0.1};    ///< eps in w_sigma = 1 / (sigma^2 + eps)
+  double variance_epsilon{0.1};    ///< eps of the uncertainty weight w_sigma (VarianceReference)
   /// > 0: a fixed-gain filter, w_sigma = fixed_gain whatever the variance (the ablation of BGK's
   /// uncertainty weighting); 0: BGK.
   double fixed_gain{0.0};
