@@ -266,7 +266,12 @@ double FsgpBgkMapper::Fuse(double t_s) {
   Eigen::MatrixXf& fused = fused_.Layer(kFused);
   Eigen::MatrixXf& fused_variance = map_.Layer(layers::kTraversabilityVariance);
   Eigen::MatrixXf& last = map_.Layer(layers::kLastObserved);
-  const double frame_mean_variance = variances.size() > 0 ? variances.mean() : 0.0;
+  // the uncertainty weight's reference for every cell of the frame (the prediction's: per cell)
+  std::optional<double> frame_reference;
+  if (config_.variance_reference == VarianceReference::kFrameMean && variances.size() > 0) {
+    frame_reference = variances.mean();
+  }
+  const bool per_cell_reference = config_.variance_reference == VarianceReference::kPrediction;
   for (std::size_t k = 0; k < prediction.cells.size(); ++k) {
     const auto s = static_cast<Eigen::Index>(k);
     const Eigen::Vector2i& cell = prediction.cells[k];
@@ -282,15 +287,9 @@ double FsgpBgkMapper::Fuse(double t_s) {
     float& v_cell = fused_variance(cell.x(), cell.y());
     float& t_cell = last(cell.x(), cell.y());
     if (config_.fuse) {
-      std::optional<double> reference;
-      if (config_.variance_reference == VarianceReference::kFrameMean) {
-        reference = frame_mean_variance;
-      } else if (config_.variance_reference == VarianceReference::kPrediction) {
-        reference = variance;
-      }
-      const double w_sigma =
-          BgkUpdate(score, variance, t_s, config_.decay_rate, config_.variance_epsilon,
-                    config_.fixed_gain, &m_cell, &v_cell, &t_cell, reference);
+      const double w_sigma = BgkUpdate(
+          score, variance, t_s, config_.decay_rate, config_.variance_epsilon, config_.fixed_gain,
+          &m_cell, &v_cell, &t_cell, per_cell_reference ? variance : frame_reference);
       if (!std::isnan(w_sigma)) {
         weight_sum += w_sigma;
         ++weights;
