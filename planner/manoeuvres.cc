@@ -38,6 +38,16 @@ void AppendTurn(double heading, const FallbackConfig& config,
                std::copysign(config.creep_yaw_rate_rad_s, turn), config.output_step_s, points);
 }
 
+// Appends a turn in place to `heading`, then a straight drive to target_W at `creep_speed`, forward
+// (direction 1) or backward (-1) along it.
+void AppendLeg(double heading, const Eigen::Vector2d& target_W, double direction,
+               const FallbackConfig& config, std::vector<common::TrajectoryPoint>* points) {
+  AppendTurn(heading, config, points);
+  AppendMotion(points->back(),
+               (target_W - points->back().position_W).norm() / config.creep_speed_m_s,
+               direction * config.creep_speed_m_s, 0.0, config.output_step_s, points);
+}
+
 // The start at rest: the first point of every manoeuvre.
 std::vector<common::TrajectoryPoint> AtRest(const common::TrajectoryPoint& start) {
   common::TrajectoryPoint at = start;
@@ -54,6 +64,8 @@ void ValidateFallbackConfig(const FallbackConfig& c) {
                "must be > 0");
   RequireValue(c.back_out_distance_m > 0.0, "back_out_distance", c.back_out_distance_m,
                "must be > 0");
+  RequireValue(c.search_reach_m > 0.0, "search_reach", c.search_reach_m, "must be > 0");
+  RequireValue(c.search_expansions >= 0, "search_expansions", c.search_expansions, "must be >= 0");
   RequireValue(c.output_step_s > 0.0, "output_step", c.output_step_s, "must be > 0");
 }
 
@@ -66,9 +78,20 @@ common::Trajectory CreepAlong(const common::TrajectoryPoint& start,
     const Eigen::Vector2d segment = waypoints_W[i] - points.back().position_W;
     const double length = segment.norm();
     if (length < 1e-6) continue;
-    AppendTurn(std::atan2(direction * segment.y(), direction * segment.x()), config, &points);
-    AppendMotion(points.back(), length / config.creep_speed_m_s, direction * config.creep_speed_m_s,
-                 0.0, config.output_step_s, &points);
+    AppendLeg(std::atan2(direction * segment.y(), direction * segment.x()), waypoints_W[i],
+              direction, config, &points);
+  }
+  return common::Trajectory(std::move(points));
+}
+
+common::Trajectory CreepThrough(const common::TrajectoryPoint& start,
+                                const std::vector<common::Pose2>& poses,
+                                const FallbackConfig& config) {
+  std::vector<common::TrajectoryPoint> points = AtRest(start);
+  for (const common::Pose2& pose : poses) {
+    const Eigen::Vector2d heading(std::cos(pose.yaw), std::sin(pose.yaw));
+    const double along = (pose.position - points.back().position_W).dot(heading);
+    AppendLeg(pose.yaw, pose.position, along < 0.0 ? -1.0 : 1.0, config, &points);
   }
   return common::Trajectory(std::move(points));
 }

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include "common/archive.h"
+#include "common/pose.h"
 #include "common/trajectory.h"
 #include "planner/cost_field.h"
 
@@ -16,7 +17,11 @@ struct FallbackConfig {
   double creep_speed_m_s{0.3};       ///< speed along the search path or backwards [m/s], > 0
   double creep_yaw_rate_rad_s{0.6};  ///< yaw rate of the turns in place [rad/s], > 0
   double back_out_distance_m{0.6};   ///< longest reverse drive [m], > 0
-  double output_step_s{0.02};        ///< sample spacing [s], > 0
+  /// The footprint's own way (SearchPoses) leads to the point this far along the search path [m],
+  /// > 0.
+  double search_reach_m{4.0};
+  int search_expansions{20000};  ///< the poses it expands at most, >= 0 (0: no such search)
+  double output_step_s{0.02};    ///< sample spacing [s], > 0
 
   /// The keys of scenario section `planner.fallback` (common/archive.h).
   template <typename Archive>
@@ -24,6 +29,8 @@ struct FallbackConfig {
     a->Field("creep_speed", &creep_speed_m_s, {0.01, 5});
     a->Field("creep_yaw_rate", &creep_yaw_rate_rad_s, {0.01, 10});
     a->Field("back_out_distance", &back_out_distance_m, {0.01, 10});
+    a->Field("search_reach", &search_reach_m, {0.1, 50});
+    a->Field("search_expansions", &search_expansions, {0, 10000000});
   }
 };
 
@@ -38,6 +45,13 @@ void ValidateFallbackConfig(const FallbackConfig& config);
 common::Trajectory CreepAlong(const common::TrajectoryPoint& start,
                               const std::vector<Eigen::Vector2d>& waypoints_W, bool reverse,
                               const FallbackConfig& config);
+
+/// A slow trajectory through `poses` (SearchPoses's ways) from the start's pose: to each pose the
+/// robot turns in place to its yaw (the shorter way) at `creep_yaw_rate`, then drives straight to
+/// its position at `creep_speed`, forward or backward along that yaw.
+common::Trajectory CreepThrough(const common::TrajectoryPoint& start,
+                                const std::vector<common::Pose2>& poses,
+                                const FallbackConfig& config);
 
 /// A turn in place at the start's position from its yaw to `yaw` (the shorter way round).
 common::Trajectory TurnInPlace(const common::TrajectoryPoint& start, double yaw,

@@ -7,6 +7,7 @@
 #include "common/input_error.h"
 #include "common/stopwatch.h"
 #include "planner/cost_field.h"
+#include "planner/pose_search.h"
 
 namespace trav::planner {
 namespace {
@@ -50,6 +51,18 @@ TrajectoryRequest RequestAlong(const common::TrajectoryPoint& start,
   request.guide_W = guide_W;
   request.obstacles = obstacles;
   return request;
+}
+
+// The point at arc length `length_m` along the polyline `points_W` (its end if it is shorter).
+Eigen::Vector2d PointAlong(const std::vector<Eigen::Vector2d>& points_W, double length_m) {
+  for (std::size_t i = 1; i < points_W.size(); ++i) {
+    const double segment_m = (points_W[i] - points_W[i - 1]).norm();
+    if (segment_m >= length_m) {
+      return points_W[i - 1] + (points_W[i] - points_W[i - 1]) * (length_m / segment_m);
+    }
+    length_m -= segment_m;
+  }
+  return points_W.back();
 }
 
 }  // namespace
@@ -218,7 +231,28 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
     take(std::move(creep), Fallback::kFollowPath);
     return;
   }
-  // 3. a turn toward the path, then 4. a reverse drive, that only free the robot
+  // 3. the footprint's own way, turning where it fits, to a point of the search path ahead
+  if (config_.fallback.search_expansions > 0) {
+    PoseSearchConfig way;
+    way.speed_m_s = config_.fallback.creep_speed_m_s;
+    way.yaw_rate_rad_s = config_.fallback.creep_yaw_rate_rad_s;
+    way.reach_m = config_.fallback.search_reach_m;
+    way.max_expansions = config_.fallback.search_expansions;
+    common::Pose2 from;
+    from.position = start.position_W;
+    from.yaw = start.yaw;
+    const std::optional<std::vector<common::Pose2>> poses =
+        SearchPoses(field, body_B, config_.footprint.CircumscribedRadius(), clearance_m, from,
+                    PointAlong(plan->waypoints_W, way.reach_m), way);
+    if (poses && !poses->empty()) {
+      common::Trajectory turns_and_drives = CreepThrough(start, *poses, config_.fallback);
+      if (KeepsClear(field, turns_and_drives, body_B, clearance_m)) {
+        take(std::move(turns_and_drives), Fallback::kPoseSearch);
+        return;
+      }
+    }
+  }
+  // 4. a turn toward the path, then 5. a reverse drive, that only free the robot
   plan->status = NavigationStatus::kOptimizerFailed;
   const Eigen::Vector2d towards = plan->waypoints_W.size() < 2
                                       ? Eigen::Vector2d(Eigen::Vector2d::Zero())

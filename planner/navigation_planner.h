@@ -85,15 +85,17 @@ enum class Fallback {
   kNone,         ///< the optimised trajectory along the search path
   kWiderMargin,  ///< optimised along a path searched with the circumscribed disc's margin
   kFollowPath,   ///< the search path itself at creep speed, turning in place at its vertices
+  kPoseSearch,   ///< the footprint's own way (SearchPoses) to a point of the search path ahead
   kTurnInPlace,  ///< a turn in place toward the path's first segment
   kBackOut,      ///< a straight reverse drive
 };
 
 /// The names of Fallback's values (common/enum_names.h).
-inline constexpr std::array<common::EnumName<Fallback>, 5> kFallbackNames{
+inline constexpr std::array<common::EnumName<Fallback>, 6> kFallbackNames{
     {{Fallback::kNone, "none"},
      {Fallback::kWiderMargin, "wider-margin"},
      {Fallback::kFollowPath, "follow-path"},
+     {Fallback::kPoseSearch, "pose-search"},
      {Fallback::kTurnInPlace, "turn-in-place"},
      {Fallback::kBackOut, "back-out"}}};
 constexpr const auto& EnumNames(Fallback) { return kFallbackNames; }
@@ -104,9 +106,9 @@ struct NavigationPlan {
   GridPath path;                             ///< the A* path (cell centres)
   std::vector<Eigen::Vector2d> waypoints_W;  ///< its simplification, from the start to the goal
   OptimizedTrajectory optimized;             ///< empty trajectory if there was no path
-  /// What the trajectory is when optimisation failed. With kWiderMargin and kFollowPath the
-  /// status stays kPlanned or kPlannedToNearest (it leads to the goal); with kTurnInPlace and
-  /// kBackOut it is kOptimizerFailed with a trajectory that only frees the robot.
+  /// What the trajectory is when optimisation failed. With kWiderMargin, kFollowPath and
+  /// kPoseSearch the status stays kPlanned or kPlannedToNearest (it leads to the goal); with
+  /// kTurnInPlace and kBackOut it is kOptimizerFailed with a trajectory that only frees the robot.
   Fallback fallback{Fallback::kNone};
   double search_time_s{0.0};        ///< A* wall time, including the map's search costs
   double optimization_time_s{0.0};  ///< optimiser wall time
@@ -122,13 +124,14 @@ struct NavigationPlan {
 /// nearest to it and keeps that substitute while it stays reachable, until the robot comes within
 /// `substitute_goal_reach_m` of it (a receding horizon that does not dither). When the optimised
 /// trajectory violates a constraint, the planner falls back, in order, on: an optimised trajectory
-/// along a path searched with the circumscribed disc's margin; the search path at creep speed; a
-/// turn in place toward it; a straight reverse drive (Fallback); each only if the footprint keeps
-/// the smallest clearance along it (KeepsClear). Keeps the previous trajectory for warm starts
-/// (TrajectoryOptimizer). Failure is a status.
-/// A path search from start_W to goal_W on search costs, as GridPlanner::Plan answers it (status,
-/// points from the start's cell to the goal's): A* by default; scenarios/run offers OMPL's
-/// sampling planners and a user's own under the scenario key `planner.method`.
+/// along a path searched with the circumscribed disc's margin; the search path at creep speed; the
+/// footprint's own way of turns in place and straight drives to a point of that path ahead
+/// (SearchPoses); a turn in place toward it; a straight reverse drive (Fallback); each only if the
+/// footprint keeps the smallest clearance along it (KeepsClear). Keeps the previous trajectory for
+/// warm starts (TrajectoryOptimizer). Failure is a status. A path search from start_W to goal_W on
+/// search costs, as GridPlanner::Plan answers it (status, points from the start's cell to the
+/// goal's): A* by default; scenarios/run offers OMPL's sampling planners and a user's own under the
+/// scenario key `planner.method`.
 using PathSearch = std::function<GridPath(
     const SearchCostMap& costs, const Eigen::Vector2d& start_W, const Eigen::Vector2d& goal_W)>;
 

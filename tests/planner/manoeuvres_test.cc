@@ -49,6 +49,22 @@ TEST(ManoeuvresTest, ReverseDrivesBackwardFacingAwayFromTheSegment) {
   EXPECT_NEAR(t.Sample(3.0).yaw, 0.3, 1e-12);
 }
 
+TEST(ManoeuvresTest, CreepThroughTurnsToEachPoseThenDrivesForwardOrBackward) {
+  common::Pose2 ahead, behind;
+  ahead.position = Eigen::Vector2d(1, 0);
+  behind.position = Eigen::Vector2d(1, -0.5);
+  behind.yaw = 0.5 * M_PI;  // facing +y, so backward to y = -0.5
+  const common::Trajectory t = CreepThrough(StartAt(0, 0, 0), {ahead, behind}, FallbackConfig{});
+  const double turn_s = 0.5 * M_PI / 0.6;
+  EXPECT_NEAR(t.end_time() - t.start_time(), 1.0 / 0.3 + turn_s + 0.5 / 0.3, 1e-9);
+  EXPECT_EQ(t.Sample(2.0 + 1.5).v, 0.3);
+  EXPECT_EQ(t.Sample(2.0 + 1.0 / 0.3 + 0.5 * turn_s).omega, 0.6);
+  const common::TrajectoryPoint reversing = t.Sample(t.end_time() - 0.5);
+  EXPECT_EQ(reversing.v, -0.3);
+  EXPECT_NEAR(reversing.yaw, 0.5 * M_PI, 1e-12);
+  EXPECT_NEAR((t.points().back().position_W - behind.position).norm(), 0.0, 1e-9);
+}
+
 TEST(ManoeuvresTest, TurnInPlaceTakesTheShorterWayRound) {
   const common::Trajectory t = TurnInPlace(StartAt(0, 0, 3.0), -3.0, FallbackConfig{});
   const double turn = 2.0 * M_PI - 6.0;  // +0.283 rad through pi

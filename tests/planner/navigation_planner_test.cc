@@ -176,20 +176,47 @@ TEST(NavigationPlannerTest, AFailedOptimisationFollowsTheSearchPathAtCreepSpeed)
   EXPECT_GE(FootprintGaps(map, config, t).first, config.optimizer.min_clearance_m);
 }
 
-TEST(NavigationPlannerTest, ARobotFacingTheEndOfANarrowDeadEndBacksOut) {
-  // a dead end 0.8 m wide (cells of 0.1 m) closed at x = 1: too narrow to turn the 0.85 m
-  // circumscribed disc in; the goal lies behind the robot
+// A dead end 0.8 m wide (cells of 0.1 m) closed at x = 1: too narrow to turn the 0.85 m
+// circumscribed disc in.
+common::GridLayers DeadEndMap() {
   common::GridLayers map = WallMap();
   test_util::Paint(&map, 0.1f, [](const Eigen::Vector2d&) { return true; });
   test_util::Paint(&map, 1.0f, [](const Eigen::Vector2d& p) {
     return p.x() > -3.0 && p.x() < 1.2 && (std::abs(p.y()) > 0.4 || p.x() > 1.0) &&
            std::abs(p.y()) < 0.7;
   });
-  const NavigationPlannerConfig config = OneIteration();
-  NavigationPlanner dut(config);
+  return map;
+}
+
+common::TrajectoryPoint AtTheEndOfTheDeadEnd() {
   common::TrajectoryPoint start;
   start.position_W = Eigen::Vector2d(0.55, 0.0);  // the front 0.137 m from the end
-  const NavigationPlan plan = dut.Plan(map, start, {-5.5, 0.0}, {});
+  return start;
+}
+
+TEST(NavigationPlannerTest, ARobotFacingTheEndOfANarrowDeadEndReversesOutOfIt) {
+  // the goal lies behind the robot: following the search path would turn in the dead end
+  const common::GridLayers map = DeadEndMap();
+  const NavigationPlannerConfig config = OneIteration();
+  NavigationPlanner dut(config);
+  const NavigationPlan plan = dut.Plan(map, AtTheEndOfTheDeadEnd(), {-5.5, 0.0}, {});
+  ASSERT_EQ(plan.fallback, Fallback::kPoseSearch) << common::NameOf(plan.status);
+  EXPECT_EQ(plan.status, NavigationStatus::kPlanned);  // on its way to the goal
+  const common::Trajectory& t = plan.optimized.trajectory;
+  // backward along the dead end without turning, to the search path's point 4 m along
+  EXPECT_NEAR(t.points().back().position_W.x(), 0.55 - config.fallback.search_reach_m, 0.1);
+  EXPECT_EQ(t.points().back().yaw, 0.0);
+  EXPECT_EQ(t.Sample(0.5).v, -config.fallback.creep_speed_m_s);
+  EXPECT_GE(FootprintGaps(map, config, t).first,
+            std::min(config.optimizer.clearance_m, FootprintGaps(map, config, t).second) - 1e-9);
+}
+
+TEST(NavigationPlannerTest, WithoutThePoseSearchARobotFacingTheEndOfADeadEndBacksOut) {
+  const common::GridLayers map = DeadEndMap();
+  NavigationPlannerConfig config = OneIteration();
+  config.fallback.search_expansions = 0;
+  NavigationPlanner dut(config);
+  const NavigationPlan plan = dut.Plan(map, AtTheEndOfTheDeadEnd(), {-5.5, 0.0}, {});
   ASSERT_EQ(plan.fallback, Fallback::kBackOut) << common::NameOf(plan.status);
   EXPECT_EQ(plan.status, NavigationStatus::kOptimizerFailed);
   const common::Trajectory& t = plan.optimized.trajectory;
