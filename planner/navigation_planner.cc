@@ -65,6 +65,16 @@ Eigen::Vector2d PointAlong(const std::vector<Eigen::Vector2d>& points_W, double 
   return points_W.back();
 }
 
+// The time of the last sample of `way` where the disc of `free_radius_m` round the base reaches
+// lethal cells, or its start time if there is none.
+double NarrowsEnd(const CostField& field, const common::Trajectory& way, double free_radius_m) {
+  double end_s = way.start_time();
+  for (const common::TrajectoryPoint& p : way.points()) {
+    if (field.Distance(p.position_W).value < free_radius_m) end_s = p.t_s;
+  }
+  return end_s;
+}
+
 }  // namespace
 
 void ValidateNavigationPlannerConfig(const NavigationPlannerConfig& c) {
@@ -247,6 +257,9 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
     if (poses && !poses->empty()) {
       common::Trajectory turns_and_drives = CreepThrough(start, *poses, config_.fallback);
       if (KeepsClear(field, turns_and_drives, body_B, clearance_m)) {
+        plan->commit_until_s =
+            NarrowsEnd(field, turns_and_drives,
+                       config_.footprint.CircumscribedRadius() + config_.optimizer.clearance_m);
         take(std::move(turns_and_drives), Fallback::kPoseSearch);
         return;
       }

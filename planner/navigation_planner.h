@@ -110,6 +110,11 @@ struct NavigationPlan {
   /// kPoseSearch the status stays kPlanned or kPlannedToNearest (it leads to the goal); with
   /// kTurnInPlace and kBackOut it is kOptimizerFailed with a trajectory that only frees the robot.
   Fallback fallback{Fallback::kNone};
+  /// With kPoseSearch, the end of the way's last stretch where the robot cannot turn in place
+  /// (its circumscribed disc plus `optimizer.clearance` reaches lethal cells), or its start if it
+  /// has none: a navigator follows the way that far without periodic replanning, so that the next
+  /// plan does not choose another way round while the robot is half-way through a gap.
+  std::optional<double> commit_until_s;
   double search_time_s{0.0};        ///< A* wall time, including the map's search costs
   double optimization_time_s{0.0};  ///< optimiser wall time
 

@@ -82,7 +82,10 @@ Navigator::Navigator(const NavigationSettings& settings, const NavigationPlanner
   ValidateNavigationSettings(settings_);
 }
 
-double Navigator::time_without_plan_s(double now_s) const { return now_s - last_valid_plan_s_; }
+double Navigator::time_without_plan_s(double now_s) const {
+  // a committed way is a valid plan until its narrows end
+  return std::max(0.0, now_s - std::max(last_valid_plan_s_, committed_until_s_));
+}
 
 NavigatorTick Navigator::Update(const common::RobotState& state, const common::GridLayers* map,
                                 bool map_updated, const std::vector<MovingObstacle>& movers) {
@@ -196,7 +199,7 @@ ReplanReason Navigator::ReasonToReplan(const common::RobotState& state,
   const double now = state.time_s;
   if (map == nullptr) return ReplanReason::kNone;
   if (trajectory_.empty()) return now >= next_plan_s_ ? ReplanReason::kFirst : ReplanReason::kNone;
-  if (now >= next_plan_s_) return ReplanReason::kPeriodic;
+  if (now >= next_plan_s_ && now >= committed_until_s_) return ReplanReason::kPeriodic;
   if (now < next_plan_s_ - 1.0 / settings_.planning_rate_hz + kMinEventInterval_s) {
     return ReplanReason::kNone;
   }
@@ -286,6 +289,7 @@ void Navigator::Replan(const common::RobotState& state, const common::GridLayers
     tracker_->SetReference(trajectory_);
     // a manoeuvre that only frees the robot does not count as a plan: the patience keeps running
     if (leads_to_goal && !leads_nowhere) last_valid_plan_s_ = now;
+    committed_until_s_ = plan.commit_until_s.value_or(-1.0);
     force_replan_ = false;
   } else {
     ++statistics_.failed_plans;

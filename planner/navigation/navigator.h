@@ -126,7 +126,8 @@ class Navigator {
 
   /// Time since the last valid plan, or since the start if there was none [s]. A plan toward the
   /// substitute of an unreachable goal that ends within the goal radius of the robot is not valid:
-  /// the goal cannot be reached from here.
+  /// the goal cannot be reached from here. A pose-search way counts as valid until the end of its
+  /// narrows (NavigationPlan::commit_until_s), up to which it is followed without periodic replans.
   double time_without_plan_s(double now_s) const;
 
   /// The planner's settings, with the footprint it plans for.
@@ -186,6 +187,9 @@ class Navigator {
   bool map_check_pending_{false};    // a map update not yet checked against the plan
   double last_moving_s_{0.0};        // last time the robot moved or was meant to stand still
   double giving_way_until_s_{-1.0};  // end of the give-way drive being followed
+  // end of the narrows of the pose-search way being followed (NavigationPlan::commit_until_s):
+  // no periodic replans before it
+  double committed_until_s_{-1.0};
   Statistics statistics_;
   std::optional<CostMap> cost_map_;                     // of the map last seen, once needed
   const common::GridLayers* cost_map_source_{nullptr};  // that map

@@ -1,6 +1,8 @@
 // The navigator on its own (no simulator): synthetic maps and states.
 #include "planner/navigation/navigator.h"
 
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -137,6 +139,54 @@ TEST(NavigatorTest, AStoppedRobotWithAWallBehindStepsAsideFromAMoverComingAtIt) 
   const Eigen::Vector2d end_W = dut.trajectory().points().back().position_W;
   EXPECT_GT(std::abs(end_W.y()), 0.5);
   EXPECT_GT(end_W.x(), -0.3);
+}
+
+TEST(NavigatorTest, AWayOutOfTheNarrowsIsFollowedWithoutPeriodicReplansUntilItsEnd) {
+  // a dead end 0.8 m wide (walls' cells from |y| = 0.4 m), closed at x = 1.2: too narrow to turn
+  // the robot in;
+  // the goal behind the robot; one optimiser iteration, so that every plan falls back
+  common::GridLayers map = OpenMap();
+  const common::GridGeometry& g = map.geometry();
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const Eigen::Vector2d p = g.CellCenter(ix, iy);
+      if (p.x() > -3.0 && p.x() < 1.6 && std::abs(p.y()) < 0.9 &&
+          (std::abs(p.y()) > 0.4 || p.x() > 1.2)) {
+        map.Layer("traversability")(ix, iy) = 1.0f;
+      }
+    }
+  }
+  planner::NavigationPlannerConfig config;
+  config.optimizer.max_iterations = 1;
+  config.optimizer.terminal_tolerance_m = 1e-6;
+  planner::Navigator dut(planner::NavigationSettings{}, config, controller::MpcConfig{},
+                         Eigen::Vector2d(-6, 0));
+  dut.Update(At(0.0, 0.5), &map, true, {});
+  ASSERT_EQ(dut.statistics().plans, 1);
+  ASSERT_EQ(dut.statistics().last_status.substr(0, 7), "planned");
+  ASSERT_NE(dut.statistics().last_status.find("pose-search"), std::string::npos);
+  // the robot follows the way backward out of the dead end: no periodic replan until its narrows
+  // end (the base out of the dead end's mouth), then one; the way counts as a valid plan
+  const common::Trajectory way = dut.trajectory();
+  std::optional<double> first_replan_s;
+  for (int k = 1; k * 0.02 < way.end_time() && !first_replan_s; ++k) {
+    const common::TrajectoryPoint p = way.Sample(0.02 * k);
+    common::RobotState state;
+    state.time_s = p.t_s;
+    state.X_WB.translation() = Eigen::Vector3d(p.position_W.x(), p.position_W.y(), 0.1);
+    state.X_WB.linear() = Eigen::AngleAxisd(p.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    state.v_WB_B.x() = p.v;
+    EXPECT_LE(dut.time_without_plan_s(state.time_s), 0.02) << state.time_s;  // a tick at most
+    const planner::NavigatorTick tick = dut.Update(state, &map, false, {});
+    if (tick.replan != planner::ReplanReason::kNone) {
+      EXPECT_EQ(tick.replan, planner::ReplanReason::kPeriodic);
+      first_replan_s = state.time_s;
+      EXPECT_LT(p.position_W.x(), -3.0);
+      EXPECT_GT(p.position_W.x(), -3.8);
+    }
+  }
+  ASSERT_TRUE(first_replan_s.has_value());
+  EXPECT_GT(*first_replan_s, 10.0);  // 3.5 m backward at 0.3 m/s
 }
 
 }  // namespace
