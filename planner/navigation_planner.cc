@@ -65,12 +65,20 @@ Eigen::Vector2d PointAlong(const std::vector<Eigen::Vector2d>& points_W, double 
   return points_W.back();
 }
 
-// The time of the last sample of `way` where the disc of `free_radius_m` round the base reaches
-// lethal cells, or its start time if there is none.
+// A pose-search way is followed without periodic replans over at most its first this many metres
+// [m]: through the gap at hand (a robot length and a half), not its whole reach, which in clutter
+// is narrow throughout (BARN: 18 s of creeping, with the map growing round the way meanwhile).
+constexpr double kMaxCommitLength_m = 1.0;
+
+// The time of the last sample of `way`, within its first kMaxCommitLength_m of driving, where the
+// disc of `free_radius_m` round the base reaches lethal cells, or its start time if there is none.
 double NarrowsEnd(const CostField& field, const common::Trajectory& way, double free_radius_m) {
   double end_s = way.start_time();
-  for (const common::TrajectoryPoint& p : way.points()) {
-    if (field.Distance(p.position_W).value < free_radius_m) end_s = p.t_s;
+  double driven_m = 0.0;
+  const std::vector<common::TrajectoryPoint>& points = way.points();
+  for (std::size_t i = 0; i < points.size() && driven_m <= kMaxCommitLength_m; ++i) {
+    if (i > 0) driven_m += (points[i].position_W - points[i - 1].position_W).norm();
+    if (field.Distance(points[i].position_W).value < free_radius_m) end_s = points[i].t_s;
   }
   return end_s;
 }

@@ -222,6 +222,10 @@ ReplanReason Navigator::ReasonToReplan(const common::RobotState& state,
         return ReplanReason::kNewLethalCells;
       }
     }
+    // a way followed without periodic replans keeps its footprint's clearance on the new map
+    if (now < committed_until_s_ && !CommittedWayKeepsClear(now, CostMapOf(*map))) {
+      return ReplanReason::kNewLethalCells;
+    }
   }
   return ReplanReason::kNone;
 }
@@ -295,6 +299,17 @@ void Navigator::Replan(const common::RobotState& state, const common::GridLayers
     ++statistics_.failed_plans;
   }
   next_plan_s_ = now + 1.0 / settings_.planning_rate_hz;
+}
+
+bool Navigator::CommittedWayKeepsClear(double now_s, const CostMap& costs) const {
+  const NavigationPlannerConfig& config = planner_.config();
+  std::vector<common::TrajectoryPoint> ahead;
+  for (double t = now_s; t <= committed_until_s_; t += kCheckStep_s) {
+    ahead.push_back(trajectory_.Sample(t));
+  }
+  return KeepsClear(costs.field(), common::Trajectory(std::move(ahead)),
+                    config.footprint.BoundaryPoints_B(costs.geometry().resolution_m),
+                    config.optimizer.clearance_m);
 }
 
 const CostMap& Navigator::CostMapOf(const common::GridLayers& map) {

@@ -172,6 +172,9 @@ class Navigator {
   std::optional<common::Trajectory> GiveWay(const common::RobotState& state,
                                             const common::GridLayers& map,
                                             const std::vector<MovingObstacle>& movers);
+  // True if the footprint keeps min(optimizer.clearance, its gap now) on `costs` along the
+  // committed way from now_s to its commitment's end (KeepsClear).
+  bool CommittedWayKeepsClear(double now_s, const CostMap& costs) const;
   // The costs of the map, built on first use after each map update.
   const CostMap& CostMapOf(const common::GridLayers& map);
 

@@ -141,52 +141,85 @@ TEST(NavigatorTest, AStoppedRobotWithAWallBehindStepsAsideFromAMoverComingAtIt) 
   EXPECT_GT(end_W.x(), -0.3);
 }
 
-TEST(NavigatorTest, AWayOutOfTheNarrowsIsFollowedWithoutPeriodicReplansUntilItsEnd) {
-  // a dead end 0.8 m wide (walls' cells from |y| = 0.4 m), closed at x = 1.2: too narrow to turn
-  // the robot in;
-  // the goal behind the robot; one optimiser iteration, so that every plan falls back
-  common::GridLayers map = OpenMap();
-  const common::GridGeometry& g = map.geometry();
-  for (int ix = 0; ix < g.num_x; ++ix) {
-    for (int iy = 0; iy < g.num_y; ++iy) {
-      const Eigen::Vector2d p = g.CellCenter(ix, iy);
-      if (p.x() > -3.0 && p.x() < 1.6 && std::abs(p.y()) < 0.9 &&
-          (std::abs(p.y()) > 0.4 || p.x() > 1.2)) {
-        map.Layer("traversability")(ix, iy) = 1.0f;
+// A dead end 1 m wide (walls' cells centred at |y| >= 0.6 m) closed at x = 1.3, too narrow to turn
+// the robot in (its circumscribed disc plus the clearance is 1.05 m across), with the robot at
+// x = 0.5 facing its end; the goal behind it. One optimiser iteration,
+// so that every plan falls back: on the pose search's way backward.
+struct DeadEnd {
+  DeadEnd() {
+    Paint([](const Eigen::Vector2d& p) {
+      return p.x() > -3.0 && p.x() < 1.6 && std::abs(p.y()) < 0.9 &&
+             (std::abs(p.y()) > 0.5 || p.x() > 1.2);
+    });
+    config.optimizer.max_iterations = 1;
+    config.optimizer.terminal_tolerance_m = 1e-6;
+  }
+
+  template <typename Inside>
+  void Paint(Inside inside) {
+    const common::GridGeometry& g = map.geometry();
+    for (int ix = 0; ix < g.num_x; ++ix) {
+      for (int iy = 0; iy < g.num_y; ++iy) {
+        if (inside(g.CellCenter(ix, iy))) map.Layer("traversability")(ix, iy) = 1.0f;
       }
     }
   }
-  planner::NavigationPlannerConfig config;
-  config.optimizer.max_iterations = 1;
-  config.optimizer.terminal_tolerance_m = 1e-6;
-  planner::Navigator dut(planner::NavigationSettings{}, config, controller::MpcConfig{},
-                         Eigen::Vector2d(-6, 0));
-  dut.Update(At(0.0, 0.5), &map, true, {});
-  ASSERT_EQ(dut.statistics().plans, 1);
-  ASSERT_EQ(dut.statistics().last_status.substr(0, 7), "planned");
-  ASSERT_NE(dut.statistics().last_status.find("pose-search"), std::string::npos);
-  // the robot follows the way backward out of the dead end: no periodic replan until its narrows
-  // end (the base out of the dead end's mouth), then one; the way counts as a valid plan
-  const common::Trajectory way = dut.trajectory();
-  std::optional<double> first_replan_s;
-  for (int k = 1; k * 0.02 < way.end_time() && !first_replan_s; ++k) {
-    const common::TrajectoryPoint p = way.Sample(0.02 * k);
+
+  // The robot exactly on `way` at t_s.
+  static common::RobotState On(const common::Trajectory& way, double t_s) {
+    const common::TrajectoryPoint p = way.Sample(t_s);
     common::RobotState state;
-    state.time_s = p.t_s;
+    state.time_s = t_s;
     state.X_WB.translation() = Eigen::Vector3d(p.position_W.x(), p.position_W.y(), 0.1);
     state.X_WB.linear() = Eigen::AngleAxisd(p.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     state.v_WB_B.x() = p.v;
+    return state;
+  }
+
+  common::GridLayers map{OpenMap()};
+  planner::NavigationPlannerConfig config;
+};
+
+TEST(NavigatorTest, AWayOutOfTheNarrowsIsFollowedWithoutPeriodicReplansOverItsFirstMetre) {
+  DeadEnd world;
+  planner::Navigator dut(planner::NavigationSettings{}, world.config, controller::MpcConfig{},
+                         Eigen::Vector2d(-6, 0));
+  dut.Update(At(0.0, 0.5), &world.map, true, {});
+  ASSERT_EQ(dut.statistics().plans, 1);
+  ASSERT_EQ(dut.statistics().last_status.substr(0, 7), "planned");
+  ASSERT_NE(dut.statistics().last_status.find("pose-search"), std::string::npos);
+  // backward along the dead end, narrow all the way: no periodic replan over the first metre of
+  // the way (3.33 s at 0.3 m/s), then one; the way counts as a valid plan meanwhile
+  const common::Trajectory way = dut.trajectory();
+  std::optional<double> first_replan_s;
+  for (int k = 1; k * 0.02 < way.end_time() && !first_replan_s; ++k) {
+    const common::RobotState state = DeadEnd::On(way, 0.02 * k);
     EXPECT_LE(dut.time_without_plan_s(state.time_s), 0.02) << state.time_s;  // a tick at most
-    const planner::NavigatorTick tick = dut.Update(state, &map, false, {});
+    const planner::NavigatorTick tick = dut.Update(state, &world.map, false, {});
     if (tick.replan != planner::ReplanReason::kNone) {
       EXPECT_EQ(tick.replan, planner::ReplanReason::kPeriodic);
       first_replan_s = state.time_s;
-      EXPECT_LT(p.position_W.x(), -3.0);
-      EXPECT_GT(p.position_W.x(), -3.8);
+      EXPECT_NEAR(state.X_WB.translation().x(), 0.5 - 1.0, 0.02);
     }
   }
   ASSERT_TRUE(first_replan_s.has_value());
-  EXPECT_GT(*first_replan_s, 10.0);  // 3.5 m backward at 0.3 m/s
+  EXPECT_NEAR(*first_replan_s, 1.0 / 0.3, 0.05);
+}
+
+TEST(NavigatorTest, AFollowedWayIsReplannedWhenTheMapClosesInOnItsFootprint) {
+  DeadEnd world;
+  planner::Navigator dut(planner::NavigationSettings{}, world.config, controller::MpcConfig{},
+                         Eigen::Vector2d(-6, 0));
+  dut.Update(At(0.0, 0.5), &world.map, true, {});
+  const common::Trajectory way = dut.trajectory();
+  EXPECT_EQ(dut.Update(DeadEnd::On(way, 0.1), &world.map, true, {}).replan,
+            planner::ReplanReason::kNone);
+  // a cell at the side of the way 1 m behind the robot turns lethal (y from 0.3 to 0.5 m): the
+  // base's path stays clear of it, the footprint would not
+  world.Paint(
+      [](const Eigen::Vector2d& p) { return (p - Eigen::Vector2d(-0.6, 0.4)).norm() < 0.1; });
+  EXPECT_EQ(dut.Update(DeadEnd::On(way, 0.2), &world.map, true, {}).replan,
+            planner::ReplanReason::kNewLethalCells);
 }
 
 }  // namespace
