@@ -3,10 +3,12 @@
 // simplification. OMPL's RRT*, BIT* and RRT-Connect on the same map, start and goal as baselines,
 // with their cost against A*'s. The planning stack on a 20 m route among 10 obstacles (A*,
 // simplification and trajectory optimisation; budget 50 ms), and its replanning 0.2 s later,
-// warm-started from the first plan against cold.
+// warm-started from the first plan against cold. The pose search of the fallbacks through a door
+// that opens on a wall, and exhausting its expansions where there is no way.
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -17,6 +19,7 @@
 #include "planner/cost_map.h"
 #include "planner/navigation_planner.h"
 #include "planner/ompl/ompl_planner.h"
+#include "planner/pose_search.h"
 
 namespace {
 
@@ -204,6 +207,46 @@ void BM_Replan20m(benchmark::State& state, bool warm) {
 }
 BENCHMARK_CAPTURE(BM_Replan20m, warm, true)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Replan20m, cold, false)->Unit(benchmark::kMillisecond);
+
+// 12 x 12 m at 0.2 m (the mappers' resolution): a wall at x = 0 with a 1.2 m door, a 3 m wall
+// across it 1.4 m into the room; closed (no door) when `closed`.
+trav::common::GridLayers DoorMap(bool closed) {
+  trav::common::GridLayers map(
+      trav::common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(12, 12), 0.2),
+      {"traversability"});
+  const trav::common::GridGeometry& g = map.geometry();
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const Eigen::Vector2d p = g.CellCenter(ix, iy);
+      const bool wall = std::abs(p.x()) < 0.15 && (closed || std::abs(p.y()) > 0.6);
+      const bool across = std::abs(p.x() - 1.5) < 0.15 && std::abs(p.y()) < 1.5;
+      map.Layer("traversability")(ix, iy) = wall || across ? 1.0f : 0.1f;
+    }
+  }
+  return map;
+}
+
+// One search from the robot before the door, facing it, to a point round the wall across it.
+// Counters: poses of the way (or 0), and whether one was found.
+void BM_PoseSearch(benchmark::State& state, bool closed) {
+  const trav::common::GridLayers map = DoorMap(closed);
+  const trav::planner::NavigationPlannerConfig config;
+  const trav::planner::CostField field(map, config.SearchConfig());
+  const std::vector<Eigen::Vector2d> body_B = config.footprint.BoundaryPoints_B(0.2);
+  trav::common::Pose2 start;
+  start.position = Eigen::Vector2d(-1.0, 0.0);
+  std::optional<std::vector<trav::common::Pose2>> poses;
+  for (auto _ : state) {
+    poses = trav::planner::SearchPoses(field, body_B, config.footprint.CircumscribedRadius(),
+                                       config.optimizer.clearance_m, start, {2.5, 2.5},
+                                       trav::planner::PoseSearchConfig{});
+    benchmark::DoNotOptimize(poses.has_value());
+  }
+  state.counters["found"] = poses.has_value();
+  state.counters["poses"] = poses ? static_cast<double>(poses->size()) : 0.0;
+}
+BENCHMARK_CAPTURE(BM_PoseSearch, through_a_door, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_PoseSearch, no_way, true)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
