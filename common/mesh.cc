@@ -235,22 +235,7 @@ void AppendMesh(const TriangleMesh& mesh, TriangleMesh* into) {
 
 PointCloud SampleSurface(const TriangleMesh& mesh, double spacing_m) {
   std::vector<Eigen::Vector3f> points;
-  for (Eigen::Index t = 0; t < mesh.triangles.cols(); ++t) {
-    const Eigen::Vector3f a = mesh.vertices.col(mesh.triangles(0, t));
-    const Eigen::Vector3f b = mesh.vertices.col(mesh.triangles(1, t));
-    const Eigen::Vector3f c = mesh.vertices.col(mesh.triangles(2, t));
-    // a lattice along the two edges from a, each divided finely enough for the spacing
-    const int n_u = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing_m)));
-    const int n_v = std::max(1, static_cast<int>(std::ceil((c - a).norm() / spacing_m)));
-    for (int i = 0; i <= n_u; ++i) {
-      const float u = static_cast<float>(i) / static_cast<float>(n_u);
-      for (int j = 0; j <= n_v; ++j) {
-        const float v = static_cast<float>(j) / static_cast<float>(n_v);
-        if (u + v > 1.0f + 1e-6f) break;
-        points.push_back(a + u * (b - a) + v * (c - a));
-      }
-    }
-  }
+  ForEachSurfaceSample(mesh, spacing_m, [&](const Eigen::Vector3f& p) { points.push_back(p); });
   return MakePointCloud(points);
 }
 

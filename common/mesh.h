@@ -1,5 +1,7 @@
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -40,8 +42,29 @@ std::optional<std::pair<double, double>> VerticalExtent(const Primitive& primiti
 /// Appends `mesh` to `into`.
 void AppendMesh(const TriangleMesh& mesh, TriangleMesh* into);
 
-/// Points on the surface of `mesh`, on a lattice of every triangle with at most `spacing_m` between
-/// neighbours, in the mesh's frame.
+/// Calls visit(point) for the points on the surface of `mesh`, on a lattice of every triangle with
+/// at most `spacing_m` between neighbours, in the mesh's frame (triangle by triangle, in order).
+template <typename Visit>
+void ForEachSurfaceSample(const TriangleMesh& mesh, double spacing_m, Visit visit) {
+  for (Eigen::Index t = 0; t < mesh.triangles.cols(); ++t) {
+    const Eigen::Vector3f a = mesh.vertices.col(mesh.triangles(0, t));
+    const Eigen::Vector3f b = mesh.vertices.col(mesh.triangles(1, t));
+    const Eigen::Vector3f c = mesh.vertices.col(mesh.triangles(2, t));
+    // a lattice along the two edges from a, each divided finely enough for the spacing
+    const int n_u = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing_m)));
+    const int n_v = std::max(1, static_cast<int>(std::ceil((c - a).norm() / spacing_m)));
+    for (int i = 0; i <= n_u; ++i) {
+      const float u = static_cast<float>(i) / static_cast<float>(n_u);
+      for (int j = 0; j <= n_v; ++j) {
+        const float v = static_cast<float>(j) / static_cast<float>(n_v);
+        if (u + v > 1.0f + 1e-6f) break;
+        visit(Eigen::Vector3f(a + u * (b - a) + v * (c - a)));
+      }
+    }
+  }
+}
+
+/// The points of ForEachSurfaceSample as a cloud.
 PointCloud SampleSurface(const TriangleMesh& mesh, double spacing_m);
 
 }  // namespace trav::common

@@ -24,7 +24,11 @@ common::GridLayers ComputeGroundTruth(const common::GridGeometry& map_geometry,
   const double half_cell_m = 0.5 * map_geometry.resolution_m;
   const int reach = static_cast<int>(std::ceil(
       std::max({config.neighbourhood_radius_m, config.footprint_radius_m, half_cell_m}) / step));
+  // storage reused from cell to cell (the neighbourhoods have the same size away from the edges)
   std::vector<Eigen::Vector3d> samples;
+  Eigen::MatrixXd design;
+  Eigen::VectorXd z;
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> plane_fit;
   for (int mx = 0; mx < map_geometry.num_x; ++mx) {
     for (int my = 0; my < map_geometry.num_y; ++my) {
       const Eigen::Vector2d centre = map_geometry.CellCenter(mx, my);
@@ -52,8 +56,8 @@ common::GridLayers ComputeGroundTruth(const common::GridGeometry& map_geometry,
       if (samples.size() < 3) continue;
       // plane, covariance and height differences of the neighbourhood
       const auto n = static_cast<Eigen::Index>(samples.size());
-      Eigen::MatrixXd design(n, 3);
-      Eigen::VectorXd z(n);
+      design.resize(n, 3);
+      z.resize(n);
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
       double gradient = 0.0;
       for (Eigen::Index i = 0; i < n; ++i) {
@@ -72,7 +76,7 @@ common::GridLayers ComputeGroundTruth(const common::GridGeometry& map_geometry,
           Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance, Eigen::EigenvaluesOnly)
               .eigenvalues();
       const double curvature = std::max(0.0, eigenvalues[0]) / (eigenvalues.sum() + 1e-6);
-      const Eigen::Vector3d plane = design.colPivHouseholderQr().solve(z);
+      const Eigen::Vector3d plane = plane_fit.compute(design).solve(z);
       const double slope = std::atan(plane.head<2>().norm());
 
       truth.Layer(layers::kSlope)(mx, my) = static_cast<float>(slope);

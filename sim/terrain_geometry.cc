@@ -63,20 +63,35 @@ common::PointCloud DenseCloud(const TerrainWorld& world, double spacing_m) {
 }
 
 Eigen::MatrixXf ObstacleHeightGrid(const TerrainWorld& world, double max_height_m) {
-  Eigen::MatrixXf heights = Eigen::MatrixXf::Zero(world.geometry.num_x, world.geometry.num_y);
+  const common::GridGeometry& g = world.geometry;
+  Eigen::MatrixXf heights = Eigen::MatrixXf::Zero(g.num_x, g.num_y);
   for (const Obstacle& obstacle : world.obstacles) {
     if (obstacle.role != ObstacleRole::kSolid) continue;
-    const common::PointCloud surface = common::SampleSurface(common::PrimitiveMesh(obstacle, 32),
-                                                             0.5 * world.geometry.resolution_m);
-    for (Eigen::Index i = 0; i < surface.size(); ++i) {
-      const Eigen::Vector2d p = surface.points.col(i).head<2>().cast<double>();
-      const std::optional<Eigen::Vector2i> cell = world.geometry.CellIndex(p);
-      if (!cell) continue;
-      const float above = surface.points(2, i) - world.height_m(cell->x(), cell->y());
+    const common::TriangleMesh mesh = common::PrimitiveMesh(obstacle, 32);
+    // the highest ground under the mesh's cells bounds every sample's height above its own cell:
+    // samples higher than max_height_m above it (most of a tree's trunk) are skipped before the
+    // cell lookup, which changes no cell (float subtraction is monotone)
+    const auto cell_of = [&](float x, double origin) {
+      return static_cast<int>(std::lround((static_cast<double>(x) - origin) / g.resolution_m));
+    };
+    const Eigen::Vector3f low = mesh.vertices.rowwise().minCoeff();
+    const Eigen::Vector3f high = mesh.vertices.rowwise().maxCoeff();
+    // (one cell more on each side: a sample may round a hair outside its triangle)
+    const int x0 = std::max(0, cell_of(low.x(), g.origin_W.x()) - 1);
+    const int x1 = std::min(g.num_x - 1, cell_of(high.x(), g.origin_W.x()) + 1);
+    const int y0 = std::max(0, cell_of(low.y(), g.origin_W.y()) - 1);
+    const int y1 = std::min(g.num_y - 1, cell_of(high.y(), g.origin_W.y()) + 1);
+    if (x0 > x1 || y0 > y1) continue;  // wholly off the grid
+    const float highest_ground = world.height_m.block(x0, y0, x1 - x0 + 1, y1 - y0 + 1).maxCoeff();
+    common::ForEachSurfaceSample(mesh, 0.5 * g.resolution_m, [&](const Eigen::Vector3f& p) {
+      if (p.z() - highest_ground > max_height_m) return;
+      const std::optional<Eigen::Vector2i> cell = g.CellIndex(p.head<2>().cast<double>());
+      if (!cell) return;
+      const float above = p.z() - world.height_m(cell->x(), cell->y());
       if (above > 0.0f && above <= max_height_m) {
         heights(cell->x(), cell->y()) = std::max(heights(cell->x(), cell->y()), above);
       }
-    }
+    });
   }
   return heights;
 }
