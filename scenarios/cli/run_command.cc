@@ -43,6 +43,7 @@ int Run(const RunFlags& flags) {
   RunOptions run_options;
   run_options.record_clouds = flags.record_clouds;
   run_options.mapping_thread = flags.threads > 1;
+  run_options.lidar_thread = flags.threads > 1;
   const RunSummary summary = RunInFolder(scenario, run_options, flags.scenario.overwrite);
   const std::string& out = scenario.output_dir;
 
@@ -84,9 +85,9 @@ Command AddRunCommand(CLI::App* app) {
   run->add_flag("--record-clouds", flags->record_clouds,
                 "Write every LiDAR frame as clouds/frame_NNNNNN.pcd");
   run->add_option("--threads", flags->threads,
-                  "1: everything on one thread; 2: the mapper on a second thread when "
-                  "navigation.mapping_latency is at least a physics step (the same run, bit for "
-                  "bit, docs/performance.md)")
+                  "1: everything on one thread; 2: both cores, the rays cast and the mapper "
+                  "(when navigation.mapping_latency is at least a physics step) on worker "
+                  "threads (the same run, bit for bit, docs/performance.md)")
       ->check(CLI::Range(1, 2))
       ->capture_default_str();
   return {run, [flags] { return Run(*flags); }};

@@ -136,8 +136,9 @@ ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& option
   // LiDAR: an Embree scene of the same world, scanned every physics step
   if (scenario.lidar_mount_B) X_BL_ = MountPose(*scenario.lidar_mount_B);
   if (scenario.lidar.enabled) {
-    ray_scene_ = std::make_unique<lidar::RayScene>(sim::RaySceneOf(world_, movers_));
-    lidar_ = std::make_unique<lidar::LidarEmulator>(scenario.lidar);
+    lidar_ = std::make_unique<LidarPipeline>(
+        std::make_unique<lidar::RayScene>(sim::RaySceneOf(world_, movers_)),
+        std::make_unique<lidar::LidarEmulator>(scenario.lidar), options.lidar_thread);
   }
   // mapping: every LiDAR frame, in W with each point's own sensor pose
   const bool oracle = UsesGroundTruthMap(scenario);
@@ -216,13 +217,6 @@ void ClosedLoop::PlaceMovers() {
                               sim::MoverPose(movers_[walker.index], planar, world_), walker.v_W);
     }
   }
-  if (ray_scene_ && simulation.num_movers() > 0) {
-    mover_poses_W_.resize(static_cast<std::size_t>(simulation.num_movers()));
-    for (int i = 0; i < simulation.num_movers(); ++i) {
-      mover_poses_W_[static_cast<std::size_t>(i)] = simulation.MoverPose(i);
-    }
-    ray_scene_->SetMovingPoses(mover_poses_W_);
-  }
 }
 
 void ClosedLoop::DecideCommand() {
@@ -253,16 +247,17 @@ void ClosedLoop::DecideCommand() {
 
 bool ClosedLoop::Scan() {
   const sim::Simulation& simulation = *simulation_;
-  const double dt = simulation.timestep();
-  const Eigen::Isometry3d X_WL =
-      X_BL_ ? Eigen::Isometry3d(state_.X_WB * *X_BL_) : simulation.LidarPose();
-  const common::Stopwatch cast_start;
-  lidar_->Scan(*ray_scene_, simulation.time(), simulation.time() + dt, X_WL);
-  const double cast_ms = cast_start.ElapsedMilliseconds();
-  lidar_cast_s_ += 1e-3 * cast_ms;
-  times_.Add("lidar", cast_ms);
-  if (!lidar_->frame_ready()) return true;
+  ScanStep step;
+  step.t_begin_s = simulation.time();
+  step.t_end_s = simulation.time() + simulation.timestep();
+  step.X_WL = X_BL_ ? Eigen::Isometry3d(state_.X_WB * *X_BL_) : simulation.LidarPose();
+  // the movers where they are at this step (the ray scene holds every mover of the simulation)
+  for (int i = 0; i < simulation.num_movers(); ++i) {
+    step.movers_X_WI.push_back(simulation.MoverPose(i));
+  }
+  if (!lidar_->Submit(std::move(step))) return true;
   lidar_->TakeFrame(&lidar_frame_);
+  TakeScanTimes();
   ++lidar_frames_;
   if (odometry_) RegisterScan();
   lidar_points_ += static_cast<double>(lidar_frame_.points_L.size());
@@ -301,6 +296,15 @@ bool ClosedLoop::Scan() {
                       std::move(cloud_O), estimate_.X_WB, simulation.time()});
   }
   return max_lidar_frames_ <= 0 || lidar_frames_ < max_lidar_frames_;
+}
+
+void ClosedLoop::TakeScanTimes() {
+  scan_ms_.clear();
+  lidar_->TakeStepTimes(&scan_ms_);
+  for (const double ms : scan_ms_) {
+    lidar_cast_s_ += 1e-3 * ms;
+    times_.Add("lidar", ms);
+  }
 }
 
 common::RobotState ClosedLoop::EstimatePose() {
@@ -417,6 +421,7 @@ Outcome ClosedLoop::Run(const std::function<void(double fraction)>& progress) {
       progress(static_cast<double>(index + 1) / total_steps_);
     }
   }
+  if (lidar_) TakeScanTimes();
   if (progress) progress(1.0);
   for (LoopObserver* observer : observers_) observer->OnEnd(*this, outcome);
   return outcome;

@@ -17,6 +17,7 @@
 #include "mapping/mover_tracker.h"
 #include "mapping/traversability_mapper.h"
 #include "planner/navigation/navigator.h"
+#include "scenarios/run/lidar_pipeline.h"
 #include "scenarios/run/mapping_pipeline.h"
 #include "scenarios/run/run_metrics.h"
 #include "scenarios/run/scenario.h"
@@ -92,6 +93,9 @@ struct ClosedLoopOptions {
   /// Map on a worker thread while the loop goes on, when the scenario's mapping latency is at
   /// least one physics step (MappingPipeline): the same run, bit for bit, in less wall time.
   bool mapping_thread{false};
+  /// Cast each physics step's rays on a worker thread while the loop goes on (LidarPipeline): the
+  /// same run, bit for bit, in less wall time.
+  bool lidar_thread{false};
 };
 
 /// One run of a scenario as an object: the world (terrain, MuJoCo, movers, the LiDAR's ray scene)
@@ -155,6 +159,8 @@ class ClosedLoop {
   bool has_mapper() const { return mapping_ != nullptr; }
   /// True when the mapper runs on a worker thread (ClosedLoopOptions::mapping_thread).
   bool mapping_threaded() const { return mapping_ && mapping_->threaded(); }
+  /// True when the rays are cast on a worker thread (ClosedLoopOptions::lidar_thread).
+  bool lidar_threaded() const { return lidar_ && lidar_->threaded(); }
   /// The mapper's latest map in effect (MappingPipeline); null before the first or without one.
   const common::GridLayers* map() const { return mapping_ ? mapping_->map() : nullptr; }
   bool perceives_movers() const { return mover_tracker_.has_value(); }
@@ -196,6 +202,8 @@ class ClosedLoop {
   // This step's pose estimate: the pose noise model's, or with scan-matching the pose of the last
   // registered scan carried on by the motion since.
   common::RobotState EstimatePose();
+  // Adds the wall times of the steps scanned since the last call to the "lidar" module's.
+  void TakeScanTimes();
   // Registers a complete frame with the LiDAR odometry (scan-matching).
   void RegisterScan();
   std::optional<Outcome> CheckEnd(EndCondition::Stage stage, const LoopStep& step);
@@ -209,8 +217,7 @@ class ClosedLoop {
   const sim::WorldOptions world_options_;
   std::unique_ptr<sim::Simulation> simulation_;
   sim::SocialForceCrowd crowd_;
-  std::unique_ptr<lidar::RayScene> ray_scene_;
-  std::unique_ptr<lidar::LidarEmulator> lidar_;
+  std::unique_ptr<LidarPipeline> lidar_;
   lidar::LidarFrame lidar_frame_;
   std::optional<Eigen::Isometry3d> X_BL_;  // the scenario's mount; else the model's lidar site
   std::unique_ptr<MappingPipeline> mapping_;
@@ -243,7 +250,6 @@ class ClosedLoop {
   planner::NavigatorTick navigator_tick_;
   std::vector<planner::MovingObstacle> true_movers_;
   std::vector<planner::MovingObstacle> predicted_movers_;
-  std::vector<Eigen::Isometry3d> mover_poses_W_;  // this step's, for the ray scene
   const common::GridLayers* navigation_map_{nullptr};
   bool map_changed_{false};
   int total_steps_{0};
@@ -252,6 +258,7 @@ class ClosedLoop {
   int lidar_frames_{0};
   double lidar_points_{0.0};
   double lidar_cast_s_{0.0};
+  std::vector<double> scan_ms_;  // the steps' scan times handed over last
   std::vector<mapping::MapUpdateResult> map_updates_;
   std::vector<double> mapping_ms_;
   double last_mapping_error_;

@@ -284,7 +284,8 @@ RunSummary RunLoop(ClosedLoop* loop, const std::vector<LoopObserver*>& observers
 RunSummary RunScenario(const Scenario& scenario, const std::string& robot_model_path,
                        const std::string& output_dir, const RunOptions& options,
                        const ProgressCallback& progress) {
-  ClosedLoop loop(scenario, {robot_model_path, options.max_lidar_frames, options.mapping_thread});
+  ClosedLoop loop(scenario, {robot_model_path, options.max_lidar_frames, options.mapping_thread,
+                             options.lidar_thread});
   // the simulated world as a file MuJoCo's viewer opens (simulate world.xml)
   sim::ExportWorld(loop.world(), loop.world_options(), loop.movers(), output_dir);
   const bool navigate = loop.navigator() != nullptr;

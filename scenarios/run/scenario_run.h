@@ -158,6 +158,7 @@ struct RunOptions {
   bool record_clouds{false};   ///< write every LiDAR frame as clouds/frame_NNNNNN.pcd
   int max_lidar_frames{0};     ///< stop after this many frames (0: run the scenario's duration)
   bool mapping_thread{false};  ///< ClosedLoopOptions::mapping_thread
+  bool lidar_thread{false};    ///< ClosedLoopOptions::lidar_thread
 };
 
 /// Progress reports: fraction of the scenario's duration simulated so far, in [0, 1].

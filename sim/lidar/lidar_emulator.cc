@@ -10,15 +10,14 @@ namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
 
-// The number of rays fired before time t: ray i fires at i / rate.
-std::int64_t RaysBefore(double t_s, double rate) {
-  const double count = t_s * rate;
+}  // namespace
+
+std::int64_t LidarEmulator::RaysBefore(double t_s) const {
+  const double count = t_s * config_.points_per_second;
   const double nearest = std::round(count);
   // time stamps that are exact multiples of the ray period fall on the boundary despite rounding
   return static_cast<std::int64_t>(std::abs(count - nearest) < 1e-6 ? nearest : std::ceil(count));
 }
-
-}  // namespace
 
 const Eigen::Isometry3d& LidarFrame::PoseOfPoint(Eigen::Index i) const {
   const double t = points_L.stamp_s + points_L.time_offsets[i];
@@ -137,7 +136,7 @@ void LidarEmulator::TakeFrame(LidarFrame* frame) {
 
 void LidarEmulator::Scan(const RayScene& scene, double t_begin_s, double t_end_s,
                          const Eigen::Isometry3d& X_WL) {
-  const std::int64_t end_ray = RaysBefore(t_end_s, config_.points_per_second);
+  const std::int64_t end_ray = RaysBefore(t_end_s);
   const Eigen::Matrix3f R_WL = X_WL.linear().cast<float>();
   const Eigen::Vector3f p_WL = X_WL.translation().cast<float>();
   const float angular_sigma = static_cast<float>(config_.angular_noise_deg * kDegToRad);

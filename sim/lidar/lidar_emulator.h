@@ -97,6 +97,10 @@ class LidarEmulator {
   /// Rays per frame.
   int rays_per_frame() const { return rays_per_frame_; }
 
+  /// The number of rays fired before time `t_s` (ray i fires at i / points_per_second): Scan up
+  /// to t_s completes frame k once this reaches (k + 1) rays_per_frame().
+  std::int64_t RaysBefore(double t_s) const;
+
  private:
   void StartFrame(std::int64_t index, const Eigen::Isometry3d& X_WL, double t_s);
   void FinishFrame(const Eigen::Isometry3d& X_WL);

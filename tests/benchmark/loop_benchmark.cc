@@ -64,9 +64,10 @@ trav::scenarios::ModuleTime TimeOf(const RunSummary& summary, const std::string&
   return time == summary.compute.end() ? trav::scenarios::ModuleTime{} : time->second;
 }
 
-// A run of the benchmark's scenario; `video_size` (width, height) [pixels], or none.
+// A run of the benchmark's scenario; `video_size` (width, height) [pixels], or none; the mapper and
+// the ray casting on worker threads, or everything on one thread.
 void RunClosedLoop(benchmark::State& state, std::optional<Eigen::Vector2i> video_size,
-                   bool mapping_thread) {
+                   bool worker_threads) {
   const bool video = video_size.has_value();
   Scenario scenario = trav::scenarios::LoadScenario(
       trav::common::YamlDocument::Load(std::string(TRAV_SOURCE_DIR) + kScenarioFile));
@@ -85,7 +86,8 @@ void RunClosedLoop(benchmark::State& state, std::optional<Eigen::Vector2i> video
     const TemporaryFolder output(video ? "video" : "no_video");
     const auto start = std::chrono::steady_clock::now();
     trav::scenarios::RunOptions options;
-    options.mapping_thread = mapping_thread;
+    options.mapping_thread = worker_threads;
+    options.lidar_thread = worker_threads;
     summary = trav::scenarios::RunScenario(scenario, model, output.path(), options);
     wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     state.SetIterationTime(wall_s);
@@ -115,7 +117,7 @@ void RunClosedLoop(benchmark::State& state, std::optional<Eigen::Vector2i> video
 }
 
 void BM_ClosedLoopNoVideo(benchmark::State& state) {
-  RunClosedLoop(state, std::nullopt, /*mapping_thread=*/state.range(0) == 2);
+  RunClosedLoop(state, std::nullopt, /*worker_threads=*/state.range(0) == 2);
 }
 BENCHMARK(BM_ClosedLoopNoVideo)
     ->ArgName("threads")
@@ -126,12 +128,12 @@ BENCHMARK(BM_ClosedLoopNoVideo)
     ->Unit(benchmark::kSecond);
 
 void BM_ClosedLoopVideo640x480(benchmark::State& state) {
-  RunClosedLoop(state, Eigen::Vector2i(640, 480), /*mapping_thread=*/true);
+  RunClosedLoop(state, Eigen::Vector2i(640, 480), /*worker_threads=*/true);
 }
 BENCHMARK(BM_ClosedLoopVideo640x480)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
 
 void BM_ClosedLoopVideo1280x720(benchmark::State& state) {
-  RunClosedLoop(state, Eigen::Vector2i(1280, 720), /*mapping_thread=*/true);
+  RunClosedLoop(state, Eigen::Vector2i(1280, 720), /*worker_threads=*/true);
 }
 BENCHMARK(BM_ClosedLoopVideo1280x720)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
 

@@ -199,20 +199,25 @@ TEST(NavigationRunTest, TheSameScenarioGivesTheSameRun) {
   fs::remove_all(second);
 }
 
-// The mapper on a worker thread (`trav run --threads 2`) gives the run of one thread bit for bit:
-// it gets the same frames in the same order, and each map takes effect at the time the modelled
-// latency fixes, not when the worker finishes.
-TEST(NavigationRunTest, TheMappingThreadGivesTheSameRun) {
+// The mapper and the ray casting on worker threads (`trav run --threads 2`) give the run of one
+// thread bit for bit: the mapper gets the same frames in the same order, and each map takes effect
+// at the time the modelled latency fixes, not when the worker finishes; the LiDAR's worker scans
+// the same steps with the same poses (the crossing's walker among them) in the same order.
+TEST(NavigationRunTest, TheWorkerThreadsGiveTheSameRun) {
   Scenario scenario = LoadFile("suite/crossing.yaml");
   scenario.duration_s = 8.0;
   scenario.navigation.mapping_latency_s = 0.1;
   const std::string model = RobotModelPath(scenario, TRAV_MODELS_DIR);
   ClosedLoop one(scenario, {model, 0, false});
-  ClosedLoop two(scenario, {model, 0, true});
+  ClosedLoop two(scenario, {model, 0, true, true});
   ASSERT_FALSE(one.mapping_threaded());
+  ASSERT_FALSE(one.lidar_threaded());
   ASSERT_TRUE(two.mapping_threaded());
+  ASSERT_TRUE(two.lidar_threaded());
   EXPECT_EQ(one.Run(), two.Run());
   EXPECT_EQ(one.physics_steps(), two.physics_steps());
+  EXPECT_EQ(one.lidar_frames(), two.lidar_frames());
+  EXPECT_EQ(one.lidar_points(), two.lidar_points());
   EXPECT_GE(one.map_updates().size(), 70u);
   EXPECT_EQ(one.map_updates().size(), two.map_updates().size());
   EXPECT_EQ(one.navigator_tick().replan, two.navigator_tick().replan);
