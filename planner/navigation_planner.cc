@@ -251,17 +251,12 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
   }
   // 3. the footprint's own way, turning where it fits, to a point of the search path ahead
   if (config_.fallback.search_expansions > 0) {
-    PoseSearchConfig way;
-    way.speed_m_s = config_.fallback.creep_speed_m_s;
-    way.yaw_rate_rad_s = config_.fallback.creep_yaw_rate_rad_s;
-    way.reach_m = config_.fallback.search_reach_m;
-    way.max_expansions = config_.fallback.search_expansions;
     common::Pose2 from;
     from.position = start.position_W;
     from.yaw = start.yaw;
-    const std::optional<std::vector<common::Pose2>> poses =
-        SearchPoses(field, body_B, config_.footprint.CircumscribedRadius(), clearance_m, from,
-                    PointAlong(plan->waypoints_W, way.reach_m), way);
+    const std::optional<std::vector<common::Pose2>> poses = SearchPoses(
+        field, body_B, config_.footprint.CircumscribedRadius(), clearance_m, from,
+        PointAlong(plan->waypoints_W, config_.fallback.search_reach_m), config_.fallback);
     if (poses && !poses->empty()) {
       common::Trajectory turns_and_drives = CreepThrough(start, *poses, config_.fallback);
       if (KeepsClear(field, turns_and_drives, body_B, clearance_m)) {

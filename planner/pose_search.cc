@@ -47,7 +47,7 @@ class PoseLattice {
  public:
   PoseLattice(const CostField& field, const std::vector<Eigen::Vector2d>& body_points_B,
               double circumscribed_radius_m, double clearance_m, const common::Pose2& start,
-              const Eigen::Vector2d& goal_W, const PoseSearchConfig& config)
+              const Eigen::Vector2d& goal_W, const FallbackConfig& config)
       : field_(field),
         body_points_B_(body_points_B),
         circumscribed_radius_m_(circumscribed_radius_m),
@@ -58,7 +58,7 @@ class PoseLattice {
         floor_m_(std::min(clearance_m,
                           FootprintDistance(field, start.position, start.yaw, body_points_B)) -
                  1e-9),
-        reach_(static_cast<int>(std::ceil(config.reach_m / resolution_m_)) + 1),
+        reach_(static_cast<int>(std::ceil(config.search_reach_m / resolution_m_)) + 1),
         side_(2 * reach_ + 1),
         count_(static_cast<std::size_t>(side_) * side_ * kHeadings),
         cost_s_(count_, std::numeric_limits<double>::infinity()),
@@ -71,11 +71,11 @@ class PoseLattice {
     for (int k = 0; k < kHeadings; ++k) {
       const double turn = std::remainder(HeadingYaw(k) - start_.yaw, 2.0 * M_PI);
       if (TurnClear(start_.position, start_.yaw, turn)) {
-        Relax(Index(0, 0, k), count_, Move::kStart, std::abs(turn) / config_.yaw_rate_rad_s);
+        Relax(Index(0, 0, k), count_, Move::kStart, std::abs(turn) / config_.creep_yaw_rate_rad_s);
       }
     }
     int expansions = 0;
-    while (!open_.empty() && expansions < config_.max_expansions) {
+    while (!open_.empty() && expansions < config_.search_expansions) {
       const std::size_t s = std::get<2>(open_.top());
       open_.pop();
       if (closed_[s]) continue;
@@ -174,7 +174,7 @@ class PoseLattice {
     parent_[s] = from;
     move_[s] = how;
     const double heuristic_s =
-        std::max(0.0, (Position(s) - goal_W_).norm() - resolution_m_) / config_.speed_m_s;
+        std::max(0.0, (Position(s) - goal_W_).norm() - resolution_m_) / config_.creep_speed_m_s;
     open_.emplace(cost_s + heuristic_s, order_++, s);
   }
 
@@ -190,7 +190,7 @@ class PoseLattice {
       const double turn = std::remainder(HeadingYaw(to) - yaw, 2.0 * M_PI);
       const std::size_t next = Index(i, j, to);
       if (!closed_[next] && TurnClear(p_W, yaw, turn)) {
-        Relax(next, s, Move::kTurn, cost_s_[s] + std::abs(turn) / config_.yaw_rate_rad_s);
+        Relax(next, s, Move::kTurn, cost_s_[s] + std::abs(turn) / config_.creep_yaw_rate_rad_s);
       }
     }
     for (const int direction : {1, -1}) {
@@ -199,9 +199,9 @@ class PoseLattice {
       const std::size_t next = Index(ni, nj, k);
       const Eigen::Vector2d to_W = Position(next);
       if (closed_[next] || !DriveClear(p_W, to_W, yaw)) continue;
-      const double time_s = (to_W - p_W).norm() / config_.speed_m_s;
+      const double time_s = (to_W - p_W).norm() / config_.creep_speed_m_s;
       Relax(next, s, direction > 0 ? Move::kForward : Move::kReverse,
-            cost_s_[s] + (direction > 0 ? time_s : config_.reverse_factor * time_s));
+            cost_s_[s] + (direction > 0 ? time_s : kPoseSearchReverseFactor * time_s));
     }
   }
 
@@ -210,7 +210,7 @@ class PoseLattice {
   double circumscribed_radius_m_;
   common::Pose2 start_;
   Eigen::Vector2d goal_W_;
-  PoseSearchConfig config_;
+  FallbackConfig config_;
   double resolution_m_;
   double floor_m_;  // the smallest footprint distance admitted [m]
   int reach_;       // [cells]
@@ -229,7 +229,7 @@ class PoseLattice {
 std::optional<std::vector<common::Pose2>> SearchPoses(
     const CostField& field, const std::vector<Eigen::Vector2d>& body_points_B,
     double circumscribed_radius_m, double clearance_m, const common::Pose2& start,
-    const Eigen::Vector2d& goal_W, const PoseSearchConfig& config) {
+    const Eigen::Vector2d& goal_W, const FallbackConfig& config) {
   if ((start.position - goal_W).norm() <= field.geometry().resolution_m) {
     return std::vector<common::Pose2>{};
   }

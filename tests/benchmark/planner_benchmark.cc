@@ -239,7 +239,7 @@ void BM_PoseSearch(benchmark::State& state, bool closed) {
   for (auto _ : state) {
     poses = trav::planner::SearchPoses(field, body_B, config.footprint.CircumscribedRadius(),
                                        config.optimizer.clearance_m, start, {2.5, 2.5},
-                                       trav::planner::PoseSearchConfig{});
+                                       trav::planner::FallbackConfig{});
     benchmark::DoNotOptimize(poses.has_value());
   }
   state.counters["found"] = poses.has_value();

@@ -50,7 +50,7 @@ struct Searcher {
   CostField field;
   common::Footprint footprint;
   std::vector<Eigen::Vector2d> body_B{footprint.BoundaryPoints_B(0.1)};
-  PoseSearchConfig config;
+  FallbackConfig config;
 };
 
 TEST(PoseSearchTest, DrivesStraightToAGoalAhead) {
@@ -90,7 +90,7 @@ common::GridLayers DeadEndMap() {
 
 TEST(PoseSearchTest, BacksOutOfADeadEndThenTurnsRound) {
   Searcher search(DeadEndMap());
-  search.config.reach_m = 8.0;
+  search.config.search_reach_m = 8.0;
   const common::Pose2 start = PoseAt(0.55, 0, 0);  // the front 0.137 m from the end
   const auto poses = search(start, {-6, 0});
   ASSERT_TRUE(poses.has_value());
@@ -144,9 +144,9 @@ TEST(PoseSearchTest, FindsNoWayOutOfAClosedRoomOrBeyondItsExpansions) {
   const Searcher closed(map);
   EXPECT_FALSE(closed(PoseAt(0, 0, 0), {3, 0}).has_value());
   Searcher hasty(OpenMap());
-  hasty.config.max_expansions = 10;
+  hasty.config.search_expansions = 10;
   EXPECT_FALSE(hasty(PoseAt(0, 0, 0), {3, 0}).has_value());
-  hasty.config.max_expansions = 200;
+  hasty.config.search_expansions = 200;
   EXPECT_TRUE(hasty(PoseAt(0, 0, 0), {3, 0}).has_value());
 }
 
