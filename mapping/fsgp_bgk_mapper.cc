@@ -197,6 +197,10 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   return result;
 }
 
+void FsgpBgkMapper::UseHelperThread() {
+  if (!helper_) helper_ = std::make_unique<common::HelperThread>();
+}
+
 void FsgpBgkMapper::PredictCells(const TrainingSet& training, const Eigen::Vector2i& low,
                                  const Eigen::Vector2i& high) {
   // kappa*, g* by IDW on the cells with a training point within the support radius
@@ -239,9 +243,14 @@ void FsgpBgkMapper::PredictCells(const TrainingSet& training, const Eigen::Vecto
   for (Eigen::Index t = 0; t < t_count; ++t) test.row(t) = test.row(t) * inputs_.rotation;
   auto elevation = prediction.elevation.Resize(t_count);
   auto df_du = s.df_du.Resize(t_count, 4);
-  gp_.Predict(test, elevation, df_du);
-  variance_.Compute(gp_, prediction.cells, test, low, high, config_.variance_stride,
-                    prediction.variance.Resize(t_count));
+  auto variance = prediction.variance.Resize(t_count);
+  // the mean and the variance only read the fitted GP and write outputs of their own
+  common::RunAlongside(
+      helper_.get(), [&] { gp_.Predict(test, elevation, df_du); },
+      [&] {
+        variance_.Compute(gp_, prediction.cells, test, low, high, config_.variance_stride,
+                          variance);
+      });
   // the plane back in, and the slope over x and y only: d f / d x = a + sum_d d f / d u'_d R(x, d)
   // / s_x
   const Eigen::Vector3d& plane = inputs_.plane;

@@ -1,10 +1,12 @@
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "common/helper_thread.h"
 #include "common/random.h"
 #include "common/scratch.h"
 #include "mapping/features.h"
@@ -30,6 +32,8 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   MapUpdateResult Update(const common::PointCloud& points_W, const Eigen::Isometry3d& X_WB,
                          double t_s) override;
   const common::GridLayers& map() const override { return map_; }
+  /// The GP's mean on the helper while the updating thread computes its variance.
+  void UseHelperThread() override;
 
   const FsgpConfig& config() const { return config_; }
   /// Hyperparameters in use (updated by the optional L-BFGS steps).
@@ -94,6 +98,7 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   StridedVariance variance_;
   CellPrediction prediction_;
   ObstacleMarker obstacles_;
+  std::unique_ptr<common::HelperThread> helper_;  // null: one thread
 };
 
 /// The BGK update of one cell (the paper's equations): with w_t = exp(-lambda (t - t0)) and

@@ -146,7 +146,10 @@ ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& option
     // a worker overlaps nothing unless a frame's map takes effect a step or more after its scan
     const bool worker = options.mapping_thread &&
                         scenario.navigation.mapping_latency_s >= simulation_->timestep() - 1e-12;
-    mapping_ = std::make_unique<MappingPipeline>(MakeMapper(scenario), worker);
+    std::unique_ptr<mapping::TraversabilityMapper> mapper = MakeMapper(scenario);
+    // the worker's mapper may use a helper thread of its own, for a core the loop leaves free
+    if (worker) mapper->UseHelperThread();
+    mapping_ = std::make_unique<MappingPipeline>(std::move(mapper), worker);
   }
 
   // the closed loop: the ground truth for the oracle and the metrics, the navigator on the map

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -688,6 +689,25 @@ TEST(FsgpBgkMapperTest, SeededRunsAreIdentical) {
   const Eigen::MatrixXf& ta = a.map().Layer(layers::kTraversability);
   const Eigen::MatrixXf& tb = b.map().Layer(layers::kTraversability);
   EXPECT_TRUE(((ta.array() == tb.array()) || (ta.array().isNaN() && tb.array().isNaN())).all());
+}
+
+TEST(FsgpBgkMapperTest, AHelperThreadGivesTheSameMapsBitForBit) {
+  // the GP's mean on the helper while the updating thread computes the variance
+  auto hills = [](double x, double y) { return 0.3 * std::sin(0.7 * x) * std::cos(0.5 * y); };
+  FsgpBgkMapper one(FsgpConfig{}), two(FsgpConfig{});
+  two.UseHelperThread();
+  for (int frame = 0; frame < 4; ++frame) {
+    one.Update(Surface(hills, {0.5 * frame, 0}), RobotAt(0.5 * frame, 0), 0.1 * frame);
+    two.Update(Surface(hills, {0.5 * frame, 0}), RobotAt(0.5 * frame, 0), 0.1 * frame);
+  }
+  int known = 0;
+  for (const std::string& name : one.map().LayerNames()) {
+    const Eigen::ArrayXXf a = one.map().Layer(name).array();
+    const Eigen::ArrayXXf b = two.map().Layer(name).array();
+    EXPECT_TRUE(((a == b) || (a.isNaN() && b.isNaN())).all()) << name;
+    if (name == layers::kTraversability) known = static_cast<int>((a == a).count());
+  }
+  EXPECT_GT(known, 1000);
 }
 
 TEST(FsgpBgkMapperTest, BadFramesLeaveTheMapUnchanged) {
