@@ -17,12 +17,16 @@ GridGeometry GridGeometry::Centered(const Eigen::Vector2d& center_W, const Eigen
   return geometry;
 }
 
-std::optional<Eigen::Vector2i> GridGeometry::CellIndex(const Eigen::Vector2d& p_W) const {
+Eigen::Vector2i GridGeometry::NearestLatticeIndex(const Eigen::Vector2d& p_W) const {
   const Eigen::Vector2d cell = (p_W - origin_W) / resolution_m;
-  const int ix = static_cast<int>(std::lround(cell.x()));
-  const int iy = static_cast<int>(std::lround(cell.y()));
-  if (!Contains(ix, iy)) return std::nullopt;
-  return Eigen::Vector2i(ix, iy);
+  return Eigen::Vector2i(static_cast<int>(std::lround(cell.x())),
+                         static_cast<int>(std::lround(cell.y())));
+}
+
+std::optional<Eigen::Vector2i> GridGeometry::CellIndex(const Eigen::Vector2d& p_W) const {
+  const Eigen::Vector2i index = NearestLatticeIndex(p_W);
+  if (!Contains(index.x(), index.y())) return std::nullopt;
+  return index;
 }
 
 float InterpolateBilinear(const GridGeometry& geometry, const Eigen::MatrixXf& layer,

@@ -40,6 +40,9 @@ struct GridGeometry {
 
   /// The cell whose centre is nearest to p_W, or nothing if p_W lies outside the grid.
   std::optional<Eigen::Vector2i> CellIndex(const Eigen::Vector2d& p_W) const;
+  /// The indices (ix, iy) of the cell centre nearest to p_W on the grid's lattice extended beyond
+  /// the grid (CellIndex's, without the bounds).
+  Eigen::Vector2i NearestLatticeIndex(const Eigen::Vector2d& p_W) const;
 
   /// True if (ix, iy) is a cell of the grid.
   bool Contains(int ix, int iy) const { return ix >= 0 && iy >= 0 && ix < num_x && iy < num_y; }

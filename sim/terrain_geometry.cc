@@ -71,16 +71,15 @@ Eigen::MatrixXf ObstacleHeightGrid(const TerrainWorld& world, double max_height_
     // the highest ground under the mesh's cells bounds every sample's height above its own cell:
     // samples higher than max_height_m above it (most of a tree's trunk) are skipped before the
     // cell lookup, which changes no cell (float subtraction is monotone)
-    const auto cell_of = [&](float x, double origin) {
-      return static_cast<int>(std::lround((static_cast<double>(x) - origin) / g.resolution_m));
-    };
     const Eigen::Vector3f low = mesh.vertices.rowwise().minCoeff();
     const Eigen::Vector3f high = mesh.vertices.rowwise().maxCoeff();
     // (one cell more on each side: a sample may round a hair outside its triangle)
-    const int x0 = std::max(0, cell_of(low.x(), g.origin_W.x()) - 1);
-    const int x1 = std::min(g.num_x - 1, cell_of(high.x(), g.origin_W.x()) + 1);
-    const int y0 = std::max(0, cell_of(low.y(), g.origin_W.y()) - 1);
-    const int y1 = std::min(g.num_y - 1, cell_of(high.y(), g.origin_W.y()) + 1);
+    const Eigen::Vector2i first =
+        g.NearestLatticeIndex(low.head<2>().cast<double>()) - Eigen::Vector2i::Ones();
+    const Eigen::Vector2i last =
+        g.NearestLatticeIndex(high.head<2>().cast<double>()) + Eigen::Vector2i::Ones();
+    const int x0 = std::max(0, first.x()), x1 = std::min(g.num_x - 1, last.x());
+    const int y0 = std::max(0, first.y()), y1 = std::min(g.num_y - 1, last.y());
     if (x0 > x1 || y0 > y1) continue;  // wholly off the grid
     const float highest_ground = world.height_m.block(x0, y0, x1 - x0 + 1, y1 - y0 + 1).maxCoeff();
     common::ForEachSurfaceSample(mesh, 0.5 * g.resolution_m, [&](const Eigen::Vector3f& p) {

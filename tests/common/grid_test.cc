@@ -30,6 +30,14 @@ TEST(GridGeometryTest, CellIndexRoundsToNearestCentreAndRejectsOutside) {
   EXPECT_FALSE(dut.CellIndex(Eigen::Vector2d(0.0, -1.6)).has_value());
 }
 
+TEST(GridGeometryTest, TheNearestLatticeIndexGoesOnBeyondTheGrid) {
+  const GridGeometry dut =
+      GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(2.0, 2.0), 1.0);
+  EXPECT_EQ(dut.NearestLatticeIndex(Eigen::Vector2d(0.4, -0.6)), Eigen::Vector2i(1, 0));
+  EXPECT_EQ(dut.NearestLatticeIndex(Eigen::Vector2d(1.6, 0.0)), Eigen::Vector2i(3, 1));
+  EXPECT_EQ(dut.NearestLatticeIndex(Eigen::Vector2d(-2.7, -1.6)), Eigen::Vector2i(-2, -1));
+}
+
 TEST(GridGeometryTest, AnyCellWithinVisitsTheCellsOfTheDiscOnTheGrid) {
   // 11 x 11 cells of 1 m; a marked cell at (7, 5), 2 m from the centre (5, 5)
   const GridGeometry g =

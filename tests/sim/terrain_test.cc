@@ -1,5 +1,6 @@
 #include "sim/terrain.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <gmock/gmock.h>
@@ -318,6 +319,32 @@ TEST(TerrainGeometryTest, DenseCloudCoversGroundAndObstacleTopsButNotBuriedParts
   int top_points = 0;
   for (Eigen::Index i = 0; i < cloud.size(); ++i) top_points += cloud.points(2, i) == 0.75f;
   EXPECT_GE(top_points, 100);  // a 1 m x 1 m top at 0.1 m spacing
+}
+
+TEST(TerrainGeometryTest, ObstacleHeightGridKeepsEverySampleWithinItsBand) {
+  // the grid skips samples above the band over the highest ground under their obstacle; on hills
+  // among trees it must equal the grid of every sample, each looked up in its own cell
+  TerrainConfig config = Config(TerrainType::kForest, 3);
+  config.size_m = {12, 12};
+  const TerrainWorld world = GenerateTerrain(config);
+  ASSERT_GE(world.obstacles.size(), 5u);
+  Eigen::MatrixXf reference = Eigen::MatrixXf::Zero(world.geometry.num_x, world.geometry.num_y);
+  for (const Obstacle& obstacle : world.obstacles) {
+    if (obstacle.role != ObstacleRole::kSolid) continue;
+    const common::PointCloud surface = common::SampleSurface(common::PrimitiveMesh(obstacle, 32),
+                                                             0.5 * world.geometry.resolution_m);
+    for (Eigen::Index i = 0; i < surface.size(); ++i) {
+      const auto cell = world.geometry.CellIndex(surface.points.col(i).head<2>().cast<double>());
+      if (!cell) continue;
+      const float above = surface.points(2, i) - world.height_m(cell->x(), cell->y());
+      if (above > 0.0f && above <= 1.0f) {
+        reference(cell->x(), cell->y()) = std::max(reference(cell->x(), cell->y()), above);
+      }
+    }
+  }
+  const Eigen::MatrixXf grid = ObstacleHeightGrid(world);
+  EXPECT_GT((reference.array() > 0.0f).count(), 50);
+  EXPECT_TRUE((grid.array() == reference.array()).all());
 }
 
 TEST(WorldBuilderTest, HeightFieldIsNormalisedRowMajorAlongY) {
