@@ -117,6 +117,8 @@ NavigatorTick Navigator::Update(const common::RobotState& state, const common::G
       trajectory_ = std::move(*escape);
       tracker_->SetReference(trajectory_);
       giving_way_until_s_ = trajectory_.end_time();
+      // a committed way is given up here: it was a valid plan until now
+      committed_until_s_ = std::min(committed_until_s_, state.time_s);
       force_replan_ = true;  // replan once the drive ends
       ++statistics_.give_ways;
     }

@@ -127,7 +127,8 @@ class Navigator {
   /// Time since the last valid plan, or since the start if there was none [s]. A plan toward the
   /// substitute of an unreachable goal that ends within the goal radius of the robot is not valid:
   /// the goal cannot be reached from here. A pose-search way counts as valid until the end of its
-  /// narrows (NavigationPlan::commit_until_s), up to which it is followed without periodic replans.
+  /// narrows (NavigationPlan::commit_until_s), up to which it is followed without periodic replans,
+  /// or until the robot gives way to a mover on it.
   double time_without_plan_s(double now_s) const;
 
   /// The planner's settings, with the footprint it plans for.

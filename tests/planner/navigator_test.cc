@@ -206,6 +206,31 @@ TEST(NavigatorTest, AWayOutOfTheNarrowsIsFollowedWithoutPeriodicReplansOverItsFi
   EXPECT_NEAR(*first_replan_s, 1.0 / 0.3, 0.05);
 }
 
+TEST(NavigatorTest, GivingWayOnAFollowedWayEndsItsCommitment) {
+  DeadEnd world;
+  planner::Navigator dut(planner::NavigationSettings{}, world.config, controller::MpcConfig{},
+                         Eigen::Vector2d(-6, 0));
+  dut.Update(At(0.0, 0.5), &world.map, true, {});
+  const common::Trajectory way = dut.trajectory();
+  const common::RobotState on_way = DeadEnd::On(way, 1.0);
+  ASSERT_EQ(dut.Update(on_way, &world.map, false, {}).replan, planner::ReplanReason::kNone);
+  // a walker coming up the dead end at 0.4 m/s into the robot backing out of it: the robot stops
+  // and drives back into the dead end, out of its way, and the way it was committed to is given
+  // up there: from then on the time without a plan runs
+  const planner::MovingObstacle walker{
+      on_way.X_WB.translation().head<2>() - Eigen::Vector2d(1.3, 0.0), Eigen::Vector2d(0.4, 0.0),
+      0.3, 0.02};
+  const double t_s = on_way.time_s + 0.02;
+  common::RobotState stopped = on_way;
+  stopped.time_s = t_s;
+  const planner::NavigatorTick tick = dut.Update(stopped, &world.map, false, {walker});
+  ASSERT_TRUE(tick.safety_stop);
+  ASSERT_EQ(dut.statistics().give_ways, 1);
+  EXPECT_GT(dut.trajectory().points().back().position_W.x(), on_way.X_WB.translation().x() + 0.3);
+  EXPECT_DOUBLE_EQ(dut.time_without_plan_s(t_s), 0.0);
+  EXPECT_DOUBLE_EQ(dut.time_without_plan_s(t_s + 0.5), 0.5);
+}
+
 TEST(NavigatorTest, AFollowedWayIsReplannedWhenTheMapClosesInOnItsFootprint) {
   DeadEnd world;
   planner::Navigator dut(planner::NavigationSettings{}, world.config, controller::MpcConfig{},
