@@ -1,16 +1,12 @@
 #pragma once
 
-#include <condition_variable>
 #include <cstdint>
-#include <deque>
-#include <exception>
 #include <memory>
-#include <mutex>
-#include <thread>
 #include <vector>
 
 #include <Eigen/Geometry>
 
+#include "common/serial_worker.h"
 #include "sim/lidar/lidar_emulator.h"
 #include "sim/lidar/ray_scene.h"
 
@@ -39,7 +35,7 @@ class LidarPipeline {
   LidarPipeline(std::unique_ptr<lidar::RayScene> scene,
                 std::unique_ptr<lidar::LidarEmulator> emulator, bool worker_thread);
   /// Stops the worker; steps not yet scanned are dropped.
-  ~LidarPipeline();
+  ~LidarPipeline() = default;
   LidarPipeline(const LidarPipeline&) = delete;
   LidarPipeline& operator=(const LidarPipeline&) = delete;
 
@@ -56,28 +52,20 @@ class LidarPipeline {
   void TakeStepTimes(std::vector<double>* step_ms);
 
   /// True when the steps are scanned on a worker thread.
-  bool threaded() const { return worker_.joinable(); }
+  bool threaded() const { return worker_ != nullptr; }
 
  private:
-  void Scan(const ScanStep& step);
-  void WaitIdle();
-  void Work();
+  // Scans `step` into the emulator's frame; returns its wall time [ms].
+  double Scan(const ScanStep& step);
 
   std::unique_ptr<lidar::RayScene> scene_;
   std::unique_ptr<lidar::LidarEmulator> emulator_;
   std::int64_t rays_submitted_{0};  // rays fired before the end of the last step submitted
   bool frame_due_{false};           // the last step submitted completed a frame
-
-  // the worker: steps to scan, in order, and the steps' wall times, under mutex_
-  std::thread worker_;
-  std::mutex mutex_;
-  std::condition_variable work_ready_;
-  std::condition_variable idle_;
-  std::deque<ScanStep> inbox_;
-  bool busy_{false};
-  std::vector<double> step_ms_;
-  std::exception_ptr error_;
-  bool stop_{false};
+  std::vector<double> step_ms_;     // wall times of the steps scanned and not yet handed out
+  // the worker (null: steps are scanned inline), the only user of the scene and the emulator
+  // while steps are queued
+  std::unique_ptr<common::SerialWorker<ScanStep, double>> worker_;
 };
 
 }  // namespace trav::scenarios

@@ -11,17 +11,11 @@ MappingPipeline::MappingPipeline(std::unique_ptr<mapping::TraversabilityMapper> 
                                  bool worker_thread)
     : mapper_(std::move(mapper)) {
   TRAV_DEMAND(mapper_ != nullptr);
-  if (worker_thread) worker_ = std::thread([this] { Work(); });
-}
-
-MappingPipeline::~MappingPipeline() {
-  if (!worker_.joinable()) return;
-  {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    stop_ = true;
+  if (worker_thread) {
+    worker_ = std::make_unique<common::SerialWorker<MapInput, Done>>([this](MapInput& input) {
+      return Done{Map(input), mapper_->map()};
+    });
   }
-  work_ready_.notify_one();
-  worker_.join();
 }
 
 MapUpdate MappingPipeline::Map(const MapInput& input) {
@@ -35,15 +29,11 @@ MapUpdate MappingPipeline::Map(const MapInput& input) {
 void MappingPipeline::Submit(MapInput input) {
   TRAV_DEMAND(queued_ready_s_.empty() || queued_ready_s_.back() <= input.ready_s);
   queued_ready_s_.push_back(input.ready_s);
-  if (!threaded()) {
+  if (threaded()) {
+    worker_->Submit(std::move(input));
+  } else {
     waiting_.push_back(std::move(input));
-    return;
   }
-  {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    inbox_.push_back(std::move(input));
-  }
-  work_ready_.notify_one();
 }
 
 std::optional<MapUpdate> MappingPipeline::NextDue(double now_s) {
@@ -56,36 +46,10 @@ std::optional<MapUpdate> MappingPipeline::NextDue(double now_s) {
     map_ = &mapper_->map();
     return update;
   }
-  std::unique_lock<std::mutex> lock(mutex_);
-  done_ready_.wait(lock, [this] { return !done_.empty() || error_ != nullptr; });
-  if (done_.empty()) std::rethrow_exception(error_);
-  Done done = std::move(done_.front());
-  done_.pop_front();
-  lock.unlock();
+  Done done = worker_->TakeNext();
   handed_out_ = std::move(done.map);
   map_ = &handed_out_;
   return done.update;
-}
-
-void MappingPipeline::Work() {
-  std::unique_lock<std::mutex> lock(mutex_);
-  for (;;) {
-    work_ready_.wait(lock, [this] { return stop_ || !inbox_.empty(); });
-    if (stop_) return;
-    const MapInput input = std::move(inbox_.front());
-    inbox_.pop_front();
-    lock.unlock();
-    try {
-      Done done{Map(input), mapper_->map()};
-      lock.lock();
-      done_.push_back(std::move(done));
-    } catch (...) {
-      lock.lock();
-      error_ = std::current_exception();
-      stop_ = true;
-    }
-    done_ready_.notify_one();
-  }
 }
 
 }  // namespace trav::scenarios

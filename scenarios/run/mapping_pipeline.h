@@ -1,17 +1,14 @@
 #pragma once
 
-#include <condition_variable>
 #include <deque>
-#include <exception>
 #include <memory>
-#include <mutex>
 #include <optional>
-#include <thread>
 
 #include <Eigen/Geometry>
 
 #include "common/grid.h"
 #include "common/point_cloud.h"
+#include "common/serial_worker.h"
 #include "mapping/traversability_mapper.h"
 
 namespace trav::scenarios {
@@ -44,7 +41,7 @@ class MappingPipeline {
   /// Takes the mapper; `worker_thread` maps on a thread of its own.
   MappingPipeline(std::unique_ptr<mapping::TraversabilityMapper> mapper, bool worker_thread);
   /// Stops the worker; frames not yet mapped are dropped.
-  ~MappingPipeline();
+  ~MappingPipeline() = default;
   MappingPipeline(const MappingPipeline&) = delete;
   MappingPipeline& operator=(const MappingPipeline&) = delete;
 
@@ -60,15 +57,15 @@ class MappingPipeline {
   const common::GridLayers* map() const { return map_; }
 
   /// True when frames are mapped on a worker thread.
-  bool threaded() const { return worker_.joinable(); }
+  bool threaded() const { return worker_ != nullptr; }
 
  private:
+  // A frame's update and a copy of the map after it, as the worker hands them back.
   struct Done {
     MapUpdate update;
     common::GridLayers map;
   };
 
-  void Work();
   MapUpdate Map(const MapInput& input);
 
   std::unique_ptr<mapping::TraversabilityMapper> mapper_;
@@ -79,15 +76,8 @@ class MappingPipeline {
   // frames mapped inline: waiting for their time
   std::deque<MapInput> waiting_;
 
-  // the worker: frames to map and maps done, in order, under mutex_
-  std::thread worker_;
-  std::mutex mutex_;
-  std::condition_variable work_ready_;
-  std::condition_variable done_ready_;
-  std::deque<MapInput> inbox_;
-  std::deque<Done> done_;
-  std::exception_ptr error_;
-  bool stop_{false};
+  // the worker (null: frames are mapped inline when due), the mapper's only user
+  std::unique_ptr<common::SerialWorker<MapInput, Done>> worker_;
 };
 
 }  // namespace trav::scenarios
