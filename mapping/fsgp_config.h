@@ -85,6 +85,14 @@ struct MapArea {
   /// neighbour is a step the robot cannot climb, marked untraversable with the faces [m] (0: no
   /// step test). The Scout Mini climbs 0.16 m at 1 m/s and not 0.17 m (docs/navigation.md).
   double max_step_m{0.15};
+  /// The deepest drop the robot drives down [m]: the Scout Mini tilts 45 deg down 0.27 m at 1 m/s
+  /// (the physical truth's `max_drop`, docs/ground-truth.md).
+  double max_drop_m{0.27};
+  /// Cells never seen on a line between a cell seen in the frame and ground seen within this of
+  /// it, more than `max_drop_m` lower and on average more steeply than `drop_slope_deg` below it,
+  /// are a drop (ObstacleMarker::Drops): untraversable until seen [m] (0: no drop test).
+  double drop_gap_m{3.0};
+  double drop_slope_deg{20.0};  ///< [deg]
   /// Cells closer than this to the base lie in the sensor's ground blind zone [m]: the MID-360's
   /// lowest beam (7 deg down) meets flat ground about 2.4 m out from the Scout Mini's mount, and
   /// the body hides more. A face there that no point shows for `obstacle_memory_s` is forgotten.
@@ -156,6 +164,9 @@ struct FsgpConfig {
     a->Field("max_height_above_robot", &area.max_height_above_robot_m, {0, 100});
     a->Field("max_height_above_ground", &area.max_height_above_ground_m, {0, 100});
     a->Field("max_step", &area.max_step_m, {0, 10});
+    a->Field("max_drop", &area.max_drop_m, {0, 10});
+    a->Field("drop_gap", &area.drop_gap_m, {0, 20});
+    a->Field("drop_slope", &area.drop_slope_deg, {0, 89});
     a->Field("blind_radius", &area.blind_radius_m, {0, 100});
     a->Field("obstacle_memory", &area.obstacle_memory_s, {0, 100000});
     a->Field("ground_crop", &area.ground_crop);

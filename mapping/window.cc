@@ -206,6 +206,62 @@ void ObstacleMarker::CloseMask() {
   neighbourhood(dilated_.view(), true, closed_.Resize(nx, ny));
 }
 
+common::ScratchMatrix<std::uint8_t>::ConstView ObstacleMarker::Drops(const common::GridGeometry& g,
+                                                                     const MapArea& area,
+                                                                     const Eigen::Vector3d& p_WB) {
+  const auto lowest = lowest_.const_view();
+  const auto highest = highest_.const_view();
+  const auto cells = cells_.const_view();
+  const Eigen::Vector2i size(static_cast<int>(highest.rows()), static_cast<int>(highest.cols()));
+  auto drops = drops_.Resize(size.x(), size.y());
+  drops.setZero();
+  if (!(area.drop_gap_m > 0.0)) return drops_.const_view();
+  const double min_slope = std::tan(area.drop_slope_deg * M_PI / 180.0);
+  constexpr std::array<std::array<int, 2>, 8> kDirections{
+      {{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}}};
+  auto inside = [&](const Eigen::Vector2i& c) {
+    return (c.array() >= 0).all() && (c.array() < size.array()).all();
+  };
+  for (int ix = 0; ix < size.x(); ++ix) {
+    for (int iy = 0; iy < size.y(); ++iy) {
+      // no point, a face, or above the robot's reach: the robot would not drive off it (the top
+      // of a box, whose shadow is no drop for a robot on the ground)
+      if (cells(ix, iy) != 0.0f || lowest(ix, iy) > p_WB.z() + area.max_step_m) continue;
+      for (const auto& direction : kDirections) {
+        const Eigen::Vector2i d(direction[0], direction[1]);
+        // an edge of seen ground: the cell behind it on the line is ground too, at its height
+        // (not a lone point on a trunk or a stone above unseen cells)
+        const Eigen::Vector2i behind(ix - d.x(), iy - d.y());
+        if (!inside(behind) || cells(behind.x(), behind.y()) != 0.0f ||
+            std::abs(lowest(ix, iy) - lowest(behind.x(), behind.y())) > area.max_step_m) {
+          continue;
+        }
+        const double step_m = g.resolution_m * d.cast<double>().norm();
+        gap_.clear();
+        for (Eigen::Vector2i cell(ix + d.x(), iy + d.y()); inside(cell); cell += d) {
+          if (!std::isinf(highest(cell.x(), cell.y()))) {
+            // the ground beyond: a drop if its top lies far enough below the edge's foot (a
+            // stone's top at the edge is no edge), and steeply enough on average that the
+            // hidden stretch is no hillside the sensor looks over
+            const double drop_m = lowest(ix, iy) - highest(cell.x(), cell.y());
+            const double run_m = static_cast<double>(gap_.size() + 1) * step_m;
+            if (gap_.size() >= 2 && drop_m > area.max_drop_m && drop_m > min_slope * run_m) {
+              for (const Eigen::Vector2i& hidden : gap_) drops(hidden.x(), hidden.y()) = 1;
+            }
+            break;
+          }
+          // no gap reaches beyond the farthest the ground beyond may lie
+          if (static_cast<double>(gap_.size() + 1) * step_m > area.drop_gap_m) {
+            break;
+          }
+          gap_.push_back(cell);
+        }
+      }
+    }
+  }
+  return drops_.const_view();
+}
+
 void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
                           const Eigen::Vector2i& high, const MapArea& area,
                           const Eigen::Vector3d& p_WB, double t_s, int margin_cells,
@@ -225,10 +281,11 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
   const auto lowest = lowest_.const_view();
   const auto highest = highest_.const_view();
   const double blind_radius2 = area.blind_radius_m * area.blind_radius_m;
+  const auto drops = Drops(g, area, p_WB);
   for (int ix = low.x(); ix <= high.x(); ++ix) {
     for (int iy = low.y(); iy <= high.y(); ++iy) {
       const Eigen::Vector2i local(ix - low.x(), iy - low.y());
-      float value = seen(local.x(), local.y());
+      float value = drops(local.x(), local.y()) != 0 ? 1.0f : seen(local.x(), local.y());
       // a cell whose lowest point stands more than half the crop height above the mapped ground
       // shows no ground (the side of a box next to the robot, seen above the sensor's lowest beam):
       // it is no evidence of free space, and a face if its top stands above the crop height
@@ -242,10 +299,11 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
         obstacle(ix, iy) = value;
         rough(ix, iy) = roughness(local.x(), local.y());
         if (value == 1.0f) seen_s(ix, iy) = static_cast<float>(t_s);
-      } else if (obstacle(ix, iy) == 1.0f && area.obstacle_memory_s > 0.0 &&
-                 t_s - seen_s(ix, iy) > area.obstacle_memory_s &&
+      } else if (obstacle(ix, iy) == 1.0f && !std::isnan(rough(ix, iy)) &&
+                 area.obstacle_memory_s > 0.0 && t_s - seen_s(ix, iy) > area.obstacle_memory_s &&
                  (g.CellCenter(ix, iy) - p_WB.head<2>()).squaredNorm() < blind_radius2) {
-        // in the ground blind zone the cell is never seen free again: forget the face
+        // in the ground blind zone the cell is never seen free again: forget the face (not a
+        // drop no point has ever shown: the ground there may never be seen)
         obstacle(ix, iy) = std::numeric_limits<float>::quiet_NaN();
         if (std::isnan(scored_s(ix, iy))) out(ix, iy) = std::numeric_limits<float>::quiet_NaN();
       }

@@ -92,12 +92,28 @@ class ObstacleMarker {
   /// has no point; a neighbour without points is left out) [m].
   common::ScratchMatrix<float>::ConstView roughness() const { return roughness_.const_view(); }
 
+  /// Per cell of the last Cells call, 1 where a drop hides: the cell has no point, and lies on a
+  /// line of cells (along x, y or a diagonal) from an edge to the first cell with points beyond,
+  /// which lies no farther than `area.drop_gap_m` from the edge, its highest point more than
+  /// `area.max_drop_m` below the edge's lowest and lower on average more steeply than
+  /// `area.drop_slope_deg`, with at least one more cell without points between. The edge is a
+  /// cell with points that is no face (Cells 0), its lowest point no more than `area.max_step_m`
+  /// above the base at p_WB (ground the robot may stand on, not the top of a box), and so is the
+  /// cell behind it on the line, its lowest point within `area.max_step_m` of the edge's (seen
+  /// ground up to the edge, not a lone point on a trunk). Ground beyond an edge lower than the
+  /// robot drives down, with no point showing how it gets there: the cliff under an edge, which no
+  /// beam from above reaches. 0 elsewhere; nothing with `area.drop_gap_m` 0. Valid until the next
+  /// call, as Cells.
+  common::ScratchMatrix<std::uint8_t>::ConstView Drops(const common::GridGeometry& g,
+                                                       const MapArea& area,
+                                                       const Eigen::Vector3d& p_WB);
+
   /// Marks the faces the ground crop removed and the steps (Cells of `crop`'s window before the
   /// ground crop, above its ground plane, with the crop height `area.max_height_above_ground_m`
   /// and the step `area.max_step_m`) in layer `obstacle` of `map` between `low` and `high`: the
   /// latest observation of a cell decides, so a cell seen free again clears, and a face cell stamps
   /// layer `obstacle_seen` with `t_s`; layer `roughness` takes roughness() where a cell has
-  /// points. A face cell within `area.blind_radius_m` of the base at
+  /// points. The Drops are marked as faces. A face cell within `area.blind_radius_m` of the base at
   /// p_WB that no point has shown for longer than `area.obstacle_memory_s` (> 0) is forgotten:
   /// its obstacle becomes unknown, and its cost too if the mapper has never scored it. Then sets
   /// layer `traversability` to 1 on the obstacle mask closed by one cell, within `margin_cells` of
@@ -112,7 +128,8 @@ class ObstacleMarker {
   void CloseMask();
 
   common::ScratchMatrix<float> lowest_, highest_, cells_, roughness_;
-  common::ScratchMatrix<std::uint8_t> mask_, dilated_, closed_;
+  common::ScratchMatrix<std::uint8_t> mask_, dilated_, closed_, drops_;
+  std::vector<Eigen::Vector2i> gap_;  // Drops: the cells without points along one line
 };
 
 /// The first and last cell (ix, iy) of the window around the robot on the grid `g`.

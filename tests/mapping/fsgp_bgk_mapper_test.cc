@@ -323,6 +323,85 @@ TEST(FsgpBgkMapperTest, AWallIsUntraversableAndItsCellsClearWhenSeenFree) {
   EXPECT_LT(*dut.map().At(layers::kTraversability, wall_W), 0.5f);
 }
 
+// A plateau 1 m high up to x = 2 and ground seen `drop_m` lower from x = 4 on, nothing between
+// (every 5 cm for |y| <= 1).
+struct DropWorld {
+  explicit DropWorld(double drop_m) {
+    std::vector<Eigen::Vector3f> points;
+    for (int iy = -20; iy <= 20; ++iy) {
+      for (int ix = 10; ix < 120; ++ix) {
+        const double x = 0.05 * ix + (ix >= 40 ? 0.02 : 0.0);
+        if (x >= 2.0 && x < 4.0) continue;
+        points.emplace_back(static_cast<float>(x), static_cast<float>(0.05 * iy),
+                            static_cast<float>(x < 2.0 ? 1.0 : 1.0 - drop_m));
+      }
+    }
+    cloud = common::MakePointCloud(points).points;
+  }
+
+  // Drops after Cells over the whole grid.
+  Eigen::MatrixXf Drops(const MapArea& area) {
+    marker.Cells(cloud, g, low, high, 0.3, 0.15);
+    return marker.Drops(g, area, p_WB).cast<float>();
+  }
+
+  const common::GridGeometry g{
+      common::GridGeometry::Centered(Eigen::Vector2d(3, 0), Eigen::Vector2d(8, 4), 0.2)};
+  const Eigen::Vector2i low{0, 0}, high{g.num_x - 1, g.num_y - 1};
+  Eigen::Matrix3Xf cloud;
+  Eigen::Vector3d p_WB{0.0, 0.0, 1.1};  // the robot's base on the plateau
+  ObstacleMarker marker;
+};
+
+TEST(ObstacleCellsTest, CellsNeverSeenBetweenAnEdgeAndGroundFarBelowItAreADrop) {
+  DropWorld world(1.0);
+  const MapArea area;  // a drop is deeper than 0.27 m within 3 m
+  const Eigen::MatrixXf drops = world.Drops(area);
+  int marked = 0;
+  for (int ix = 0; ix < world.g.num_x; ++ix) {
+    for (int iy = 0; iy < world.g.num_y; ++iy) {
+      const Eigen::Vector2d c = world.g.CellCenter(ix, iy);
+      const bool gap = c.x() > 2.0 && c.x() < 4.0;
+      // along x (y = 0) every cell of the gap is a drop; a cell with points never is, nor one off
+      // the lines from the edge to the ground beyond
+      if (gap && std::abs(c.y()) < 0.1) EXPECT_EQ(drops(ix, iy), 1.0f) << c.transpose();
+      if (!gap || std::abs(c.y()) > 1.1) EXPECT_EQ(drops(ix, iy), 0.0f) << c.transpose();
+      marked += drops(ix, iy) == 1.0f ? 1 : 0;
+    }
+  }
+  EXPECT_GT(marked, 20);
+  // a point in the gap at the edge's height ends the line through it there: nothing before it on
+  // that line is a drop, the other lines are
+  const Eigen::Vector2i post = *world.g.CellIndex({3.0, 0.0});
+  world.cloud.conservativeResize(3, world.cloud.cols() + 1);
+  world.cloud.col(world.cloud.cols() - 1) = Eigen::Vector3f(3.0f, 0.01f, 0.95f);
+  const Eigen::MatrixXf with_post = world.Drops(area);
+  const Eigen::Vector2i before_post = *world.g.CellIndex({2.2, 0.0});
+  const Eigen::Vector2i beside = *world.g.CellIndex({2.2, 0.2});
+  EXPECT_EQ(drops(before_post.x(), before_post.y()), 1.0f);
+  EXPECT_EQ(with_post(post.x(), post.y()), 0.0f);
+  EXPECT_EQ(with_post(before_post.x(), before_post.y()), 0.0f);
+  EXPECT_EQ(with_post(beside.x(), beside.y()), 1.0f);
+}
+
+TEST(ObstacleCellsTest, NoDropWhereTheGroundBeyondIsNotFarEnoughBelowOrTooFarAway) {
+  MapArea area;
+  DropWorld shallow(0.2);  // less than the 0.27 m the robot drives down
+  EXPECT_EQ(shallow.Drops(area).maxCoeff(), 0.0f);
+  DropWorld deep(1.0);
+  area.drop_slope_deg = 30.0;  // 1 m over the 2.2 m between edge and ground is 24 deg
+  EXPECT_EQ(deep.Drops(area).maxCoeff(), 0.0f);
+  area.drop_slope_deg = 20.0;
+  area.drop_gap_m = 1.5;  // the gap is 2 m
+  EXPECT_EQ(deep.Drops(area).maxCoeff(), 0.0f);
+  area.drop_gap_m = 3.0;
+  deep.p_WB.z() = 0.1;  // the robot below the plateau: its top is out of reach, no edge
+  EXPECT_EQ(deep.Drops(area).maxCoeff(), 0.0f);
+  deep.p_WB.z() = 1.1;
+  area.drop_gap_m = 0.0;  // no drop test
+  EXPECT_EQ(deep.Drops(area).maxCoeff(), 0.0f);
+}
+
 TEST(FsgpBgkMapperTest, APedestrianWalkingAcrossTheViewLeavesNoLastingObstacle) {
   // a 1.7 m tall pedestrian (radius 0.25 m) walks along y = 2 from x = -3 to 3 at 1 m/s in front
   // of a robot standing at the origin, its points fed to the mapper as if perception missed it
