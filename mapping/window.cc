@@ -303,7 +303,7 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
                  area.obstacle_memory_s > 0.0 && t_s - seen_s(ix, iy) > area.obstacle_memory_s &&
                  (g.CellCenter(ix, iy) - p_WB.head<2>()).squaredNorm() < blind_radius2) {
         // in the ground blind zone the cell is never seen free again: forget the face (not a
-        // drop no point has ever shown: the ground there may never be seen)
+        // drop, whose roughness its mark left unknown: the ground there may never be seen)
         obstacle(ix, iy) = std::numeric_limits<float>::quiet_NaN();
         if (std::isnan(scored_s(ix, iy))) out(ix, iy) = std::numeric_limits<float>::quiet_NaN();
       }
