@@ -364,8 +364,12 @@ TEST(ObstacleCellsTest, CellsNeverSeenBetweenAnEdgeAndGroundFarBelowItAreADrop) 
       const bool gap = c.x() > 2.0 && c.x() < 4.0;
       // along x (y = 0) every cell of the gap is a drop; a cell with points never is, nor one off
       // the lines from the edge to the ground beyond
-      if (gap && std::abs(c.y()) < 0.1) EXPECT_EQ(drops(ix, iy), 1.0f) << c.transpose();
-      if (!gap || std::abs(c.y()) > 1.1) EXPECT_EQ(drops(ix, iy), 0.0f) << c.transpose();
+      if (gap && std::abs(c.y()) < 0.1) {
+        EXPECT_EQ(drops(ix, iy), 1.0f) << c.transpose();
+      }
+      if (!gap || std::abs(c.y()) > 1.1) {
+        EXPECT_EQ(drops(ix, iy), 0.0f) << c.transpose();
+      }
       marked += drops(ix, iy) == 1.0f ? 1 : 0;
     }
   }
