@@ -105,6 +105,14 @@ void BM_FsgpBgk(benchmark::State& state) {
     return std::make_unique<trav::mapping::FsgpBgkMapper>(trav::mapping::FsgpConfig{});
   });
 }
+// The same without the drop test (`mapping.drop_gap` 0), to measure its share side by side.
+void BM_FsgpBgkWithoutDrops(benchmark::State& state) {
+  RunMapper(state, [] {
+    trav::mapping::FsgpConfig config;
+    config.area.drop_gap_m = 0.0;
+    return std::make_unique<trav::mapping::FsgpBgkMapper>(config);
+  });
+}
 void BM_Sgp(benchmark::State& state) {
   RunMapper(state,
             [] { return std::make_unique<trav::mapping::SgpMapper>(trav::mapping::SgpConfig{}); });
@@ -118,6 +126,11 @@ void BM_ElevationMap(benchmark::State& state) {
 constexpr int kHilly = static_cast<int>(trav::sim::TerrainType::kHilly);
 constexpr int kForest = static_cast<int>(trav::sim::TerrainType::kForest);
 BENCHMARK(BM_FsgpBgk)->Arg(kHilly)->Arg(kForest)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_FsgpBgkWithoutDrops)
+    ->Arg(kHilly)
+    ->Arg(kForest)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_Sgp)->Arg(kHilly)->Arg(kForest)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ElevationMap)->Arg(kHilly)->Arg(kForest)->Unit(benchmark::kMillisecond)->UseRealTime();
 
