@@ -53,7 +53,10 @@ class CostField {
 
   /// The ground's height at p_W [m] from the map's `config.slope.elevation_layer`, its gradient
   /// (the slope's tangent along x and y) and cross derivative; NaN where a cell around p_W is
-  /// unknown or the map has no such layer.
+  /// unknown, the map has no such layer or the slope limits are off (SlopeLimits::Active). Within
+  /// `kGroundReach_m` of lethal cells, where the mapped elevation climbs the obstacle's foot, each
+  /// cell holds the height of the nearest cell beyond that reach (so near obstacles the slope is
+  /// the surrounding ground's, flattened toward them).
   FieldSample Elevation(const Eigen::Vector2d& p_W) const { return Interpolate(elevation_, p_W); }
 
   /// The slope limits of `config.slope`: the tangents of the largest pitch and roll.
@@ -66,6 +69,8 @@ class CostField {
 
   /// Distance reported when there is no lethal cell [m].
   static constexpr double kFarDistance = 1.0e3;
+  /// Distance from lethal cells within which the mapped elevation is not read as ground [m].
+  static constexpr double kGroundReach_m = 1.0;
 
  private:
   FieldSample Interpolate(const Eigen::MatrixXd& layer, const Eigen::Vector2d& p_W) const;

@@ -76,6 +76,8 @@ struct SlopeLimits {
 
   /// tan(max_pitch), tan(max_roll).
   Eigen::Vector2d Tangents() const;
+  /// False when both limits are 89 deg (the largest allowed): the term is left out.
+  bool Active() const { return max_pitch_deg < 89.0 || max_roll_deg < 89.0; }
 };
 
 /// How a traversability layer becomes search costs; the settings of A* (`AStarConfig`) and of the

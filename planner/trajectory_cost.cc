@@ -90,18 +90,9 @@ struct FieldTerms {
   double tilt;            // pitch and roll beyond the slope limits (a limits term)
 };
 
-// Near lethal cells the mapped elevation is the regression's ramp up an obstacle's foot (its lowest
-// points are taken for ground), not a slope: the tilt penalty fades in between these distances of
-// the base from lethal cells [m], by the C^1 smoothstep. The fade's own gradient pulls a node
-// toward the obstacle (the penalty falls with the distance), with a force inversely proportional
-// to the fade's width: over 0.5 to 1.0 m it drove the robot into a column and a box (suite/ruin at
-// seeds 103 and 107 with the 40 deg limits); over 0.5 to 2.0 m both reach the goal.
-constexpr double kTiltFadeStart_m = 0.5;
-constexpr double kTiltFadeEnd_m = 2.0;
-
-// The pitch and roll penalty at one node: the ground's slope (its tangent g, the elevation's
-// gradient) along the heading h and across it n within the limits' tangents, faded in with the
-// distance from lethal cells, with its partials added to `p`.
+// The pitch and roll penalty at one node: the ground's slope (its tangent g, the gradient of
+// CostField::Elevation, which near lethal cells is the surrounding ground's) along the heading h
+// and across it n within the limits' tangents, with its partials added to `p`.
 double TiltPenalty(const CostField& field, const Eigen::Vector2d& position, double cos_t,
                    double sin_t, double weight, double mu, Partials* partials) {
   const FieldSample ground = field.Elevation(position);
@@ -110,12 +101,6 @@ double TiltPenalty(const CostField& field, const Eigen::Vector2d& position, doub
   if (!std::isfinite(ground.value) ||
       ground.gradient_W.squaredNorm() <= limit.cwiseAbs2().minCoeff())
     return 0.0;
-  const FieldSample distance = field.Distance(position);
-  const double r = (distance.value - kTiltFadeStart_m) / (kTiltFadeEnd_m - kTiltFadeStart_m);
-  if (r <= 0.0) return 0.0;
-  const double fade = r >= 1.0 ? 1.0 : r * r * (3.0 - 2.0 * r);
-  const double fade_slope =
-      r >= 1.0 ? 0.0 : 6.0 * r * (1.0 - r) / (kTiltFadeEnd_m - kTiltFadeStart_m);
   const Eigen::Vector2d h(cos_t, sin_t), n(-sin_t, cos_t);
   const Eigen::Vector2d& g = ground.gradient_W;
   const double pitch = g.dot(h), roll = g.dot(n);
@@ -124,12 +109,11 @@ double TiltPenalty(const CostField& field, const Eigen::Vector2d& position, doub
                       SmoothedL1(roll * roll - limit.y() * limit.y(), mu, &slope_roll);
   // dg/dp is the bilinear field's Hessian [[0, c], [c, 0]]; dh/dtheta = n, dn/dtheta = -h
   const double c = ground.cross_derivative;
-  partials->position += weight * fade * 2.0 * c *
-                            (slope_pitch * pitch * Eigen::Vector2d(h.y(), h.x()) +
-                             slope_roll * roll * Eigen::Vector2d(n.y(), n.x())) +
-                        weight * tilt * fade_slope * distance.gradient_W;
-  partials->theta += weight * fade * 2.0 * pitch * roll * (slope_pitch - slope_roll);
-  return weight * fade * tilt;
+  partials->position += weight * 2.0 * c *
+                        (slope_pitch * pitch * Eigen::Vector2d(h.y(), h.x()) +
+                         slope_roll * roll * Eigen::Vector2d(n.y(), n.x()));
+  partials->theta += weight * 2.0 * pitch * roll * (slope_pitch - slope_roll);
+  return weight * tilt;
 }
 
 FieldTerms FieldPenalties(const CostField& field, const TrajectoryCostSetup& s,

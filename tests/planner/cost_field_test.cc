@@ -142,6 +142,50 @@ TEST(CostFieldTest, TheSpeedLimitFollowsUnknownCellsAndRoughnessWithinReach) {
   EXPECT_NEAR(CostField(map, config).SpeedLimit(g.CellCenter(5, 5)).value, 1.5, 1e-6);
 }
 
+TEST(CostFieldTest, NearLethalCellsTheElevationIsTheSurroundingGroundsNotTheObstaclesFoot) {
+  // ground rising 0.2 m per m along x; a column of radius 0.3 m at the origin, whose mapped
+  // elevation climbs 1 m per m toward it within 0.8 m (the regression's ramp up its foot); one
+  // unknown cell beside it
+  common::GridLayers map(
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(10, 10), 0.1),
+      {"traversability", "elevation"});
+  const common::GridGeometry& g = map.geometry();
+  auto plane = [](const Eigen::Vector2d& p) { return 0.2 * p.x(); };
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const Eigen::Vector2d p = g.CellCenter(ix, iy);
+      map.Layer("traversability")(ix, iy) = p.norm() < 0.3 ? 1.0f : 0.0f;
+      map.Layer("elevation")(ix, iy) = static_cast<float>(plane(p) + std::max(0.0, 0.8 - p.norm()));
+    }
+  }
+  const Eigen::Vector2i unknown = *g.CellIndex({0.0, -0.6});
+  map.Layer("elevation")(unknown.x(), unknown.y()) = std::numeric_limits<float>::quiet_NaN();
+  CostMapConfig config;
+  config.slope.max_pitch_deg = 40.0;
+  config.slope.max_roll_deg = 40.0;
+  const CostField field(map, config);
+  ASSERT_EQ(CostField::kGroundReach_m, 1.0);
+  // beyond the reach the map's elevation itself
+  for (const Eigen::Vector2d& p : {Eigen::Vector2d(3.05, 2.05), Eigen::Vector2d(-1.55, 0.05)}) {
+    EXPECT_NEAR(field.Elevation(p).value, plane(p), 1e-6);
+    EXPECT_NEAR(field.Elevation(p).gradient_W.x(), 0.2, 1e-5);
+    EXPECT_NEAR(field.Elevation(p).gradient_W.y(), 0.0, 1e-5);
+  }
+  // within it, on every side of the column, no ramp (the map's slope there is at least 0.8 m per
+  // m): the ground's is the plane's, up to the fill's smoothing
+  for (const Eigen::Vector2d& p : {Eigen::Vector2d(0.55, 0.05), Eigen::Vector2d(-0.55, 0.05),
+                                   Eigen::Vector2d(0.05, 0.55), Eigen::Vector2d(0.35, 0.35)}) {
+    const FieldSample ground = field.Elevation(p);
+    EXPECT_NEAR(ground.gradient_W.x(), 0.2, 0.05) << p.transpose();
+    EXPECT_NEAR(ground.gradient_W.y(), 0.0, 0.05) << p.transpose();
+    EXPECT_NEAR(ground.value, plane(p), 0.05) << p.transpose();
+  }
+  // an unknown cell stays unknown
+  EXPECT_TRUE(std::isnan(field.Elevation(g.CellCenter(unknown.x(), unknown.y())).value));
+  // with the limits off (89 deg) no elevation is read
+  EXPECT_TRUE(std::isnan(CostField(map, CostMapConfig{}).Elevation({3.05, 2.05}).value));
+}
+
 TEST(MinimumWithinDiscTest, EqualsTheBruteForceMinimumOverTheDisc) {
   common::Random random(7);
   Eigen::MatrixXd values(23, 17);
