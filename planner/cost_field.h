@@ -54,9 +54,9 @@ class CostField {
   /// The ground's height at p_W [m] from the map's `config.slope.elevation_layer`, its gradient
   /// (the slope's tangent along x and y) and cross derivative; NaN where a cell around p_W is
   /// unknown, the map has no such layer or the slope limits are off (SlopeLimits::Active). Within
-  /// `kGroundReach_m` of lethal cells, where the mapped elevation climbs the obstacle's foot, each
-  /// cell holds the height of the nearest cell beyond that reach (so near obstacles the slope is
-  /// the surrounding ground's, flattened toward them).
+  /// `kGroundReach_m` of lethal cells, where the mapped elevation climbs the obstacle's foot, the
+  /// heights are filled in from the cells beyond that reach (the nearest one's, then smoothed
+  /// toward Laplace's solution), so that near obstacles the slope is the surrounding ground's.
   FieldSample Elevation(const Eigen::Vector2d& p_W) const { return Interpolate(elevation_, p_W); }
 
   /// The slope limits of `config.slope`: the tangents of the largest pitch and roll.
