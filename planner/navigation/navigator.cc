@@ -92,8 +92,23 @@ NavigatorTick Navigator::Update(const common::RobotState& state, const common::G
   NavigatorTick tick;
   if (map_updated || map != cost_map_source_) cost_map_.reset();
   cost_map_source_ = map;
-  // a give-way drive is followed to its end, then the robot replans
+  // a give-way drive is followed to its end, then the robot replans; but a map update may show an
+  // obstacle on it (a walker standing behind the robot, which no track reports): then the robot
+  // chooses again from where it is, or stops if no drive keeps more room than standing still
   const bool giving_way = state.time_s < giving_way_until_s_;
+  if (giving_way && map != nullptr && map_updated &&
+      !WayKeepsClear(state.time_s, giving_way_until_s_, CostMapOf(*map))) {
+    if (std::optional<common::Trajectory> drive = GiveWay(state, *map, movers)) {
+      StartGiveWay(std::move(*drive), state.time_s);
+    } else {
+      giving_way_until_s_ = state.time_s;
+      force_replan_ = true;
+      ++statistics_.safety_stops;
+      NavigatorTick stop;
+      stop.safety_stop = true;
+      return stop;
+    }
+  }
   const ReplanReason reason =
       giving_way ? ReplanReason::kNone : ReasonToReplan(state, map, map_updated);
   if (reason != ReplanReason::kNone && map != nullptr) {
@@ -114,13 +129,7 @@ NavigatorTick Navigator::Update(const common::RobotState& state, const common::G
       std::optional<common::Trajectory> escape =
           map != nullptr ? GiveWay(state, *map, movers) : std::nullopt;
       if (!escape) return tick;
-      trajectory_ = std::move(*escape);
-      tracker_->SetReference(trajectory_);
-      giving_way_until_s_ = trajectory_.end_time();
-      // a committed way is given up here: it was a valid plan until now
-      committed_until_s_ = std::min(committed_until_s_, state.time_s);
-      force_replan_ = true;  // replan once the drive ends
-      ++statistics_.give_ways;
+      StartGiveWay(std::move(*escape), state.time_s);
     }
   }
   if (!tracker_->SolveDue(state.time_s)) {
@@ -132,6 +141,16 @@ NavigatorTick Navigator::Update(const common::RobotState& state, const common::G
   tick.solved = true;
   statistics_.control_ms.push_back(control_start.ElapsedMilliseconds());
   return tick;
+}
+
+void Navigator::StartGiveWay(common::Trajectory drive, double now_s) {
+  trajectory_ = std::move(drive);
+  tracker_->SetReference(trajectory_);
+  giving_way_until_s_ = trajectory_.end_time();
+  // a committed way is given up here: it was a valid plan until now
+  committed_until_s_ = std::min(committed_until_s_, now_s);
+  force_replan_ = true;  // replan once the drive ends
+  ++statistics_.give_ways;
 }
 
 std::optional<common::Trajectory> Navigator::GiveWay(const common::RobotState& state,
@@ -225,7 +244,7 @@ ReplanReason Navigator::ReasonToReplan(const common::RobotState& state,
       }
     }
     // a way followed without periodic replans keeps its footprint's clearance on the new map
-    if (now < committed_until_s_ && !CommittedWayKeepsClear(now, CostMapOf(*map))) {
+    if (now < committed_until_s_ && !WayKeepsClear(now, committed_until_s_, CostMapOf(*map))) {
       return ReplanReason::kNewLethalCells;
     }
   }
@@ -303,10 +322,10 @@ void Navigator::Replan(const common::RobotState& state, const common::GridLayers
   next_plan_s_ = now + 1.0 / settings_.planning_rate_hz;
 }
 
-bool Navigator::CommittedWayKeepsClear(double now_s, const CostMap& costs) const {
+bool Navigator::WayKeepsClear(double from_s, double to_s, const CostMap& costs) const {
   const NavigationPlannerConfig& config = planner_.config();
   std::vector<common::TrajectoryPoint> ahead;
-  for (double t = now_s; t <= committed_until_s_; t += kCheckStep_s) {
+  for (double t = from_s; t <= to_s; t += kCheckStep_s) {
     ahead.push_back(trajectory_.Sample(t));
   }
   return KeepsClear(costs.field(), common::Trajectory(std::move(ahead)),

@@ -106,8 +106,9 @@ struct NavigatorTick {
 /// enters lethal cells, or comes within the robot's radius of a predicted mover) or when there is
 /// no valid plan. A stopped robot that a predicted mover would reach gives way: it drives a short
 /// straight stretch forward or backward, whichever keeps it furthest from the movers and clear
-/// of the map, and replans after it (docs/navigation.md). Time is simulation time; planning is
-/// synchronous (the world waits for it).
+/// of the map, and replans after it; if a map update shows that drive no longer keeps clear, it
+/// chooses again from where it is, or stops (docs/navigation.md). Time is simulation time; planning
+/// is synchronous (the world waits for it).
 class Navigator {
  public:
   /// @throws common::InputError for invalid planner or MPC settings.
@@ -173,9 +174,11 @@ class Navigator {
   std::optional<common::Trajectory> GiveWay(const common::RobotState& state,
                                             const common::GridLayers& map,
                                             const std::vector<MovingObstacle>& movers);
-  // True if the footprint keeps min(optimizer.clearance, its gap now) on `costs` along the
-  // committed way from now_s to its commitment's end (KeepsClear).
-  bool CommittedWayKeepsClear(double now_s, const CostMap& costs) const;
+  // Starts following the give-way drive `drive` at now_s.
+  void StartGiveWay(common::Trajectory drive, double now_s);
+  // True if the footprint keeps min(optimizer.clearance, its gap at from_s) on `costs` along the
+  // trajectory being followed from from_s to to_s (KeepsClear).
+  bool WayKeepsClear(double from_s, double to_s, const CostMap& costs) const;
   // The costs of the map, built on first use after each map update.
   const CostMap& CostMapOf(const common::GridLayers& map);
 

@@ -98,15 +98,23 @@ TEST(NavigatorTest, LethalCellsAheadReplanAtOnceAndAMoverOnThePlanStopsTheRobot)
   EXPECT_EQ(dut.statistics().give_ways, 0);  // it stands still: no mover closes in
 }
 
+// A walker 1.5 m ahead of the robot at the origin at 0.02 s, coming straight at it at 1 m/s.
+const planner::MovingObstacle kWalkerAhead{Eigen::Vector2d(1.5, 0.0), Eigen::Vector2d(-1.0, 0.0),
+                                           0.3, 0.02};
+
+// Plans on `map` from the origin at 0 s, then meets kWalkerAhead: the tick at 0.02 s.
+planner::NavigatorTick MeetTheWalkerAhead(planner::Navigator* dut, const common::GridLayers& map) {
+  dut->Update(At(0.0, 0.0), &map, true, {});
+  return dut->Update(At(0.02, 0.0), &map, false, {kWalkerAhead});
+}
+
 TEST(NavigatorTest, AStoppedRobotBacksAwayFromAMoverComingAtIt) {
   planner::Navigator dut = MakeNavigator();
   const common::GridLayers map = OpenMap();
-  dut.Update(At(0.0, 0.0), &map, true, {});
-  // a walker 1.5 m ahead coming straight at the robot at 1 m/s: the plan ahead is unsafe, the
-  // robot stops, and since standing still it would be hit within a second, it backs away
-  const planner::MovingObstacle walker{Eigen::Vector2d(1.5, 0.0), Eigen::Vector2d(-1.0, 0.0), 0.3,
-                                       0.02};
-  const planner::NavigatorTick tick = dut.Update(At(0.02, 0.0), &map, false, {walker});
+  // the plan ahead is unsafe, the robot stops, and since standing still it would be hit within a
+  // second, it backs away
+  const planner::MovingObstacle& walker = kWalkerAhead;
+  const planner::NavigatorTick tick = MeetTheWalkerAhead(&dut, map);
   EXPECT_TRUE(tick.safety_stop);
   EXPECT_EQ(dut.statistics().give_ways, 1);
   EXPECT_LT(tick.command.v, 0.0);
@@ -115,6 +123,42 @@ TEST(NavigatorTest, AStoppedRobotBacksAwayFromAMoverComingAtIt) {
   EXPECT_NEAR(dut.trajectory().points().back().position_W.y(), 0.0, 1e-9);
   EXPECT_EQ(dut.Update(At(0.5, -0.2), &map, false, {walker}).replan, planner::ReplanReason::kNone);
   EXPECT_EQ(dut.statistics().plans, 1);
+}
+
+// The robot where `drive` puts it at t_s, facing along +x.
+common::RobotState OnDriveAt(const common::Trajectory& drive, double t_s) {
+  common::RobotState state = At(t_s, drive.Sample(t_s).position_W.x());
+  state.X_WB.translation().y() = drive.Sample(t_s).position_W.y();
+  return state;
+}
+
+TEST(NavigatorTest, AGiveWayDriveThatTheMapNowBlocksIsChosenAgain) {
+  planner::Navigator dut = MakeNavigator();
+  common::GridLayers map = OpenMap();
+  const planner::MovingObstacle& ahead = kWalkerAhead;
+  MeetTheWalkerAhead(&dut, map);
+  ASSERT_EQ(dut.statistics().give_ways, 1);
+  const common::Trajectory back = dut.trajectory();
+  // a map update shows an obstacle on the drive, 0.9 m behind the robot's base (a walker standing
+  // there, which no track reports): the drive is not followed into it
+  const common::GridGeometry& g = map.geometry();
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const Eigen::Vector2d p = g.CellCenter(ix, iy);
+      if (std::abs(p.x() + 1.0) < 0.15 && std::abs(p.y()) < 0.3) {
+        map.Layer("traversability")(ix, iy) = 1.0f;
+      }
+    }
+  }
+  const planner::NavigatorTick tick = dut.Update(OnDriveAt(back, 0.3), &map, true, {ahead});
+  // a new drive, clear of the obstacle (the walker ahead still closes in, so the robot does not
+  // just stop)
+  EXPECT_FALSE(tick.safety_stop);
+  EXPECT_EQ(dut.statistics().give_ways, 2);
+  for (const common::TrajectoryPoint& p : dut.trajectory().points()) {
+    EXPECT_FALSE(std::abs(p.position_W.x() + 1.0) < 0.6 && std::abs(p.position_W.y()) < 0.6)
+        << p.position_W.transpose();
+  }
 }
 
 TEST(NavigatorTest, AStoppedRobotWithAWallBehindStepsAsideFromAMoverComingAtIt) {
