@@ -4,7 +4,7 @@
 // scans), a 0.12 m curb and 0.09 m stairs to climb, a 0.25 m platform to drive round, a low wall
 // seen from close by (ruins at one seed: its file only, not over seeds), a 25 deg ramp to climb, a
 // 1 m ledge to drive round (seen by a sensor pitched down); and a sample of BARN (scenarios/barn/,
-// docs/barn.md).
+// docs/barn.md). With the seeds, also the worlds of scenarios/probes/ over seeds 1 to 3.
 // Each reaches its goal; a generated world may instead end as a planning failure where it has no
 // route for the robot (A* on the ground truth, summary's optimal_path_length_m 0; the building
 // generator keeps every doorway clear of walls and furniture, but the truth's score grows walls by
@@ -85,6 +85,16 @@ INSTANTIATE_TEST_SUITE_P(
                                      "hard/stairs.yaml", "hard/platform.yaml", "hard/ramp.yaml",
                                      "hard/ledge.yaml"),
                      testing::Range(1, 6)),
+    TestName);
+// worlds a user would write, none tuned for (scenarios/probes/, docs/navigation.md)
+INSTANTIATE_TEST_SUITE_P(
+    Probes, HardScenarioTest,
+    testing::Combine(testing::Values("probes/maze.yaml", "probes/dead_end.yaml",
+                                     "probes/slalom.yaml", "probes/corridor_l.yaml",
+                                     "probes/window_wall.yaml", "probes/parked_road.yaml",
+                                     "probes/steep_hills.yaml", "probes/forest_backwards.yaml",
+                                     "probes/ruin_dense.yaml", "probes/swiss.yaml"),
+                     testing::Range(1, 4)),
     TestName);
 #else
 INSTANTIATE_TEST_SUITE_P(
