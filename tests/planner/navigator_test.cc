@@ -161,6 +161,35 @@ TEST(NavigatorTest, AGiveWayDriveThatTheMapNowBlocksIsChosenAgain) {
   }
 }
 
+TEST(NavigatorTest, AGiveWayDriveThatTheMapNowBlocksIsStoppedWhereNoOtherGainsRoom) {
+  planner::Navigator dut = MakeNavigator();
+  common::GridLayers map = OpenMap();
+  // a corridor 1.2 m wide along x (walls' cells at |y| >= 0.7 m): no room to turn in place
+  auto paint = [&map](auto inside) {
+    const common::GridGeometry& g = map.geometry();
+    for (int ix = 0; ix < g.num_x; ++ix) {
+      for (int iy = 0; iy < g.num_y; ++iy) {
+        if (inside(g.CellCenter(ix, iy))) map.Layer("traversability")(ix, iy) = 1.0f;
+      }
+    }
+  };
+  paint([](const Eigen::Vector2d& p) { return std::abs(p.y()) > 0.6 && std::abs(p.y()) < 1.2; });
+  MeetTheWalkerAhead(&dut, map);
+  ASSERT_EQ(dut.statistics().give_ways, 1);
+  const common::Trajectory back = dut.trajectory();
+  ASSERT_LT(back.points().back().position_W.x(), -0.3);
+  ASSERT_NEAR(back.points().back().position_W.y(), 0.0, 1e-9);
+  // the map now closes the corridor 0.9 m behind the base: back is blocked, forward meets the
+  // walker, and no turn fits; the robot stops and will replan
+  paint([](const Eigen::Vector2d& p) { return std::abs(p.x() + 1.0) < 0.15; });
+  const common::RobotState on_drive = OnDriveAt(back, 0.3);
+  const planner::NavigatorTick tick = dut.Update(on_drive, &map, true, {kWalkerAhead});
+  EXPECT_TRUE(tick.safety_stop);
+  EXPECT_EQ(tick.command.v, 0.0);
+  EXPECT_EQ(tick.command.omega, 0.0);
+  EXPECT_EQ(dut.statistics().give_ways, 1);
+}
+
 TEST(NavigatorTest, AStoppedRobotWithAWallBehindStepsAsideFromAMoverComingAtIt) {
   planner::Navigator dut = MakeNavigator();
   common::GridLayers map = OpenMap();
