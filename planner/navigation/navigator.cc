@@ -104,9 +104,8 @@ NavigatorTick Navigator::Update(const common::RobotState& state, const common::G
       giving_way_until_s_ = state.time_s;
       force_replan_ = true;
       ++statistics_.safety_stops;
-      NavigatorTick stop;
-      stop.safety_stop = true;
-      return stop;
+      tick.safety_stop = true;
+      return tick;
     }
   }
   const ReplanReason reason =

@@ -19,6 +19,17 @@ common::GridLayers OpenMap() {
   return map;
 }
 
+// Makes lethal the cells of `map` whose centres satisfy inside(centre).
+template <typename Inside>
+void PaintLethal(common::GridLayers* map, Inside inside) {
+  const common::GridGeometry& g = map->geometry();
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      if (inside(g.CellCenter(ix, iy))) map->Layer("traversability")(ix, iy) = 1.0f;
+    }
+  }
+}
+
 common::RobotState At(double t_s, double x) {
   common::RobotState state;
   state.time_s = t_s;
@@ -68,13 +79,8 @@ TEST(NavigatorTest, LethalCellsAheadReplanAtOnceAndAMoverOnThePlanStopsTheRobot)
   dut.Update(At(0.0, 0.0), &map, true, {});
   ASSERT_EQ(dut.statistics().plans, 1);
   // a wall appears across the plan, with a way round at y > 2
-  const common::GridGeometry& g = map.geometry();
-  for (int ix = 0; ix < g.num_x; ++ix) {
-    for (int iy = 0; iy < g.num_y; ++iy) {
-      const Eigen::Vector2d p = g.CellCenter(ix, iy);
-      if (std::abs(p.x() - 4.0) < 0.15 && p.y() < 2.0) map.Layer("traversability")(ix, iy) = 1.0f;
-    }
-  }
+  PaintLethal(&map,
+              [](const Eigen::Vector2d& p) { return std::abs(p.x() - 4.0) < 0.15 && p.y() < 2.0; });
   dut.Update(At(0.06, 0.0), &map, true, {});  // inside the 0.1 s event blackout: deferred
   EXPECT_EQ(dut.statistics().plans, 1);
   // the pending map check replans now
@@ -113,7 +119,6 @@ TEST(NavigatorTest, AStoppedRobotBacksAwayFromAMoverComingAtIt) {
   const common::GridLayers map = OpenMap();
   // the plan ahead is unsafe, the robot stops, and since standing still it would be hit within a
   // second, it backs away
-  const planner::MovingObstacle& walker = kWalkerAhead;
   const planner::NavigatorTick tick = MeetTheWalkerAhead(&dut, map);
   EXPECT_TRUE(tick.safety_stop);
   EXPECT_EQ(dut.statistics().give_ways, 1);
@@ -121,7 +126,8 @@ TEST(NavigatorTest, AStoppedRobotBacksAwayFromAMoverComingAtIt) {
   // the drive is straight back, and followed to its end without replanning
   EXPECT_LT(dut.trajectory().points().back().position_W.x(), -0.3);
   EXPECT_NEAR(dut.trajectory().points().back().position_W.y(), 0.0, 1e-9);
-  EXPECT_EQ(dut.Update(At(0.5, -0.2), &map, false, {walker}).replan, planner::ReplanReason::kNone);
+  EXPECT_EQ(dut.Update(At(0.5, -0.2), &map, false, {kWalkerAhead}).replan,
+            planner::ReplanReason::kNone);
   EXPECT_EQ(dut.statistics().plans, 1);
 }
 
@@ -135,22 +141,15 @@ common::RobotState OnDriveAt(const common::Trajectory& drive, double t_s) {
 TEST(NavigatorTest, AGiveWayDriveThatTheMapNowBlocksIsChosenAgain) {
   planner::Navigator dut = MakeNavigator();
   common::GridLayers map = OpenMap();
-  const planner::MovingObstacle& ahead = kWalkerAhead;
   MeetTheWalkerAhead(&dut, map);
   ASSERT_EQ(dut.statistics().give_ways, 1);
   const common::Trajectory back = dut.trajectory();
   // a map update shows an obstacle on the drive, 0.9 m behind the robot's base (a walker standing
   // there, which no track reports): the drive is not followed into it
-  const common::GridGeometry& g = map.geometry();
-  for (int ix = 0; ix < g.num_x; ++ix) {
-    for (int iy = 0; iy < g.num_y; ++iy) {
-      const Eigen::Vector2d p = g.CellCenter(ix, iy);
-      if (std::abs(p.x() + 1.0) < 0.15 && std::abs(p.y()) < 0.3) {
-        map.Layer("traversability")(ix, iy) = 1.0f;
-      }
-    }
-  }
-  const planner::NavigatorTick tick = dut.Update(OnDriveAt(back, 0.3), &map, true, {ahead});
+  PaintLethal(&map, [](const Eigen::Vector2d& p) {
+    return std::abs(p.x() + 1.0) < 0.15 && std::abs(p.y()) < 0.3;
+  });
+  const planner::NavigatorTick tick = dut.Update(OnDriveAt(back, 0.3), &map, true, {kWalkerAhead});
   // a new drive, clear of the obstacle (the walker ahead still closes in, so the robot does not
   // just stop)
   EXPECT_FALSE(tick.safety_stop);
@@ -165,15 +164,9 @@ TEST(NavigatorTest, AGiveWayDriveThatTheMapNowBlocksIsStoppedWhereNoOtherGainsRo
   planner::Navigator dut = MakeNavigator();
   common::GridLayers map = OpenMap();
   // a corridor 1.2 m wide along x (walls' cells at |y| >= 0.7 m): no room to turn in place
-  auto paint = [&map](auto inside) {
-    const common::GridGeometry& g = map.geometry();
-    for (int ix = 0; ix < g.num_x; ++ix) {
-      for (int iy = 0; iy < g.num_y; ++iy) {
-        if (inside(g.CellCenter(ix, iy))) map.Layer("traversability")(ix, iy) = 1.0f;
-      }
-    }
-  };
-  paint([](const Eigen::Vector2d& p) { return std::abs(p.y()) > 0.6 && std::abs(p.y()) < 1.2; });
+  PaintLethal(&map, [](const Eigen::Vector2d& p) {
+    return std::abs(p.y()) > 0.6 && std::abs(p.y()) < 1.2;
+  });
   MeetTheWalkerAhead(&dut, map);
   ASSERT_EQ(dut.statistics().give_ways, 1);
   const common::Trajectory back = dut.trajectory();
@@ -181,9 +174,8 @@ TEST(NavigatorTest, AGiveWayDriveThatTheMapNowBlocksIsStoppedWhereNoOtherGainsRo
   ASSERT_NEAR(back.points().back().position_W.y(), 0.0, 1e-9);
   // the map now closes the corridor 0.9 m behind the base: back is blocked, forward meets the
   // walker, and no turn fits; the robot stops and will replan
-  paint([](const Eigen::Vector2d& p) { return std::abs(p.x() + 1.0) < 0.15; });
-  const common::RobotState on_drive = OnDriveAt(back, 0.3);
-  const planner::NavigatorTick tick = dut.Update(on_drive, &map, true, {kWalkerAhead});
+  PaintLethal(&map, [](const Eigen::Vector2d& p) { return std::abs(p.x() + 1.0) < 0.15; });
+  const planner::NavigatorTick tick = dut.Update(OnDriveAt(back, 0.3), &map, true, {kWalkerAhead});
   EXPECT_TRUE(tick.safety_stop);
   EXPECT_EQ(tick.command.v, 0.0);
   EXPECT_EQ(tick.command.omega, 0.0);
@@ -194,13 +186,7 @@ TEST(NavigatorTest, AStoppedRobotWithAWallBehindStepsAsideFromAMoverComingAtIt) 
   planner::Navigator dut = MakeNavigator();
   common::GridLayers map = OpenMap();
   // a wall 0.7 m behind the base (0.4 m behind the robot's rear): no room to back away
-  const common::GridGeometry& g = map.geometry();
-  for (int ix = 0; ix < g.num_x; ++ix) {
-    for (int iy = 0; iy < g.num_y; ++iy) {
-      const double x = g.CellCenter(ix, iy).x();
-      if (x < -0.7 && x > -1.1) map.Layer("traversability")(ix, iy) = 1.0f;
-    }
-  }
+  PaintLethal(&map, [](const Eigen::Vector2d& p) { return p.x() < -0.7 && p.x() > -1.1; });
   dut.Update(At(0.0, 0.0), &map, true, {});
   // a walker 2.5 m ahead coming straight at the robot at 1 m/s: straight back is blocked and
   // straight forward meets it, so the robot turns in place and drives out of its line
@@ -220,22 +206,12 @@ TEST(NavigatorTest, AStoppedRobotWithAWallBehindStepsAsideFromAMoverComingAtIt) 
 // so that every plan falls back: on the pose search's way backward.
 struct DeadEnd {
   DeadEnd() {
-    Paint([](const Eigen::Vector2d& p) {
+    PaintLethal(&map, [](const Eigen::Vector2d& p) {
       return p.x() > -3.0 && p.x() < 1.6 && std::abs(p.y()) < 0.9 &&
              (std::abs(p.y()) > 0.5 || p.x() > 1.2);
     });
     config.optimizer.max_iterations = 1;
     config.optimizer.terminal_tolerance_m = 1e-6;
-  }
-
-  template <typename Inside>
-  void Paint(Inside inside) {
-    const common::GridGeometry& g = map.geometry();
-    for (int ix = 0; ix < g.num_x; ++ix) {
-      for (int iy = 0; iy < g.num_y; ++iy) {
-        if (inside(g.CellCenter(ix, iy))) map.Layer("traversability")(ix, iy) = 1.0f;
-      }
-    }
   }
 
   // The robot exactly on `way` at t_s.
@@ -314,8 +290,9 @@ TEST(NavigatorTest, AFollowedWayIsReplannedWhenTheMapClosesInOnItsFootprint) {
             planner::ReplanReason::kNone);
   // a cell at the side of the way 1 m behind the robot turns lethal (y from 0.3 to 0.5 m): the
   // base's path stays clear of it, the footprint would not
-  world.Paint(
-      [](const Eigen::Vector2d& p) { return (p - Eigen::Vector2d(-0.6, 0.4)).norm() < 0.1; });
+  PaintLethal(&world.map, [](const Eigen::Vector2d& p) {
+    return (p - Eigen::Vector2d(-0.6, 0.4)).norm() < 0.1;
+  });
   EXPECT_EQ(dut.Update(DeadEnd::On(way, 0.2), &world.map, true, {}).replan,
             planner::ReplanReason::kNewLethalCells);
 }
