@@ -16,16 +16,18 @@ inline constexpr float kDefaultReflectance = 0.3f;
 /// Plain description of what rays can hit, in the world frame W. Object ids are assigned in this
 /// order: `meshes_W`, then `primitives_W`, then `moving_meshes_I`.
 struct RaySceneDescription {
-  std::vector<common::TriangleMesh> meshes_W;   ///< static meshes (the terrain at full resolution)
-  std::vector<common::Primitive> primitives_W;  ///< static obstacle primitives
+  std::vector<common::TriangleMesh> meshes_W;  ///< static meshes (the terrain at full resolution)
+  /// Static obstacle primitives: spheres hit on their exact surface, boxes as their 12 triangles,
+  /// cylinders and capsules as triangles (`primitive_segments`).
+  std::vector<common::Primitive> primitives_W;
   /// Moving objects: each a mesh in its own frame I, placed by `X_WI` (updatable between casts).
   std::vector<common::TriangleMesh> moving_meshes_I;
   std::vector<Eigen::Isometry3d> X_WI;
   /// Diffuse reflectance in [0, 1] of each object at the LiDAR's wavelength, in object-id order;
   /// empty: every object kDefaultReflectance. Otherwise one entry per object.
   std::vector<float> reflectance;
-  /// Primitives are tessellated with this many segments around (a cylinder of radius r deviates at
-  /// most r (1 - cos(pi / segments)) from its polygon: 0.2 % of r at 48).
+  /// Cylinders and capsules are tessellated with this many segments around (a cylinder of radius r
+  /// deviates at most r (1 - cos(pi / segments)) from its polygon: 0.2 % of r at 48).
   int primitive_segments{48};
 };
 

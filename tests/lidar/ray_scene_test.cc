@@ -129,6 +129,40 @@ TEST(RaySceneTest, RangeLimitTurnsFarHitsIntoMisses) {
   EXPECT_TRUE(std::isinf(hits.range_m[0]));
 }
 
+TEST(RaySceneTest, SpheresAreHitOnTheirExactSurfaces) {
+  // tree crowns: spheres of radius 2 at y = -10 and 1 at x = 6, z = 1
+  RaySceneDescription description;
+  description.primitives_W.push_back(MakePrimitive(ShapeType::kSphere, {2, 0, 0}, {0, -10, 0}));
+  description.primitives_W.push_back(MakePrimitive(ShapeType::kSphere, {1, 0, 0}, {6, 0, 1}));
+  const RayScene dut(description);
+  const std::vector<Eigen::Vector3d> centres_W = {{0, -10, 0}, {6, 0, 1}};
+  const std::vector<double> radii_m = {2.0, 1.0};
+  // between its vertices a tessellation with 48 segments around lies up to 0.2 % of the radius
+  // inside the sphere, and farther between its rings (4 mm and more at 2 m): these rays fall there
+  Eigen::Matrix3Xd directions(3, 34);
+  for (int k = 0; k < 17; ++k) {
+    const double angle = -0.19 + 0.0237 * k;
+    directions.col(k) = Eigen::Vector3d(std::sin(angle), -std::cos(angle), 0.05).normalized();
+    directions.col(17 + k) =
+        Eigen::Vector3d(1.0, 0.5 * angle, 1.0 / 6.0 + 0.5 * angle).normalized();
+  }
+  RayHits hits;
+  dut.Cast(Eigen::Vector3f::Zero(), directions.cast<float>(), 40.0f, &hits);
+  for (int i = 0; i < directions.cols(); ++i) {
+    SCOPED_TRACE(i);
+    const int sphere = i < 17 ? 0 : 1;
+    // the first root of |t d - c|^2 = r^2
+    const Eigen::Vector3d& c = centres_W[static_cast<std::size_t>(sphere)];
+    const double r = radii_m[static_cast<std::size_t>(sphere)];
+    const double along = directions.col(i).dot(c);
+    const double range_m = along - std::sqrt(along * along - (c.squaredNorm() - r * r));
+    ASSERT_EQ(hits.object_id[i], sphere);
+    EXPECT_NEAR(hits.range_m[i], range_m, 1e-4);
+    const Eigen::Vector3d normal_W = (range_m * directions.col(i) - c) / r;
+    EXPECT_TRUE(hits.normal_W.col(i).cast<double>().isApprox(normal_W, 1e-4));
+  }
+}
+
 TEST(RaySceneTest, ThreadsDoNotChangeTheResults) {
   RaySceneDescription description;
   description.meshes_W.push_back(Plane(30.0, 0.0));
