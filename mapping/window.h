@@ -71,13 +71,13 @@ class ObstacleMarker {
   /// neighbourhood (a vertical face: wall, trunk, box side, even where the face's points are
   /// sparse), or more than `max_step_m` (> 0; 0 disables the test) above the highest point of a
   /// side neighbour with points, or of the cell's own lowest point where no point of the
-  /// neighbourhood lies lower (a step the robot cannot climb, however low: a platform, a curb, a
-  /// low wall whose foot the sensor does not see from close by), 0 where none holds, NaN where
-  /// the cell has no point. With `ground` (the crop of these points), every comparison is made
-  /// above the crop's ground plane at the cell (WindowCrop::GroundGradient): a neighbour's point
-  /// counts as risen by the plane's rise between the two cells' centres, and a cell's own span
-  /// less the plane's rise across its diagonal. Without it, ground of slope a rises up to
-  /// 2 sqrt(2) resolution tan(a) across the neighbourhood, resolution tan(a) from a side
+  /// neighbourhood lies more than 2 cm lower (a step the robot cannot climb, however low: a
+  /// platform, a curb, a low wall whose foot the sensor does not see from close by), 0 where none
+  /// holds, NaN where the cell has no point. With `ground` (the crop of these points), every
+  /// comparison is made above the crop's ground plane at the cell (WindowCrop::GroundGradient): a
+  /// neighbour's point counts as risen by the plane's rise between the two cells' centres, and a
+  /// cell's own span less the plane's rise across its diagonal. Without it, ground of slope a rises
+  /// up to 2 sqrt(2) resolution tan(a) across the neighbourhood, resolution tan(a) from a side
   /// neighbour and sqrt(2) resolution tan(a) within a cell: at 0.2 m cells slopes steeper than
   /// about 28 deg read as faces; with it, slopes up to the robot's 40 deg do not. Valid until the
   /// next call, as roughness().
