@@ -122,9 +122,10 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
       }
       bool face = highest(ix, iy) - foot > min_span_m;
       // a step above a side neighbour's top (a neighbour without points, at -infinity, is skipped),
-      // or within a cell that holds its neighbourhood's lowest point: a face whose foot the sensor
-      // does not see (a low wall just ahead, whose lowest points are where the lowest beam meets
-      // it, no ground beside them; rubble on a slope has lower ground beside it)
+      // or within a cell that holds its neighbourhood's lowest point (to kFootTolerance_m): a face
+      // whose foot the sensor does not see (a low wall just ahead, whose lowest points are where
+      // the lowest beam meets it, no ground beside them; rubble on a slope has lower ground beside
+      // it)
       if (max_step_m > 0.0) {
         const float within = std::sqrt(2.0f) * resolution * slope.norm();
         face = face || (lowest(ix, iy) <= foot + kFootTolerance_m &&
