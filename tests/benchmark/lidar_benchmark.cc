@@ -47,21 +47,27 @@ Eigen::Matrix3Xf FrameDirections() {
   return directions;
 }
 
-Eigen::Vector3f SensorOrigin() {
-  return Eigen::Vector3f(0.0f, 0.0f, static_cast<float>(World().GroundHeight({0.0, 0.0})) + 0.3f);
+// A level sensor 0.3 m above the ground at the centre of `world`.
+Eigen::Vector3f SensorOrigin(const trav::sim::TerrainWorld& world) {
+  return Eigen::Vector3f(0.0f, 0.0f, static_cast<float>(world.GroundHeight({0.0, 0.0})) + 0.3f);
 }
 
-void BM_EmbreeFrame(benchmark::State& state) {
-  const RayScene& scene = Scene();
+// Casts one frame of directions from SensorOrigin(world) per iteration on `threads` threads.
+void CastFrames(benchmark::State& state, const RayScene& scene,
+                const trav::sim::TerrainWorld& world, int threads) {
   const Eigen::Matrix3Xf directions = FrameDirections();
+  const Eigen::Vector3f origin = SensorOrigin(world);
   RayHits hits;
-  const int threads = static_cast<int>(state.range(0));
   for (auto _ : state) {
-    scene.Cast(SensorOrigin(), directions, 40.0f, &hits, threads);
+    scene.Cast(origin, directions, 40.0f, &hits, threads);
     benchmark::DoNotOptimize(hits.range_m.data());
   }
   state.SetItemsProcessed(state.iterations() * directions.cols());
   state.counters["hit_fraction"] = (hits.object_id.array() >= 0).cast<double>().mean();
+}
+
+void BM_EmbreeFrame(benchmark::State& state) {
+  CastFrames(state, Scene(), World(), static_cast<int>(state.range(0)));
 }
 BENCHMARK(BM_EmbreeFrame)
     ->ArgName("threads")
@@ -81,16 +87,7 @@ void BM_EmbreeForestFrame(benchmark::State& state) {
     return trav::sim::GenerateTerrain(config);
   }();
   static const RayScene scene(trav::sim::RaySceneOf(forest));
-  const Eigen::Matrix3Xf directions = FrameDirections();
-  const Eigen::Vector3f origin(0.0f, 0.0f,
-                               static_cast<float>(forest.GroundHeight({0.0, 0.0})) + 0.3f);
-  RayHits hits;
-  for (auto _ : state) {
-    scene.Cast(origin, directions, 40.0f, &hits);
-    benchmark::DoNotOptimize(hits.range_m.data());
-  }
-  state.SetItemsProcessed(state.iterations() * directions.cols());
-  state.counters["hit_fraction"] = (hits.object_id.array() >= 0).cast<double>().mean();
+  CastFrames(state, scene, forest, 1);
 }
 BENCHMARK(BM_EmbreeForestFrame)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -99,7 +96,7 @@ void BM_EmulatorFrame(benchmark::State& state) {
   trav::lidar::LidarEmulator lidar{trav::lidar::LidarConfig{}};
   trav::lidar::LidarFrame frame;
   Eigen::Isometry3d X_WL = Eigen::Isometry3d::Identity();
-  X_WL.translation() = SensorOrigin().cast<double>();
+  X_WL.translation() = SensorOrigin(World()).cast<double>();
   double t = 0.0;
   for (auto _ : state) {
     // one frame in 50 physics steps of 2 ms, as in a run
@@ -143,7 +140,7 @@ void BM_MujocoRay(benchmark::State& state) {
   trav::sim::Simulation simulation(World(), trav::common::Pose2{}, options);
   const Eigen::Matrix3Xf directions = FrameDirections();
   const int rays = static_cast<int>(state.range(0));
-  const Eigen::Vector3f origin = SensorOrigin();
+  const Eigen::Vector3f origin = SensorOrigin(World());
   const mjtNum p[3] = {origin.x(), origin.y(), origin.z()};
   // geom groups 0-2 and 4 (obstacles, ceiling) and 3 (the collision ground); the robot sits far
   // away
