@@ -21,9 +21,9 @@ namespace fs = std::filesystem;
 TEST(BatchFilesTest, TheShippedBatchesExpandToTheirRuns) {
   const fs::path scenarios = fs::path(TRAV_SOURCE_DIR) / "scenarios";
   const std::pair<const char*, std::size_t> batches[] = {
-      {"batch/suite_seeds.yaml", 90}, {"batch/mappers.yaml", 40}, {"batch/mpc_horizon.yaml", 18},
-      {"stress/density.yaml", 15},    {"stress/speed.yaml", 12},  {"stress/behaviour.yaml", 24},
-      {"stress/ci.yaml", 4}};
+      {"batch/suite_seeds.yaml", 90}, {"batch/lidar_seeds.yaml", 60}, {"batch/mappers.yaml", 40},
+      {"batch/mpc_horizon.yaml", 18}, {"stress/density.yaml", 15},    {"stress/speed.yaml", 12},
+      {"stress/behaviour.yaml", 24},  {"stress/ci.yaml", 4}};
   for (const auto& [file, count] : batches) {
     const BatchSpec spec = LoadBatchFile((scenarios / file).string());
     EXPECT_EQ(ExpandBatch(spec).size(), count) << file;
