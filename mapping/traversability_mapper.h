@@ -25,25 +25,14 @@ inline const std::string kLastObserved = "last_observed";  ///< time of the last
 inline const std::string kObstacle = "obstacle";
 /// Time of the latest points that showed the cell's face [s] (NaN: never).
 inline const std::string kObstacleSeen = "obstacle_seen";
-/// The cell's lowest point in the latest points that showed its face [m] (NaN: never, or a drop).
-inline const std::string kObstacleFoot = "obstacle_foot";
 /// common::Roughness of the highest points of the cell and its neighbours in the latest points
 /// that showed them [m] (raw: no regression smooths a step away).
 inline const std::string kRoughness = "roughness";
 
 /// Every layer above, in the order the mappers create them.
 inline std::vector<std::string> All() {
-  return {kElevation,
-          kElevationVariance,
-          kSlope,
-          kCurvature,
-          kGradient,
-          kTraversability,
-          kTraversabilityVariance,
-          kLastObserved,
-          kObstacle,
-          kObstacleSeen,
-          kObstacleFoot,
+  return {kElevation,      kElevationVariance,      kSlope,        kCurvature, kGradient,
+          kTraversability, kTraversabilityVariance, kLastObserved, kObstacle,  kObstacleSeen,
           kRoughness};
 }
 }  // namespace layers

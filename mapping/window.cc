@@ -18,21 +18,6 @@ namespace {
 // `probes/forest_backwards` at seed 1 keeps the side of the trunk it touched.
 constexpr float kFootTolerance_m = 0.02f;
 
-// What the points of a face cell that no longer show a face say of it (ObstacleMarker::Mark): 0
-// (free) where they reach down to the face's foot as it was last seen (to half the crop height,
-// and the ground plane's rise across the cell); otherwise they show no ground, only the face above
-// its hidden foot (a low wall seen from close by, its foot inside the sensor's blind zone), so 1
-// where they rise above that foot by more than the robot climbs (the step, or without the step
-// test the crop height), and NaN (no evidence) where they do not.
-float FaceAboveItsFoot(float lowest_m, float highest_m, float foot_m,
-                       const Eigen::Vector2f& ground_gradient, double resolution_m,
-                       const MapArea& area) {
-  const double within = std::sqrt(2.0) * resolution_m * ground_gradient.cast<double>().norm();
-  if (!(lowest_m - foot_m > 0.5 * area.max_height_above_ground_m + within)) return 0.0f;
-  const double climbable = area.max_step_m > 0.0 ? area.max_step_m : area.max_height_above_ground_m;
-  return highest_m - foot_m - within > climbable ? 1.0f : std::numeric_limits<float>::quiet_NaN();
-}
-
 }  // namespace
 
 void WindowCrop::Crop(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
@@ -300,7 +285,6 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
                           area.max_step_m, &crop);
   Eigen::MatrixXf& obstacle = map->Layer(layers::kObstacle);
   Eigen::MatrixXf& seen_s = map->Layer(layers::kObstacleSeen);
-  Eigen::MatrixXf& foot = map->Layer(layers::kObstacleFoot);
   Eigen::MatrixXf& rough = map->Layer(layers::kRoughness);
   const auto roughness = roughness_.const_view();
   Eigen::MatrixXf& out = map->Layer(layers::kTraversability);
@@ -323,26 +307,10 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
                     ? 1.0f
                     : std::numeric_limits<float>::quiet_NaN();
       }
-      const bool was_face = obstacle(ix, iy) == 1.0f;
-      if (value == 0.0f && was_face) {
-        value = FaceAboveItsFoot(lowest(local.x(), local.y()), highest(local.x(), local.y()),
-                                 foot(ix, iy), crop.GroundGradient(g.CellCenter(ix, iy)),
-                                 g.resolution_m, area);
-      }
       if (!std::isnan(value)) {
         obstacle(ix, iy) = value;
         rough(ix, iy) = roughness(local.x(), local.y());
-        if (value == 1.0f) {
-          seen_s(ix, iy) = static_cast<float>(t_s);
-          // the lowest the face has shown since it was marked (seen from close by, its points
-          // start higher up); a drop's cell has no point, and no foot
-          const float cell_lowest = lowest(local.x(), local.y());
-          if (std::isinf(cell_lowest)) {
-            foot(ix, iy) = std::numeric_limits<float>::quiet_NaN();
-          } else if (!was_face || !(foot(ix, iy) < cell_lowest)) {
-            foot(ix, iy) = cell_lowest;
-          }
-        }
+        if (value == 1.0f) seen_s(ix, iy) = static_cast<float>(t_s);
       } else if (obstacle(ix, iy) == 1.0f && !std::isnan(rough(ix, iy)) &&
                  area.obstacle_memory_s > 0.0 && t_s - seen_s(ix, iy) > area.obstacle_memory_s &&
                  (g.CellCenter(ix, iy) - p_WB.head<2>()).squaredNorm() < blind_radius2) {

@@ -112,17 +112,13 @@ class ObstacleMarker {
   /// ground crop, above its ground plane, with the crop height `area.max_height_above_ground_m`
   /// and the step `area.max_step_m`) in layer `obstacle` of `map` between `low` and `high`: the
   /// latest observation of a cell decides, so a cell seen free again clears, and a face cell stamps
-  /// layer `obstacle_seen` with `t_s` and keeps in layer `obstacle_foot` the lowest of its points
-  /// since it was marked. An obstacle cell whose points show no face but do not reach down to
-  /// within half the crop height (and the ground plane's rise across the cell) of that foot shows
-  /// no ground: it stays an obstacle where its highest point stands more than the step (the crop
-  /// height without the step test) above the foot, and is left unchanged otherwise; layer
-  /// `roughness` takes roughness() where a cell has points. The Drops are marked as faces. A face
-  /// cell within `area.blind_radius_m` of the base at p_WB that no point has shown for longer than
-  /// `area.obstacle_memory_s` (> 0) is forgotten: its obstacle becomes unknown, and its cost too if
-  /// the mapper has never scored it. Then sets layer `traversability` to 1 on the obstacle mask
-  /// closed by one cell, within `margin_cells` of the window (at least the cells whose cost the
-  /// mapper rewrote). The obstacle layer FSGP-BGK and the baselines share.
+  /// layer `obstacle_seen` with `t_s`; layer `roughness` takes roughness() where a cell has
+  /// points. The Drops are marked as faces. A face cell within `area.blind_radius_m` of the base at
+  /// p_WB that no point has shown for longer than `area.obstacle_memory_s` (> 0) is forgotten:
+  /// its obstacle becomes unknown, and its cost too if the mapper has never scored it. Then sets
+  /// layer `traversability` to 1 on the obstacle mask closed by one cell, within `margin_cells` of
+  /// the window (at least the cells whose cost the mapper rewrote). The obstacle layer FSGP-BGK
+  /// and the baselines share.
   void Mark(const WindowCrop& crop, const Eigen::Vector2i& low, const Eigen::Vector2i& high,
             const MapArea& area, const Eigen::Vector3d& p_WB, double t_s, int margin_cells,
             common::GridLayers* map);

@@ -524,50 +524,6 @@ TEST(FsgpBgkMapperTest, WithoutObstacleMemoryAFaceInTheBlindZoneStays) {
   EXPECT_EQ(*dut.map().At(layers::kTraversability, walker_W), 1.0f);
 }
 
-// Flat ground seen beyond `blind_m` from the origin and a wall 0.45 m high along y at x = 2.01,
-// for |y| <= 1, seen from `lowest_m` up (from close by, the lowest beam meets its face above its
-// foot).
-common::PointCloud GroundAndLowWall(double blind_m, double lowest_m) {
-  std::vector<Eigen::Vector3f> points;
-  const common::PointCloud ground = GroundAndColumns(blind_m, {});
-  for (Eigen::Index i = 0; i < ground.size(); ++i) points.emplace_back(ground.points.col(i));
-  for (double y = -1.0; y <= 1.0; y += 0.05) {
-    for (double z = lowest_m; z <= 0.45 + 1e-9; z += 0.05) {
-      points.emplace_back(2.01f, static_cast<float>(y), static_cast<float>(z));
-    }
-  }
-  return common::MakePointCloud(points);
-}
-
-TEST(FsgpBgkMapperTest, AFaceSeenAboveItsFootAsItWasMarkedStays) {
-  // marked from afar (its foot on the ground seen), then seen from close by with only its top
-  // 0.1 m in view and no ground within 3.1 m (none in its 1 m column of the crop, which then
-  // keeps the wall's points as terrain): those points show no face of their own (a span below
-  // the 0.15 m step, no ground beside them), but they stand 0.35 m above the face's foot, so the
-  // wall stays, past the blind zone's memory of 2 s
-  const Eigen::Vector2d wall_W(2.01, 0.05);  // in a cell of the wall
-  FsgpBgkMapper dut(FsgpConfig{});
-  ASSERT_EQ(dut.Update(GroundAndLowWall(0.0, 0.0), RobotAt(0, 0), 0.0).status,
-            MapUpdateStatus::kUpdated);
-  ASSERT_EQ(*dut.map().At(layers::kObstacle, wall_W), 1.0f);
-  EXPECT_NEAR(*dut.map().At(layers::kObstacleFoot, wall_W), 0.0f, 1e-6);
-  for (const double t : {0.5, 1.5, 2.5, 3.5}) {
-    ASSERT_EQ(dut.Update(GroundAndLowWall(3.1, 0.35), RobotAt(0, 0), t).status,
-              MapUpdateStatus::kUpdated);
-    EXPECT_EQ(*dut.map().At(layers::kObstacle, wall_W), 1.0f) << "t = " << t;
-    EXPECT_EQ(*dut.map().At(layers::kTraversability, wall_W), 1.0f) << "t = " << t;
-  }
-  // seen so without the view from afar, the same points clear it
-  FsgpBgkMapper close_only(FsgpConfig{});
-  ASSERT_EQ(close_only.Update(GroundAndLowWall(3.1, 0.35), RobotAt(0, 0), 0.0).status,
-            MapUpdateStatus::kUpdated);
-  EXPECT_NE(close_only.map().At(layers::kObstacle, wall_W).value_or(0.0f), 1.0f);
-  // and once its points reach down to its foot again without a face (the wall is gone), it clears
-  ASSERT_EQ(dut.Update(GroundAndColumns(0.0, {}), RobotAt(0, 0), 4.0).status,
-            MapUpdateStatus::kUpdated);
-  EXPECT_EQ(*dut.map().At(layers::kObstacle, wall_W), 0.0f);
-}
-
 // Flat ground with a 1.5 m high wall along y at x = 2 from y = -2 to 2, but for a gap of `gap` m
 // centred on y = 0 where the LiDAR saw nothing at all (no wall and no ground).
 common::PointCloud WallWithGap(double gap) {
