@@ -28,24 +28,12 @@ inline const std::string kObstacleSeen = "obstacle_seen";
 /// common::Roughness of the highest points of the cell and its neighbours in the latest points
 /// that showed them [m] (raw: no regression smooths a step away).
 inline const std::string kRoughness = "roughness";
-/// The lowest point any frame showed in the cell [m]: the ground there where it was ever seen (a
-/// static world's ground does not rise; movers are kept out of the frames).
-inline const std::string kFloor = "floor";
 
 /// Every layer above, in the order the mappers create them.
 inline std::vector<std::string> All() {
-  return {kElevation,
-          kElevationVariance,
-          kSlope,
-          kCurvature,
-          kGradient,
-          kTraversability,
-          kTraversabilityVariance,
-          kLastObserved,
-          kObstacle,
-          kObstacleSeen,
-          kRoughness,
-          kFloor};
+  return {kElevation,      kElevationVariance,      kSlope,        kCurvature, kGradient,
+          kTraversability, kTraversabilityVariance, kLastObserved, kObstacle,  kObstacleSeen,
+          kRoughness};
 }
 }  // namespace layers
 

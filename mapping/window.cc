@@ -78,26 +78,6 @@ void WindowCrop::Crop(const common::PointCloud& points_W, const Eigen::Vector3d&
   result->window_points = static_cast<int>(window_.cols());
 }
 
-void WindowCrop::KeepNearFloor(const common::GridLayers& map, double max_above_floor_m) {
-  if (!std::isfinite(max_above_floor_m)) return;
-  const common::GridGeometry& g = map.geometry();
-  const Eigen::MatrixXf& floor = map.Layer(layers::kFloor);
-  const auto diagonal = static_cast<float>(std::sqrt(2.0) * g.resolution_m);
-  const auto above = static_cast<float>(max_above_floor_m);
-  auto window = window_.view();
-  Eigen::Index kept = 0;
-  for (Eigen::Index i = 0; i < window.cols(); ++i) {
-    const Eigen::Vector3f p = window.col(i);
-    const Eigen::Vector2d p_W = p.head<2>().cast<double>();
-    const std::optional<Eigen::Vector2i> cell = g.CellIndex(p_W);
-    // (a cell without a floor, NaN, keeps its points)
-    if (cell && p.z() > floor(cell->x(), cell->y()) + above + diagonal * GroundGradient(p_W).norm())
-      continue;
-    window.col(kept++) = p;
-  }
-  window_.Resize(3, kept);
-}
-
 common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
     const Eigen::Ref<const Eigen::Matrix3Xf>& points_W, const common::GridGeometry& g,
     const Eigen::Vector2i& low, const Eigen::Vector2i& high, double min_span_m, double max_step_m,
@@ -309,7 +289,7 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
   const auto roughness = roughness_.const_view();
   Eigen::MatrixXf& out = map->Layer(layers::kTraversability);
   const Eigen::MatrixXf& scored_s = map->Layer(layers::kLastObserved);
-  Eigen::MatrixXf& floor = map->Layer(layers::kFloor);
+  const Eigen::MatrixXf& ground = map->Layer(layers::kElevation);
   const auto lowest = lowest_.const_view();
   const auto highest = highest_.const_view();
   const double blind_radius2 = area.blind_radius_m * area.blind_radius_m;
@@ -318,17 +298,12 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
     for (int iy = low.y(); iy <= high.y(); ++iy) {
       const Eigen::Vector2i local(ix - low.x(), iy - low.y());
       float value = drops(local.x(), local.y()) != 0 ? 1.0f : seen(local.x(), local.y());
-      // (fmin: a cell's first points set its floor)
-      if (!std::isinf(lowest(local.x(), local.y()))) {
-        floor(ix, iy) = std::fmin(floor(ix, iy), lowest(local.x(), local.y()));
-      }
-      // a cell whose lowest point stands more than half the crop height above the lowest point it
-      // ever showed shows no ground (the side of a box next to the robot, seen above the sensor's
-      // lowest beam; the top of a low wall seen by a robot pitched up): it is no evidence of free
-      // space, and a face if its top stands above the crop height
-      const float above_ground = lowest(local.x(), local.y()) - floor(ix, iy);
+      // a cell whose lowest point stands more than half the crop height above the mapped ground
+      // shows no ground (the side of a box next to the robot, seen above the sensor's lowest beam):
+      // it is no evidence of free space, and a face if its top stands above the crop height
+      const float above_ground = lowest(local.x(), local.y()) - ground(ix, iy);
       if (value == 0.0f && above_ground > 0.5 * area.max_height_above_ground_m) {
-        value = highest(local.x(), local.y()) - floor(ix, iy) > area.max_height_above_ground_m
+        value = highest(local.x(), local.y()) - ground(ix, iy) > area.max_height_above_ground_m
                     ? 1.0f
                     : std::numeric_limits<float>::quiet_NaN();
       }
