@@ -420,11 +420,16 @@ OptimizedTrajectory TrajectoryOptimizer::Optimize(const CostField& field,
   setup.body_reach_m = config_.footprint.CircumscribedRadius();
   // DDR-opt's rule for ends near lethal cells: the clearance shrinks to 85 % of the smaller gap
   // of the start and the goal, so that neither end violates it (the goal's yaw is free: its gap
-  // is the inscribed disc's)
-  const double ends_m = std::min(
-      FootprintDistance(field, request.start.position_W, request.start.yaw, setup.body_points_B),
-      field.Distance(request.goal_W).value - config_.footprint.InscribedRadius());
-  setup.clearance_m = std::clamp(0.85 * ends_m, 0.0, config_.clearance_m);
+  // is the inscribed disc's). A start whose footprint overlaps a lethal cell (a face's points
+  // spread by the sensor's range noise into the cell beside the robot) has a gap below zero: the
+  // clearance is then that gap less 15 % of its size, which the way out keeps; clamped at zero, no
+  // way from the start was feasible, and the robot stood until the run ended (`suite/forest` at
+  // terrain seed 108). A goal inside lethal cells stays infeasible.
+  const double start_m =
+      FootprintDistance(field, request.start.position_W, request.start.yaw, setup.body_points_B);
+  const double goal_m = field.Distance(request.goal_W).value - config_.footprint.InscribedRadius();
+  setup.clearance_m = std::min(
+      {config_.clearance_m, std::max(0.85 * goal_m, 0.0), start_m - 0.15 * std::abs(start_m)});
   setup.robot_radius_m = config_.robot_radius_m;
   setup.obstacle_clearance_m = config_.obstacle_clearance_m;
   setup.clearance_growth_m_s = config_.clearance_growth_m_s;

@@ -25,7 +25,8 @@ struct TrajectoryOptimizerConfig {
   common::Footprint footprint;
   /// Gap kept between the footprint and lethal cells [m], >= 0; shrinks to 85 % of the start's or
   /// goal's gap when that is less (DDR-opt), so that an end near lethal cells is not infeasible by
-  /// itself.
+  /// itself, and below zero for a start that overlaps a lethal cell (its gap less 15 % of its
+  /// size).
   double clearance_m{0.1};
   /// When no trajectory keeps `clearance_m`, one more cold solve keeps this instead [m], in
   /// [0, clearance]; the search admits exactly the cells where the footprint's inscribed disc keeps

@@ -252,6 +252,26 @@ TEST(TrajectoryOptimizerTest, ReplanningTowardTheSameGoalStartsFromThePreviousPl
   EXPECT_FALSE(dut.Optimize(field, request).diagnostics.warm_started);
 }
 
+TEST(TrajectoryOptimizerTest, AStartOverlappingALethalCellLeavesItAndKeepsItsGapBelowZero) {
+  // a 1 m strip of lethal cells (y in [0.25, 0.35]) that the footprint's left side (0.285 m from
+  // the base) reaches into at the start: the way out keeps the start's gap less 15 % of its size
+  common::GridLayers map = FlatMap();
+  Paint(&map, 1.0f, [](const Eigen::Vector2d& p) {
+    return std::abs(p.x()) < 0.5 && p.y() > 0.25 && p.y() < 0.35;
+  });
+  const CostField field(map, CostMapConfig{});
+  TrajectoryOptimizer dut(TrajectoryOptimizerConfig{});
+  TrajectoryRequest request = StraightRequest();
+  request.guide_W = {{0, 0}, {10, 0}};
+  const OptimizedTrajectory out = dut.Optimize(field, request);
+  ASSERT_NE(out.status, OptimizationStatus::kInfeasible) << out.diagnostics.worst_constraint;
+  EXPECT_LT(out.diagnostics.clearance_m, 0.0);
+  EXPECT_GE(out.diagnostics.min_clearance_m,
+            out.diagnostics.clearance_m - TrajectoryOptimizerConfig{}.violation_tolerance * 0.1);
+  EXPECT_LE((out.trajectory.points().back().position_W - request.goal_W).norm(),
+            10.0 * TrajectoryOptimizerConfig{}.terminal_tolerance_m);
+}
+
 TEST(TrajectoryOptimizerTest, AGoalInsideAWallIsReportedInfeasible) {
   common::GridLayers map = FlatMap();
   Paint(&map, 1.0f, [](const Eigen::Vector2d& p) { return p.x() >= 8; });
