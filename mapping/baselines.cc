@@ -25,13 +25,17 @@ common::GridLayers MakeMap(const MapArea& area) {
       layers::All());
 }
 
-// The window's points into `crop` (ground-cropped as `area` says), timed; a status of
-// kTooFewPoints when there are fewer than the minimum.
+// The window's points into `crop` (ground-cropped as `area` says, without the points that stand
+// above their cells' floor in `map`), timed; a status of kTooFewPoints when there are fewer than
+// the minimum.
 void CropOrRefuse(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
-                  const MapArea& area, MapUpdateResult* result, WindowCrop* crop) {
+                  const MapArea& area, const common::GridLayers& map, MapUpdateResult* result,
+                  WindowCrop* crop) {
   const common::Stopwatch start;
   crop->Crop(points_W, p_WB, area.window_m, area.max_height_above_robot_m, area.GroundCropHeight(),
              result);
+  crop->KeepNearFloor(map, area.GroundCropHeight());
+  result->window_points = static_cast<int>(crop->window().cols());
   result->times.crop = start.ElapsedMilliseconds();
   if (crop->window().cols() < kMinimumPoints) result->status = MapUpdateStatus::kTooFewPoints;
 }
@@ -44,7 +48,7 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
                                   double t_s) {
   MapUpdateResult result;
   const Eigen::Vector3d p_WB = X_WB.translation();
-  CropOrRefuse(points_W, p_WB, config_.area, &result, &crop_);
+  CropOrRefuse(points_W, p_WB, config_.area, map_, &result, &crop_);
   const auto window = crop_.window();
   if (result.status != MapUpdateStatus::kUpdated) return result;
   // inducing points on a stride of the points sorted by x
@@ -176,7 +180,7 @@ MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
                                         const Eigen::Isometry3d& X_WB, double t_s) {
   MapUpdateResult result;
   const Eigen::Vector3d p_WB = X_WB.translation();
-  CropOrRefuse(points_W, p_WB, config_.area, &result, &crop_);
+  CropOrRefuse(points_W, p_WB, config_.area, map_, &result, &crop_);
   const auto window = crop_.window();
   if (result.status != MapUpdateStatus::kUpdated) return result;
   // per-cell Kalman fusion of the point heights

@@ -139,6 +139,7 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   common::Stopwatch stage;
   crop_.Crop(points_W, p_WB, config_.area.window_m, config_.area.max_height_above_robot_m,
              config_.area.GroundCropHeight(), &result);
+  crop_.KeepNearFloor(map_, config_.area.GroundCropHeight());
   // FSGP-Accumulation: the last N frames' clouds together
   const common::ScratchMatrix<float, 3>::ConstView window =
       config_.accumulate_frames > 1 ? AccumulateFrames(crop_.window(), p_WB) : crop_.window();

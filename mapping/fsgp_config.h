@@ -95,12 +95,19 @@ struct MapArea {
   double drop_slope_deg{20.0};  ///< [deg]
   /// Cells closer than this to the base lie in the sensor's ground blind zone [m]: the MID-360's
   /// lowest beam (7 deg down) meets flat ground about 2.4 m out from the Scout Mini's mount, and
-  /// the body hides more. A face there that no point shows for `obstacle_memory_s` is forgotten.
+  /// the body hides more. A short-lived face there that no point shows again is forgotten.
   double blind_radius_m{2.5};
-  /// A face cell in the blind zone that no point has shown for longer than this is forgotten (its
-  /// obstacle unknown again) [s]: the points of a walker the tracker missed would otherwise stay
-  /// lethal where the ground is never seen free again. 0: faces are never forgotten.
+  /// A face cell in the blind zone that points showed for less than this, and that no point has
+  /// shown since for longer than this, is forgotten (its obstacle unknown again) [s]: the points of
+  /// a walker the tracker missed would otherwise stay lethal where the ground is never seen free
+  /// again. A face shown for longer is the world's (a wall the robot holds in its blind zone while
+  /// it turns). 0: faces are never forgotten.
   double obstacle_memory_s{2.0};
+  /// A face that points showed for `obstacle_memory_s` or longer (the world's) is cleared only by
+  /// points that show the cell free for this long without a face between [s]: a wall's face
+  /// that runs through a cell's middle leaves the cell's other half as ground, and a view along
+  /// the wall shows that half alone (0: the first free points clear any face).
+  double obstacle_clear_s{0.5};
   bool ground_crop{true};     ///< crop at max_height_above_ground_m (false: keep every height)
   bool obstacle_layer{true};  ///< mark the faces the crop removes as untraversable
 
@@ -169,6 +176,7 @@ struct FsgpConfig {
     a->Field("drop_slope", &area.drop_slope_deg, {0, 89});
     a->Field("blind_radius", &area.blind_radius_m, {0, 100});
     a->Field("obstacle_memory", &area.obstacle_memory_s, {0, 100000});
+    a->Field("obstacle_clear", &area.obstacle_clear_s, {0, 100000});
     a->Field("ground_crop", &area.ground_crop);
     a->Field("obstacle_layer", &area.obstacle_layer);
     a->Field("pre_voxel", &pre_voxel_m, {0, 1});

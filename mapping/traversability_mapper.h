@@ -25,15 +25,35 @@ inline const std::string kLastObserved = "last_observed";  ///< time of the last
 inline const std::string kObstacle = "obstacle";
 /// Time of the latest points that showed the cell's face [s] (NaN: never).
 inline const std::string kObstacleSeen = "obstacle_seen";
+/// Time of the first of the latest unbroken run of points that showed the cell's face [s]: a run
+/// breaks where the cell is seen free or its face forgotten (NaN: never a face).
+inline const std::string kObstacleSince = "obstacle_since";
+/// Time of the first of the latest unbroken run of points that showed the cell free [s] (NaN: the
+/// latest points showed a face, or none).
+inline const std::string kFreeSince = "free_since";
 /// common::Roughness of the highest points of the cell and its neighbours in the latest points
 /// that showed them [m] (raw: no regression smooths a step away).
 inline const std::string kRoughness = "roughness";
+/// The lowest point any frame showed in the cell [m]: the ground there where it was ever seen (a
+/// static world's ground does not rise; movers are kept out of the frames).
+inline const std::string kFloor = "floor";
 
 /// Every layer above, in the order the mappers create them.
 inline std::vector<std::string> All() {
-  return {kElevation,      kElevationVariance,      kSlope,        kCurvature, kGradient,
-          kTraversability, kTraversabilityVariance, kLastObserved, kObstacle,  kObstacleSeen,
-          kRoughness};
+  return {kElevation,
+          kElevationVariance,
+          kSlope,
+          kCurvature,
+          kGradient,
+          kTraversability,
+          kTraversabilityVariance,
+          kLastObserved,
+          kObstacle,
+          kObstacleSeen,
+          kObstacleSince,
+          kFreeSince,
+          kRoughness,
+          kFloor};
 }
 }  // namespace layers
 

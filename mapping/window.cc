@@ -18,6 +18,52 @@ namespace {
 // `probes/forest_backwards` at seed 1 keeps the side of the trunk it touched.
 constexpr float kFootTolerance_m = 0.02f;
 
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+// The layers of a map that hold each cell's faces over time, and the rules that read them.
+struct FaceHistory {
+  explicit FaceHistory(common::GridLayers* map)
+      : obstacle(map->Layer(layers::kObstacle)),
+        seen_s(map->Layer(layers::kObstacleSeen)),
+        since_s(map->Layer(layers::kObstacleSince)),
+        free_since_s(map->Layer(layers::kFreeSince)) {}
+
+  // True if points showed the face of cell (ix, iy) for `memory_s` or longer: the world's.
+  bool Lasting(int ix, int iy, double memory_s) const {
+    return seen_s(ix, iy) - since_s(ix, iy) >= memory_s;
+  }
+
+  // Records what the points of t_s showed of cell (ix, iy): a face (1) or free ground (0). The
+  // latest reading decides, but that a lasting face stays until the cell has shown free for
+  // `area.obstacle_clear_s`.
+  void Observe(int ix, int iy, float face, double t_s, const MapArea& area) {
+    const auto t = static_cast<float>(t_s);
+    if (face == 1.0f) {
+      if (obstacle(ix, iy) != 1.0f) since_s(ix, iy) = t;
+      seen_s(ix, iy) = t;
+      free_since_s(ix, iy) = kNaN;
+    } else if (std::isnan(free_since_s(ix, iy))) {
+      free_since_s(ix, iy) = t;
+    }
+    const bool stays = obstacle(ix, iy) == 1.0f && Lasting(ix, iy, area.obstacle_memory_s) &&
+                       t_s - free_since_s(ix, iy) < area.obstacle_clear_s;
+    if (!stays) obstacle(ix, iy) = face;
+  }
+
+  // True if cell (ix, iy), unseen at t_s, holds a face to forget (`area.obstacle_memory_s` > 0):
+  // one shown for less than the memory, and not shown for longer than that since.
+  bool Forgettable(int ix, int iy, double t_s, const MapArea& area) const {
+    return obstacle(ix, iy) == 1.0f && area.obstacle_memory_s > 0.0 &&
+           t_s - seen_s(ix, iy) > area.obstacle_memory_s &&
+           !Lasting(ix, iy, area.obstacle_memory_s);
+  }
+
+  Eigen::MatrixXf& obstacle;      // 1 face, 0 free, NaN unknown
+  Eigen::MatrixXf& seen_s;        // the latest points that showed the face [s]
+  Eigen::MatrixXf& since_s;       // the first of their unbroken run [s]
+  Eigen::MatrixXf& free_since_s;  // the first of the latest unbroken run of free readings [s]
+};
+
 }  // namespace
 
 void WindowCrop::Crop(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
@@ -76,6 +122,26 @@ void WindowCrop::Crop(const common::PointCloud& points_W, const Eigen::Vector3d&
   }
   result->input_points = static_cast<int>(points_W.size());
   result->window_points = static_cast<int>(window_.cols());
+}
+
+void WindowCrop::KeepNearFloor(const common::GridLayers& map, double max_above_floor_m) {
+  if (!std::isfinite(max_above_floor_m)) return;
+  const common::GridGeometry& g = map.geometry();
+  const Eigen::MatrixXf& floor = map.Layer(layers::kFloor);
+  const auto diagonal = static_cast<float>(std::sqrt(2.0) * g.resolution_m);
+  const auto above = static_cast<float>(max_above_floor_m);
+  auto window = window_.view();
+  Eigen::Index kept = 0;
+  for (Eigen::Index i = 0; i < window.cols(); ++i) {
+    const Eigen::Vector3f p = window.col(i);
+    const Eigen::Vector2d p_W = p.head<2>().cast<double>();
+    const std::optional<Eigen::Vector2i> cell = g.CellIndex(p_W);
+    // (a cell without a floor, NaN, keeps its points)
+    if (cell && p.z() > floor(cell->x(), cell->y()) + above + diagonal * GroundGradient(p_W).norm())
+      continue;
+    window.col(kept++) = p;
+  }
+  window_.Resize(3, kept);
 }
 
 common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
@@ -283,13 +349,12 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
   const common::GridGeometry& g = map->geometry();
   const auto seen = Cells(crop.below_robot(), g, low, high, area.max_height_above_ground_m,
                           area.max_step_m, &crop);
-  Eigen::MatrixXf& obstacle = map->Layer(layers::kObstacle);
-  Eigen::MatrixXf& seen_s = map->Layer(layers::kObstacleSeen);
+  FaceHistory faces(map);
   Eigen::MatrixXf& rough = map->Layer(layers::kRoughness);
   const auto roughness = roughness_.const_view();
   Eigen::MatrixXf& out = map->Layer(layers::kTraversability);
   const Eigen::MatrixXf& scored_s = map->Layer(layers::kLastObserved);
-  const Eigen::MatrixXf& ground = map->Layer(layers::kElevation);
+  Eigen::MatrixXf& floor = map->Layer(layers::kFloor);
   const auto lowest = lowest_.const_view();
   const auto highest = highest_.const_view();
   const double blind_radius2 = area.blind_radius_m * area.blind_radius_m;
@@ -298,26 +363,31 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
     for (int iy = low.y(); iy <= high.y(); ++iy) {
       const Eigen::Vector2i local(ix - low.x(), iy - low.y());
       float value = drops(local.x(), local.y()) != 0 ? 1.0f : seen(local.x(), local.y());
-      // a cell whose lowest point stands more than half the crop height above the mapped ground
-      // shows no ground (the side of a box next to the robot, seen above the sensor's lowest beam):
-      // it is no evidence of free space, and a face if its top stands above the crop height
-      const float above_ground = lowest(local.x(), local.y()) - ground(ix, iy);
+      // (fmin: a cell's first points set its floor)
+      if (!std::isinf(lowest(local.x(), local.y()))) {
+        floor(ix, iy) = std::fmin(floor(ix, iy), lowest(local.x(), local.y()));
+      }
+      // a cell whose lowest point stands more than half the crop height above the lowest point it
+      // ever showed shows no ground (the side of a box next to the robot, seen above the sensor's
+      // lowest beam; the top of a low wall seen by a robot pitched up): it is no evidence of free
+      // space, and a face if its top stands above the crop height
+      const float above_ground = lowest(local.x(), local.y()) - floor(ix, iy);
       if (value == 0.0f && above_ground > 0.5 * area.max_height_above_ground_m) {
-        value = highest(local.x(), local.y()) - ground(ix, iy) > area.max_height_above_ground_m
+        value = highest(local.x(), local.y()) - floor(ix, iy) > area.max_height_above_ground_m
                     ? 1.0f
                     : std::numeric_limits<float>::quiet_NaN();
       }
       if (!std::isnan(value)) {
-        obstacle(ix, iy) = value;
+        faces.Observe(ix, iy, value, t_s, area);
         rough(ix, iy) = roughness(local.x(), local.y());
-        if (value == 1.0f) seen_s(ix, iy) = static_cast<float>(t_s);
-      } else if (obstacle(ix, iy) == 1.0f && !std::isnan(rough(ix, iy)) &&
-                 area.obstacle_memory_s > 0.0 && t_s - seen_s(ix, iy) > area.obstacle_memory_s &&
+      } else if (faces.Forgettable(ix, iy, t_s, area) && !std::isnan(rough(ix, iy)) &&
                  (g.CellCenter(ix, iy) - p_WB.head<2>()).squaredNorm() < blind_radius2) {
-        // in the ground blind zone the cell is never seen free again: forget the face (not a
-        // drop, whose roughness its mark left unknown: the ground there may never be seen)
-        obstacle(ix, iy) = std::numeric_limits<float>::quiet_NaN();
-        if (std::isnan(scored_s(ix, iy))) out(ix, iy) = std::numeric_limits<float>::quiet_NaN();
+        // in the ground blind zone the cell is never seen free again: forget a short-lived face
+        // (the legs of a walker pass a cell in well under a second; a wall the robot turns beside
+        // showed its face from afar, and its cost without the face would be the ground's) but not
+        // a drop, whose roughness its mark left unknown: the ground there may never be seen
+        faces.obstacle(ix, iy) = kNaN;
+        if (std::isnan(scored_s(ix, iy))) out(ix, iy) = kNaN;
       }
     }
   }
@@ -338,7 +408,7 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
       (out_high.array() + 2).min(Eigen::Array2i(g.num_x - 1, g.num_y - 1));
   const Eigen::Vector2i size = mask_high - mask_low + Eigen::Vector2i::Ones();
   mask_.Resize(size.x(), size.y()) =
-      (obstacle.block(mask_low.x(), mask_low.y(), size.x(), size.y()).array() == 1.0f)
+      (faces.obstacle.block(mask_low.x(), mask_low.y(), size.x(), size.y()).array() == 1.0f)
           .cast<std::uint8_t>();
   CloseMask();
   const auto lethal = closed_.view();

@@ -30,6 +30,15 @@ class WindowCrop {
   void Crop(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB, double window_m,
             double max_height_above_m, double max_height_above_ground_m, MapUpdateResult* result);
 
+  /// Drops from the last crop's window every point that stands more than `max_above_floor_m`,
+  /// plus the crop's ground plane's rise across a cell's diagonal, above the lowest point its
+  /// cell of `map` ever showed (layer `floor`, which ObstacleMarker::Mark keeps; cells without
+  /// one keep their points): with the crop height, the local ground of Crop is then at most the
+  /// cell's floor. Within the sensor's blind zone a column's lowest points can be a wall's, a
+  /// beam's height up its face, or the top of a low wall that a robot pitched up sees without
+  /// the ground before it. Infinite `max_above_floor_m`: nothing dropped.
+  void KeepNearFloor(const common::GridLayers& map, double max_above_floor_m);
+
   /// The last crop's points, one per column [m].
   common::ScratchMatrix<float, 3>::ConstView window() const { return window_.view(); }
   /// The last crop's window before the ground crop (every point no higher than
@@ -112,13 +121,17 @@ class ObstacleMarker {
   /// ground crop, above its ground plane, with the crop height `area.max_height_above_ground_m`
   /// and the step `area.max_step_m`) in layer `obstacle` of `map` between `low` and `high`: the
   /// latest observation of a cell decides, so a cell seen free again clears, and a face cell stamps
-  /// layer `obstacle_seen` with `t_s`; layer `roughness` takes roughness() where a cell has
-  /// points. The Drops are marked as faces. A face cell within `area.blind_radius_m` of the base at
-  /// p_WB that no point has shown for longer than `area.obstacle_memory_s` (> 0) is forgotten:
-  /// its obstacle becomes unknown, and its cost too if the mapper has never scored it. Then sets
-  /// layer `traversability` to 1 on the obstacle mask closed by one cell, within `margin_cells` of
-  /// the window (at least the cells whose cost the mapper rewrote). The obstacle layer FSGP-BGK
-  /// and the baselines share.
+  /// layer `obstacle_seen` with `t_s` (and `obstacle_since`, where it was no face before); layer
+  /// `roughness` takes roughness() where a cell has points. Layer `floor` keeps the lowest point
+  /// each cell ever showed; a cell whose lowest point stands more than half the crop height above
+  /// it shows no ground and is no evidence of free space (its obstacle stays), or a face if its
+  /// highest point stands more than the crop height above it. The Drops are marked as faces. A face
+  /// cell within `area.blind_radius_m` of the base at p_WB that points showed for less than
+  /// `area.obstacle_memory_s` (> 0), and that no point has shown for longer than that since, is
+  /// forgotten: its obstacle becomes unknown, and its cost too if the mapper has never scored it.
+  /// Then sets layer `traversability` to 1 on the obstacle mask closed by one cell, within
+  /// `margin_cells` of the window (at least the cells whose cost the mapper rewrote). The obstacle
+  /// layer FSGP-BGK and the baselines share.
   void Mark(const WindowCrop& crop, const Eigen::Vector2i& low, const Eigen::Vector2i& high,
             const MapArea& area, const Eigen::Vector3d& p_WB, double t_s, int margin_cells,
             common::GridLayers* map);

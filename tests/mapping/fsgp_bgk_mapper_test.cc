@@ -143,6 +143,71 @@ TEST(CropWindowTest, KeepsASlopeWholeAndCropsAWallOnIt) {
   }
 }
 
+// The robot stands at the mouth of a gap between two walls: within the sensor's blind zone no
+// ground shows, so the crop's ground there was the walls' lowest points, where the lowest beam
+// met them 0.2 m up, and their lowest 0.5 m passed as terrain; the regression then spread their
+// height, curvature and gradient over the gap's cells until A* found no way through
+// (`hard/tight_gaps`). Against the cells' floor only their lowest 0.3 m stays.
+TEST(CropWindowTest, DropsThePointsStandingAboveTheirCellsFloor) {
+  const double rise = std::tan(30.0 * M_PI / 180.0);
+  std::vector<Eigen::Vector3f> points;
+  for (int k = 0; k < 10; ++k) {
+    const float z = 0.2f + 0.05f * static_cast<float>(k);
+    points.emplace_back(1.05f, 0.05f, z);   // a wall face seen from close by, from 0.2 m up
+    points.emplace_back(-1.05f, 0.05f, z);  // a face in a cell never seen before
+  }
+  // a 30 deg slope along x at y = 2 (the ground plane rises across the cells)
+  for (int ix = -40; ix <= 40; ++ix) {
+    points.emplace_back(0.05f * static_cast<float>(ix), 2.05f,
+                        static_cast<float>(rise * 0.05 * ix));
+  }
+  MapUpdateResult result;
+  WindowCrop dut;
+  dut.Crop(common::MakePointCloud(points), Eigen::Vector3d(0, 0, 0.3), 10.0, 1.0, 0.3, &result);
+  common::GridLayers map(
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(8, 8), 0.2),
+      layers::All());
+  Eigen::MatrixXf& floor = map.Layer(layers::kFloor);
+  const Eigen::Vector2i wall = *map.geometry().CellIndex({1.05, 0.05});
+  floor(wall.x(), wall.y()) = 0.0f;  // its foot, seen from afar
+  // the slope's cells: their lowest edge
+  for (double x = -2.0; x < 2.0; x += 0.2) {
+    const Eigen::Vector2i cell = *map.geometry().CellIndex({x + 0.1, 2.05});
+    floor(cell.x(), cell.y()) =
+        static_cast<float>(rise * (map.geometry().CellCenter(cell.x(), cell.y()).x() - 0.1));
+  }
+  // the crop's points per cell
+  const auto count = [&](const WindowCrop& crop, const Eigen::Vector2d& p_W) {
+    const Eigen::Vector2i cell = *map.geometry().CellIndex(p_W);
+    int n = 0;
+    for (Eigen::Index i = 0; i < crop.window().cols(); ++i) {
+      n += map.geometry().CellIndex(crop.window().col(i).head<2>().cast<double>()) == cell;
+    }
+    return n;
+  };
+  const Eigen::Index cropped = dut.window().cols();
+  const int on_wall = count(dut, {1.05, 0.05}), unseen = count(dut, {-1.05, 0.05});
+  ASSERT_GT(on_wall, 0);
+  ASSERT_GT(unseen, 0);
+  dut.KeepNearFloor(map, 0.3);
+  // the face's points more than 0.3 m above its floor go (0.35 to 0.5 m up: four), those at 0.2,
+  // 0.25 and 0.3 m stay; the unseen cell's and the slope's stay
+  EXPECT_EQ(on_wall, 7);
+  EXPECT_EQ(count(dut, {1.05, 0.05}), 3);
+  for (Eigen::Index i = 0; i < dut.window().cols(); ++i) {
+    if (dut.window()(0, i) > 1.0f && dut.window()(1, i) < 0.2f) {
+      EXPECT_LE(dut.window()(2, i), 0.3f + 1e-6f);
+    }
+  }
+  EXPECT_EQ(count(dut, {-1.05, 0.05}), unseen);
+  EXPECT_EQ(dut.window().cols(), cropped - 4);
+  // an infinite height drops nothing
+  WindowCrop level;
+  level.Crop(common::MakePointCloud(points), Eigen::Vector3d(0, 0, 0.3), 10.0, 1.0, 0.3, &result);
+  level.KeepNearFloor(map, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(level.window().cols(), cropped);
+}
+
 TEST(ObstacleCellsTest, AFaceAboveItsNeighbourhoodIsAnObstacleAndASlopeIsNot) {
   const common::GridGeometry g =
       common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(2, 2), 0.2);
@@ -187,7 +252,7 @@ TEST(ObstacleCellsTest, AboveTheCropsGroundPlaneASteepSlopeIsNoFaceAndAWallOnItI
     }
   }
   for (int iy = -9; iy <= 9; ++iy) {
-    for (int k = 1; k <= 10; ++k) {
+    for (int k = 1; k <= 30; ++k) {
       const double y = 0.05 * iy;
       points.emplace_back(1.05f, static_cast<float>(y),
                           static_cast<float>(ground_z(1.05, y) + 0.05 * k));
@@ -335,6 +400,58 @@ TEST(FsgpBgkMapperTest, AWallIsUntraversableAndItsCellsClearWhenSeenFree) {
   ASSERT_EQ(dut.Update(scan, RobotAt(0, 0), 0.1).status, MapUpdateStatus::kUpdated);
   EXPECT_EQ(*dut.map().At(layers::kObstacle, wall_W), 0.0f);
   EXPECT_LT(*dut.map().At(layers::kTraversability, wall_W), 0.5f);
+}
+
+// A robot pitched up (on rubble) whose lowest beam rises sees the top of a low wall ahead and no
+// ground before it. `hard/low_wall` at LiDAR seeds 14 and 17 took the top for ground (the
+// regression raised the mapped elevation there to the top's height), so the cells showed no face
+// and cleared the wall seen before, and the robot drove into it. A cell's floor, the lowest point
+// it ever showed, keeps the ground where it was seen.
+TEST(ObstacleCellsTest, ALowWallWhoseTopAloneIsSeenStaysAnObstacle) {
+  const MapArea area = FsgpConfig{}.area;
+  common::GridLayers map(
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(12, 12), 0.2),
+      layers::All());
+  const Eigen::Vector3d p_WB(0.0, 0.0, 0.3);
+  const auto [low, high] = WindowCells(map.geometry(), p_WB, area.window_m);
+  const common::PointCloud ground = Surface([](double, double) { return 0.0; }, {0, 0});
+  const common::PointCloud top = Surface([](double, double) { return 0.45; }, {0, 0});
+  // first its face, 0.45 m high, the ground before it and its top
+  std::vector<Eigen::Vector3f> faced, top_only;
+  for (Eigen::Index i = 0; i < ground.size(); ++i) {
+    const bool before = ground.points(0, i) < 2.0f;
+    if (before) faced.emplace_back(ground.points.col(i));
+    if (!before) faced.emplace_back(top.points.col(i));
+    // then only the top ahead and the ground behind the robot
+    if (ground.points(0, i) < -2.5f) top_only.emplace_back(ground.points.col(i));
+    if (!before) top_only.emplace_back(top.points.col(i));
+  }
+  for (double y = -1.0; y <= 1.0; y += 0.05) {
+    for (double z = 0.0; z <= 0.45 + 1e-9; z += 0.05) {
+      faced.emplace_back(2.01f, static_cast<float>(y), static_cast<float>(z));
+    }
+  }
+  WindowCrop crop;
+  ObstacleMarker marker;
+  MapUpdateResult result;
+  const auto mark = [&](const std::vector<Eigen::Vector3f>& points, double t_s) {
+    crop.Crop(common::MakePointCloud(points), p_WB, area.window_m, area.max_height_above_robot_m,
+              area.GroundCropHeight(), &result);
+    marker.Mark(crop, low, high, area, p_WB, t_s, 2, &map);
+  };
+  mark(faced, 0.0);
+  const Eigen::Vector2d face_W(2.01, 0.0), top_W(2.5, 0.0);
+  ASSERT_EQ(map.At(layers::kObstacle, face_W), 1.0f);
+  EXPECT_EQ(map.At(layers::kObstacle, top_W), 0.0f);
+  EXPECT_NEAR(map.At(layers::kFloor, face_W).value_or(1.0f), 0.0, 0.01);
+  // the regression took the top for the ground there
+  map.Layer(layers::kElevation).setConstant(0.45f);
+  mark(top_only, 0.1);
+  EXPECT_EQ(map.At(layers::kObstacle, face_W), 1.0f);
+  EXPECT_EQ(map.At(layers::kTraversability, face_W), 1.0f);
+  EXPECT_NEAR(map.At(layers::kFloor, face_W).value_or(1.0f), 0.0, 0.01);
+  // the top's own cells, whose floor is the top, show no face
+  EXPECT_EQ(map.At(layers::kObstacle, top_W), 0.0f);
 }
 
 // A plateau 1 m high up to x = 2 and ground seen `drop_m` lower from x = 4 on, nothing between
@@ -509,6 +626,61 @@ TEST(FsgpBgkMapperTest, AFaceInTheBlindZoneThatNoPointShowsAgainIsForgotten) {
   EXPECT_LT(*dut.map().At(layers::kTraversability, walker_W), 0.8f);
   EXPECT_EQ(*dut.map().At(layers::kObstacle, far_W), 1.0f);
   EXPECT_EQ(*dut.map().At(layers::kTraversability, far_W), 1.0f);
+}
+
+TEST(FsgpBgkMapperTest, AFaceShownForLongerThanTheMemoryIsNotForgottenInTheBlindZone) {
+  // a column 1 m ahead shows its face from 0 to 2 s (a wall seen on the way), then no point shows
+  // it for 10 s (the robot turns beside it): it is the world's, not a walker's, and stays; one
+  // shown from 0.5 to 2 s only is forgotten
+  FsgpBgkMapper dut(FsgpConfig{});
+  const Eigen::Vector2d wall_W(1.1, 0.1), walker_W(1.1, -0.9);  // cell centres
+  for (const double t : {0.0, 0.5, 1.0, 1.5, 2.0}) {
+    std::vector<Eigen::Vector2d> columns{wall_W};
+    if (t >= 0.5) columns.push_back(walker_W);
+    ASSERT_EQ(dut.Update(GroundAndColumns(0.0, columns), RobotAt(0, 0), t).status,
+              MapUpdateStatus::kUpdated);
+  }
+  EXPECT_EQ(*dut.map().At(layers::kObstacleSince, wall_W), 0.0f);
+  EXPECT_EQ(*dut.map().At(layers::kObstacleSince, walker_W), 0.5f);
+  EXPECT_EQ(*dut.map().At(layers::kObstacleSeen, wall_W), 2.0f);
+  ASSERT_EQ(dut.Update(GroundAndColumns(2.6, {}), RobotAt(0, 0), 12.0).status,
+            MapUpdateStatus::kUpdated);
+  EXPECT_EQ(*dut.map().At(layers::kObstacle, wall_W), 1.0f);
+  EXPECT_EQ(*dut.map().At(layers::kTraversability, wall_W), 1.0f);
+  EXPECT_FALSE(dut.map().At(layers::kObstacle, walker_W).has_value());
+}
+
+TEST(FsgpBgkMapperTest, AFaceShownForLongerThanTheMemoryClearsOnlyOnceSeenFreeForTheClearTime) {
+  // a column 3 m ahead (beyond the blind zone) shows its face from 0 to 2 s, one 3 m to the side
+  // from 1.5 to 2 s; then both are gone and the ground shows: the short-lived face clears at the
+  // first free points, the lasting one once its cell has shown free for obstacle_clear (0.5 s),
+  // and a face between starts that time again (the times are stored in float: 3.2 - 2.7 < 0.5)
+  FsgpBgkMapper dut(FsgpConfig{});
+  const Eigen::Vector2d wall_W(3.1, 0.1), walker_W(0.1, 3.1);  // cell centres
+  for (const double t : {0.0, 0.5, 1.0, 1.5, 2.0}) {
+    std::vector<Eigen::Vector2d> columns{wall_W};
+    if (t >= 1.5) columns.push_back(walker_W);
+    ASSERT_EQ(dut.Update(GroundAndColumns(0.0, columns), RobotAt(0, 0), t).status,
+              MapUpdateStatus::kUpdated);
+  }
+  const common::PointCloud free = GroundAndColumns(0.0, {});
+  ASSERT_EQ(dut.Update(free, RobotAt(0, 0), 2.1).status, MapUpdateStatus::kUpdated);
+  EXPECT_EQ(*dut.map().At(layers::kObstacle, walker_W), 0.0f);
+  EXPECT_EQ(*dut.map().At(layers::kObstacle, wall_W), 1.0f);
+  EXPECT_EQ(*dut.map().At(layers::kFreeSince, wall_W), 2.1f);
+  ASSERT_EQ(dut.Update(free, RobotAt(0, 0), 2.5).status, MapUpdateStatus::kUpdated);
+  EXPECT_EQ(*dut.map().At(layers::kObstacle, wall_W), 1.0f);
+  ASSERT_EQ(dut.Update(GroundAndColumns(0.0, {wall_W}), RobotAt(0, 0), 2.6).status,
+            MapUpdateStatus::kUpdated);
+  EXPECT_FALSE(dut.map().At(layers::kFreeSince, wall_W).has_value());
+  for (const double t : {2.7, 3.1}) {
+    ASSERT_EQ(dut.Update(free, RobotAt(0, 0), t).status, MapUpdateStatus::kUpdated);
+    EXPECT_EQ(*dut.map().At(layers::kObstacle, wall_W), 1.0f) << "t = " << t;
+    EXPECT_EQ(*dut.map().At(layers::kTraversability, wall_W), 1.0f) << "t = " << t;
+  }
+  ASSERT_EQ(dut.Update(free, RobotAt(0, 0), 3.3).status, MapUpdateStatus::kUpdated);
+  EXPECT_EQ(*dut.map().At(layers::kObstacle, wall_W), 0.0f);
+  EXPECT_LT(*dut.map().At(layers::kTraversability, wall_W), 0.8f);
 }
 
 TEST(FsgpBgkMapperTest, WithoutObstacleMemoryAFaceInTheBlindZoneStays) {
