@@ -375,7 +375,7 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
       if (value == 0.0f && above_ground > 0.5 * area.max_height_above_ground_m) {
         value = highest(local.x(), local.y()) - floor(ix, iy) > area.max_height_above_ground_m
                     ? 1.0f
-                    : std::numeric_limits<float>::quiet_NaN();
+                    : kNaN;
       }
       if (!std::isnan(value)) {
         faces.Observe(ix, iy, value, t_s, area);

@@ -120,8 +120,10 @@ class ObstacleMarker {
   /// Marks the faces the ground crop removed and the steps (Cells of `crop`'s window before the
   /// ground crop, above its ground plane, with the crop height `area.max_height_above_ground_m`
   /// and the step `area.max_step_m`) in layer `obstacle` of `map` between `low` and `high`: the
-  /// latest observation of a cell decides, so a cell seen free again clears, and a face cell stamps
-  /// layer `obstacle_seen` with `t_s` (and `obstacle_since`, where it was no face before); layer
+  /// latest observation of a cell decides, so a cell seen free again clears (but a face shown for
+  /// `area.obstacle_memory_s` or longer only once the cell has shown free for
+  /// `area.obstacle_clear_s`; layer `free_since`), and a face cell stamps layer `obstacle_seen`
+  /// with `t_s` (and `obstacle_since`, where it was no face before); layer
   /// `roughness` takes roughness() where a cell has points. Layer `floor` keeps the lowest point
   /// each cell ever showed; a cell whose lowest point stands more than half the crop height above
   /// it shows no ground and is no evidence of free space (its obstacle stays), or a face if its

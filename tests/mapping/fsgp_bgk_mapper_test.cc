@@ -654,7 +654,8 @@ TEST(FsgpBgkMapperTest, AFaceShownForLongerThanTheMemoryClearsOnlyOnceSeenFreeFo
   // a column 3 m ahead (beyond the blind zone) shows its face from 0 to 2 s, one 3 m to the side
   // from 1.5 to 2 s; then both are gone and the ground shows: the short-lived face clears at the
   // first free points, the lasting one once its cell has shown free for obstacle_clear (0.5 s),
-  // and a face between starts that time again (the times are stored in float: 3.2 - 2.7 < 0.5)
+  // and a face between starts that time again (the layers hold times in float, so the cell clears
+  // at 3.3 s rather than 3.2 s: 3.2 - 2.7f is a little under 0.5)
   FsgpBgkMapper dut(FsgpConfig{});
   const Eigen::Vector2d wall_W(3.1, 0.1), walker_W(0.1, 3.1);  // cell centres
   for (const double t : {0.0, 0.5, 1.0, 1.5, 2.0}) {
