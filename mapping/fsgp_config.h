@@ -106,7 +106,8 @@ struct MapArea {
   /// A face that points showed for `obstacle_memory_s` or longer (the world's) is cleared only by
   /// points that show the cell free for this long without a face between [s]: a wall's face
   /// that runs through a cell's middle leaves the cell's other half as ground, and a view along
-  /// the wall shows that half alone (0: the first free points clear any face).
+  /// the wall shows that half alone (0, or `obstacle_memory_s` 0: the first free points clear any
+  /// face).
   double obstacle_clear_s{0.5};
   bool ground_crop{true};     ///< crop at max_height_above_ground_m (false: keep every height)
   bool obstacle_layer{true};  ///< mark the faces the crop removes as untraversable

@@ -28,9 +28,10 @@ struct FaceHistory {
         since_s(map->Layer(layers::kObstacleSince)),
         free_since_s(map->Layer(layers::kFreeSince)) {}
 
-  // True if points showed the face of cell (ix, iy) for `memory_s` or longer: the world's.
+  // True if points showed the face of cell (ix, iy) for `memory_s` (> 0) or longer: the world's.
+  // Without a memory no face is forgotten and none is lasting: the first free points clear it.
   bool Lasting(int ix, int iy, double memory_s) const {
-    return seen_s(ix, iy) - since_s(ix, iy) >= memory_s;
+    return memory_s > 0.0 && seen_s(ix, iy) - since_s(ix, iy) >= memory_s;
   }
 
   // Records what the points of t_s showed of cell (ix, iy): a face (1) or free ground (0). The

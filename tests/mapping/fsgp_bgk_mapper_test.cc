@@ -689,12 +689,18 @@ TEST(FsgpBgkMapperTest, WithoutObstacleMemoryAFaceInTheBlindZoneStays) {
   config.area.obstacle_memory_s = 0.0;
   FsgpBgkMapper dut(config);
   const Eigen::Vector2d walker_W(1.1, 0.1);
-  ASSERT_EQ(dut.Update(GroundAndColumns(0.0, {walker_W}), RobotAt(0, 0), 0.0).status,
-            MapUpdateStatus::kUpdated);
+  for (const double t : {0.0, 0.5}) {
+    ASSERT_EQ(dut.Update(GroundAndColumns(0.0, {walker_W}), RobotAt(0, 0), t).status,
+              MapUpdateStatus::kUpdated);
+  }
   ASSERT_EQ(dut.Update(GroundAndColumns(2.6, {}), RobotAt(0, 0), 10.0).status,
             MapUpdateStatus::kUpdated);
   EXPECT_EQ(*dut.map().At(layers::kObstacle, walker_W), 1.0f);
   EXPECT_EQ(*dut.map().At(layers::kTraversability, walker_W), 1.0f);
+  // and without a memory no face is lasting: the first free points clear it
+  ASSERT_EQ(dut.Update(GroundAndColumns(0.0, {}), RobotAt(0, 0), 10.1).status,
+            MapUpdateStatus::kUpdated);
+  EXPECT_EQ(*dut.map().At(layers::kObstacle, walker_W), 0.0f);
 }
 
 // Flat ground with a 1.5 m high wall along y at x = 2 from y = -2 to 2, but for a gap of `gap` m
