@@ -96,5 +96,30 @@ TEST(BucketGridTest, KNearestInThreeDimensionsMatchesABruteForceSearch) {
   EXPECT_TRUE(found.empty() || found.front().first > 0.1);
 }
 
+// On a lattice many points lie at the same distance from a query: the k-th place goes to the lower
+// index among them, as in a sort of every (distance, index), whatever order the buckets are
+// visited in.
+TEST(BucketGridTest, KNearestBreaksTiesByIndexOnALattice) {
+  Eigen::Matrix2Xd points(2, 121);
+  // quarter metres: exact in binary, so that the distances tie exactly
+  for (int j = 0; j < 121; ++j) points.col(j) << 0.25 * (j % 11), 0.25 * (j / 11);
+  BucketGrid dut;
+  dut.Rebuild(points, 0.6);
+  std::vector<BucketGrid::Neighbour> found;
+  for (int q : {0, 17, 60, 120}) {
+    for (int k : {5, 9, 13, 21}) {
+      const Eigen::Vector2d p = points.col(q);
+      dut.KNearest(
+          p, k, std::numeric_limits<double>::infinity(),
+          [&](int j) { return (points.col(j) - p).norm(); }, &found);
+      std::vector<BucketGrid::Neighbour> all;
+      for (int j = 0; j < 121; ++j) all.emplace_back((points.col(j) - p).norm(), j);
+      std::sort(all.begin(), all.end());
+      all.resize(static_cast<std::size_t>(k));
+      EXPECT_EQ(found, all) << "query " << q << ", k " << k;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace trav::mapping
