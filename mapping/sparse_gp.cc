@@ -2,8 +2,11 @@
 
 #include <lbfgs.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
+#include <tuple>
 
 #if defined(__SSE2__)
 #include <xmmintrin.h>
@@ -140,6 +143,80 @@ bool SparseGp::Fit(const Eigen::Ref<const Eigen::MatrixXd>& inputs,
       (scaled_xy.rowwise().maxCoeff() - scaled_xy.rowwise().minCoeff()).maxCoeff();
   buckets_.Rebuild(scaled_xy, std::isfinite(cutoff) ? std::sqrt(cutoff) : std::max(1.0, extent));
 
+  // an envelope factor in x order where it saves most of a dense factor's work: it runs about
+  // three times slower per multiply-add, in double precision and unblocked
+  OrderAlongX(cutoff);
+  double envelope_work = 0.0;  // multiply-adds of the envelope factor, sum of squared row widths
+  for (Eigen::Index r = 0; r < m; ++r) {
+    const double width = static_cast<double>(r - first_column_[static_cast<std::size_t>(r)]);
+    envelope_work += width * width / 2.0;
+  }
+  const double dense_work = std::pow(static_cast<double>(m), 3) / 6.0;
+  envelope_ = 3.0 * envelope_work < dense_work;
+  const bool factorised = envelope_ ? FactoriseEnvelope() : FactoriseDense();
+  if (!factorised) return false;
+  auto alpha = alpha_.Resize(m);
+  auto centred = centred_.Resize(m);
+  centred = heights.array() - mean_;
+  if (envelope_) {
+    SolveEnvelope(centred, alpha);
+  } else {
+    SolveDense(centred, alpha);
+  }
+  return alpha.allFinite();
+}
+
+void SparseGp::OrderAlongX(double cutoff) {
+  const auto scaled_inputs = scaled_inputs_.view();
+  const auto m = static_cast<int>(scaled_inputs.cols());
+  order_.resize(static_cast<std::size_t>(m));
+  std::iota(order_.begin(), order_.end(), 0);
+  std::sort(order_.begin(), order_.end(), [&](int a, int b) {
+    return std::make_tuple(scaled_inputs(0, a), scaled_inputs(1, a), a) <
+           std::make_tuple(scaled_inputs(0, b), scaled_inputs(1, b), b);
+  });
+  rank_.resize(static_cast<std::size_t>(m));
+  first_column_.resize(static_cast<std::size_t>(m));
+  // a row's envelope starts at the first point closer along x than the cutoff: the squared x
+  // difference, computed as ForNeighbours computes its first term, never exceeds a neighbour's
+  // squared distance, so every neighbour lies within
+  int first = 0;
+  for (int r = 0; r < m; ++r) {
+    rank_[static_cast<std::size_t>(order_[static_cast<std::size_t>(r)])] = r;
+    const double x = scaled_inputs(0, order_[static_cast<std::size_t>(r)]);
+    for (;; ++first) {
+      const double dx = x - scaled_inputs(0, order_[static_cast<std::size_t>(first)]);
+      if (dx * dx < cutoff) break;
+    }
+    first_column_[static_cast<std::size_t>(r)] = first;
+  }
+}
+
+bool SparseGp::FactoriseEnvelope() {
+  const auto scaled_inputs = scaled_inputs_.view();
+  envelope_factor_.Reset(first_column_);
+  for (int r = 0; r < static_cast<int>(order_.size()); ++r) {
+    ForNeighbours(scaled_inputs.col(order_[static_cast<std::size_t>(r)]).data(),
+                  [&](int j, double squared_distance) {
+                    const int column = rank_[static_cast<std::size_t>(j)];
+                    if (column <= r) envelope_factor_(r, column) = KernelOf(squared_distance);
+                  });
+    envelope_factor_(r, r) += hyper_.noise_std_m * hyper_.noise_std_m;
+  }
+  return envelope_factor_.Factorize();
+}
+
+void SparseGp::SolveEnvelope(const Eigen::Ref<const Eigen::VectorXd>& b,
+                             Eigen::Ref<Eigen::VectorXd> x) {
+  auto ordered = ordered_.Resize(b.size());
+  for (Eigen::Index r = 0; r < b.size(); ++r) ordered[r] = b[order_[static_cast<std::size_t>(r)]];
+  envelope_factor_.Solve(ordered);
+  for (Eigen::Index r = 0; r < b.size(); ++r) x[order_[static_cast<std::size_t>(r)]] = ordered[r];
+}
+
+bool SparseGp::FactoriseDense() {
+  const auto scaled_inputs = scaled_inputs_.view();
+  const Eigen::Index m = scaled_inputs.cols();
   // K_MM + s_n^2 I, lower triangle (the upper is never read)
   auto kernel = kernel_.Resize(m, m);
   kernel.setZero();
@@ -152,34 +229,69 @@ bool SparseGp::Fit(const Eigen::Ref<const Eigen::MatrixXd>& inputs,
   const FlushDenormalsToZero flush;
   auto factor_storage = factor_storage_.Resize(m, m);
   factor_storage = kernel.cast<float>();
-  factor_.emplace(factor_storage);
-  if (factor_->info() != Eigen::Success) return false;
+  dense_factor_.emplace(factor_storage);
+  return dense_factor_->info() == Eigen::Success;
+}
 
-  // iterative refinement: alpha += K^-1 (y - K alpha), the solve in single precision and the
-  // residual in double; each step gains about -log10(cond(K) * 6e-8) digits
+void SparseGp::SolveDense(const Eigen::Ref<const Eigen::VectorXd>& b,
+                          Eigen::Ref<Eigen::VectorXd> x) {
+  // iterative refinement: x += K^-1 (b - K x), the solve in single precision and the residual in
+  // double; each step gains about -log10(cond(K) * 6e-8) digits
   constexpr int kRefinementSteps = 3;
-  auto centred = centred_.Resize(m);
-  centred = heights.array() - mean_;
-  auto alpha = alpha_.Resize(m);
-  alpha.setZero();
-  auto residual = residual_.Resize(m);
-  residual = centred;
-  auto correction = correction_.Resize(m);
+  const auto kernel = kernel_.view();
+  x.setZero();
+  auto residual = residual_.Resize(b.size());
+  residual = b;
+  auto correction = correction_.Resize(b.size());
   for (int step = 0; step <= kRefinementSteps; ++step) {
     correction = residual.cast<float>();
-    factor_->solveInPlace(correction);
-    alpha += correction.cast<double>();
-    residual = centred;
-    residual.noalias() -= kernel.selfadjointView<Eigen::Lower>() * alpha;
+    dense_factor_->solveInPlace(correction);
+    x += correction.cast<double>();
+    residual = b;
+    residual.noalias() -= kernel.selfadjointView<Eigen::Lower>() * x;
   }
-  return alpha.allFinite();
 }
 
 void SparseGp::PredictVariance(const Eigen::Ref<const Eigen::MatrixXd>& test_inputs,
                                Eigen::Ref<Eigen::VectorXd> variance) const {
   const Eigen::Index t_count = test_inputs.rows();
   TRAV_DEMAND(variance.size() == t_count);
-  auto cross_kernel = cross_kernel_.Resize(scaled_inputs_.cols(), t_count);
+  if (envelope_) {
+    VarianceEnvelope(test_inputs, variance);
+  } else {
+    VarianceDense(test_inputs, variance);
+  }
+}
+
+void SparseGp::VarianceEnvelope(const Eigen::Ref<const Eigen::MatrixXd>& test_inputs,
+                                Eigen::Ref<Eigen::VectorXd> variance) const {
+  // k** - |L^-1 k_M*|^2, k_M* in the factor's order: its first nonzero is where the solve starts
+  const auto m = static_cast<int>(scaled_inputs_.cols());
+  auto cross_kernel = envelope_cross_kernel_.Resize(m);
+  cross_kernel.setZero();
+  DimsVector query(dims_);
+  for (Eigen::Index t = 0; t < test_inputs.rows(); ++t) {
+    query = test_inputs.row(t).transpose().cwiseProduct(inverse_length_scales_);
+    int first = m;
+    ForNeighbours(query.data(), [&](int j, double squared_distance) {
+      const int r = rank_[static_cast<std::size_t>(j)];
+      cross_kernel[r] = KernelOf(squared_distance);
+      first = std::min(first, r);
+    });
+    if (first == m) {
+      variance[t] = signal_variance_;
+      continue;
+    }
+    variance[t] = std::max(
+        0.0, signal_variance_ - envelope_factor_.SolveLowerSquaredNorm(cross_kernel, first));
+    cross_kernel.tail(m - first).setZero();
+  }
+}
+
+void SparseGp::VarianceDense(const Eigen::Ref<const Eigen::MatrixXd>& test_inputs,
+                             Eigen::Ref<Eigen::VectorXd> variance) const {
+  const Eigen::Index t_count = test_inputs.rows();
+  auto cross_kernel = dense_cross_kernel_.Resize(scaled_inputs_.cols(), t_count);
   cross_kernel.setZero();
   DimsVector query(dims_);
   for (Eigen::Index t = 0; t < t_count; ++t) {
@@ -193,7 +305,7 @@ void SparseGp::PredictVariance(const Eigen::Ref<const Eigen::MatrixXd>& test_inp
   const FlushDenormalsToZero flush;
   constexpr Eigen::Index kColumns = 32;
   for (Eigen::Index first = 0; first < t_count; first += kColumns) {
-    factor_->matrixL().solveInPlace(
+    dense_factor_->matrixL().solveInPlace(
         cross_kernel.middleCols(first, std::min(kColumns, t_count - first)));
   }
   for (Eigen::Index t = 0; t < t_count; ++t) {

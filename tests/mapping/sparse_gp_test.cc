@@ -1,7 +1,10 @@
 #include "mapping/sparse_gp.h"
 
 #include <cmath>
+#include <tuple>
+#include <vector>
 
+#include <Eigen/Cholesky>
 #include <gtest/gtest.h>
 
 #include "common/random.h"
@@ -92,8 +95,10 @@ TEST(SparseGpTest, MeanGradientMatchesFiniteDifferences) {
   }
 }
 
-// The compact-support and mixed-precision shortcuts against the textbook equations in double
-// precision on dense matrices: length scales short enough that most pairs fall beyond the cutoff.
+// The compact-support kernel, the envelope factor (squared exponential) and the mixed-precision
+// dense factor (rational quadratic) against the textbook equations in double precision on dense
+// matrices: length scales short enough that most pairs fall beyond the squared exponential's
+// cutoff.
 TEST(SparseGpTest, MatchesTheDenseDoublePrecisionEquations) {
   Eigen::MatrixXd inputs;
   Eigen::VectorXd heights;
@@ -101,12 +106,19 @@ TEST(SparseGpTest, MatchesTheDenseDoublePrecisionEquations) {
   Eigen::MatrixXd test(50, 4);
   common::Random random(11);
   for (Eigen::Index i = 0; i < test.size(); ++i) test.data()[i] = random.Uniform(-1.1, 1.1);
-  for (KernelType kernel : {KernelType::kSquaredExponential, KernelType::kRationalQuadratic}) {
+  // (kernel, x-y length scale, the factor Fit must choose: envelope or dense); a length scale of
+  // 0.5 puts the cutoff beyond the inputs' extent
+  const std::vector<std::tuple<KernelType, double, bool>> cases = {
+      {KernelType::kSquaredExponential, 0.08, true},
+      {KernelType::kSquaredExponential, 0.5, false},
+      {KernelType::kRationalQuadratic, 0.08, false}};
+  for (const auto& [kernel, length_scale, envelope] : cases) {
     GpHyperparameters hyper = Hyper(kernel);
-    hyper.length_scales = Eigen::Vector4d(0.08, 0.1, 2.0, 2.0);
+    hyper.length_scales = Eigen::Vector4d(length_scale, 1.25 * length_scale, 2.0, 2.0);
     hyper.noise_std_m = 0.03;
     SparseGp dut;
     ASSERT_TRUE(dut.Fit(inputs, heights, hyper));
+    EXPECT_EQ(dut.envelope_factor(), envelope) << length_scale;
     Eigen::VectorXd mean(test.rows()), variance(test.rows());
     Eigen::MatrixXd gradient(test.rows(), test.cols());
     dut.Predict(test, mean, gradient);
@@ -128,9 +140,10 @@ TEST(SparseGpTest, MatchesTheDenseDoublePrecisionEquations) {
         (k_tm * llt.solve((heights.array() - heights.mean()).matrix())).array() + heights.mean();
     const Eigen::VectorXd expected_variance =
         s2 - (k_tm * llt.solve(k_tm.transpose())).diagonal().array();
-    EXPECT_LT((mean - expected_mean).cwiseAbs().maxCoeff(), 1e-9) << static_cast<int>(kernel);
-    EXPECT_LT((variance - expected_variance).cwiseAbs().maxCoeff(), 1e-5 * s2)
-        << static_cast<int>(kernel);
+    EXPECT_LT((mean - expected_mean).cwiseAbs().maxCoeff(), 1e-9)
+        << static_cast<int>(kernel) << " " << length_scale;
+    EXPECT_LT((variance - expected_variance).cwiseAbs().maxCoeff(), (envelope ? 1e-9 : 1e-5) * s2)
+        << static_cast<int>(kernel) << " " << length_scale;
   }
 }
 
