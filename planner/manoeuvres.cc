@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/check.h"
 #include "common/input_error.h"
 
 namespace trav::planner {
@@ -67,6 +68,38 @@ void ValidateFallbackConfig(const FallbackConfig& c) {
   RequireValue(c.search_reach_m > 0.0, "search_reach", c.search_reach_m, "must be > 0");
   RequireValue(c.search_expansions >= 0, "search_expansions", c.search_expansions, "must be >= 0");
   RequireValue(c.output_step_s > 0.0, "output_step", c.output_step_s, "must be > 0");
+}
+
+common::Trajectory StopFrom(const common::TrajectoryPoint& start, const FallbackConfig& config) {
+  TRAV_DEMAND(config.braking_m_s2 > 0.0);
+  std::vector<common::TrajectoryPoint> points = {start};
+  const double duration_s = std::abs(start.v) / config.braking_m_s2;
+  if (duration_s >= 1e-6) {
+    // v and omega fall linearly to zero: the yaw integrated exactly, the position by the midpoint
+    // rule, one output step at a time
+    const int steps = std::max(1, static_cast<int>(std::ceil(duration_s / config.output_step_s)));
+    const double deceleration = std::copysign(config.braking_m_s2, start.v);
+    auto yaw_at = [&](double t) {
+      return start.yaw + start.omega * (t - 0.5 * t * t / duration_s);
+    };
+    for (int k = 1; k <= steps; ++k) {
+      const double t0 = duration_s * (k - 1) / steps;
+      const double t1 = duration_s * k / steps;
+      const double mid = 0.5 * (t0 + t1);
+      common::TrajectoryPoint p = points.back();
+      p.t_s = start.t_s + t1;
+      p.position_W += (t1 - t0) * (start.v - deceleration * mid) *
+                      Eigen::Vector2d(std::cos(yaw_at(mid)), std::sin(yaw_at(mid)));
+      p.yaw = yaw_at(t1);
+      p.v = start.v - deceleration * t1;
+      p.omega = start.omega * (1.0 - t1 / duration_s);
+      p.acceleration = -deceleration;
+      points.push_back(p);
+    }
+  }
+  common::TrajectoryPoint& rest = points.back();
+  rest.v = rest.omega = rest.acceleration = 0.0;
+  return common::Trajectory(std::move(points));
 }
 
 common::Trajectory CreepAlong(const common::TrajectoryPoint& start,

@@ -22,6 +22,9 @@ struct FallbackConfig {
   double search_reach_m{4.0};
   int search_expansions{20000};  ///< the poses it expands at most, >= 0 (0: no such search)
   double output_step_s{0.02};    ///< sample spacing [s], > 0
+  /// Deceleration of a stop (StopFrom) [m/s^2], > 0: not a key; the navigator sets its tracker's
+  /// max_acceleration.
+  double braking_m_s2{2.0};
 
   /// The keys of scenario section `planner.fallback` (common/archive.h).
   template <typename Archive>
@@ -36,6 +39,12 @@ struct FallbackConfig {
 
 /// Checks a config. @throws common::InputError naming the key (relative: "creep_speed").
 void ValidateFallbackConfig(const FallbackConfig& config);
+
+/// The robot brought to rest from the start's motion: straight along its heading at
+/// `braking_m_s2`, its yaw rate brought to zero over the same time. Sampled every `output_step_s`
+/// from start.t_s, the start first, the last point at rest (the start alone, at rest, if it does
+/// not move forward or backward).
+common::Trajectory StopFrom(const common::TrajectoryPoint& start, const FallbackConfig& config);
 
 /// A slow trajectory through `waypoints_W` from the start's pose: at the start and at each vertex
 /// the robot turns in place to the next segment's heading at `creep_yaw_rate`, then drives the

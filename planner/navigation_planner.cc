@@ -243,6 +243,15 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
       return;
     }
   }
+  // 2. to 5. are slow manoeuvres that begin at rest where the robot is: a robot faster than they
+  // go stops first, straight along its heading, and they are planned from rest at a later replan
+  // (begun at speed, the robot ran on past their start and the tracker pulled it back while it
+  // turned)
+  if (std::abs(start.v) > config_.fallback.creep_speed_m_s) {
+    take(StopFrom(start, config_.fallback), Fallback::kStop);
+    plan->status = NavigationStatus::kOptimizerFailed;  // it frees nothing and leads nowhere
+    return;
+  }
   // 2. the search path itself, slowly
   common::Trajectory creep = CreepAlong(start, plan->waypoints_W, false, config_.fallback);
   if (KeepsClear(field, creep, body_B, clearance_m)) {

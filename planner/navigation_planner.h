@@ -88,16 +88,18 @@ enum class Fallback {
   kPoseSearch,   ///< the footprint's own way (SearchPoses) to a point of the search path ahead
   kTurnInPlace,  ///< a turn in place toward the path's first segment
   kBackOut,      ///< a straight reverse drive
+  kStop,         ///< a stop along the heading (StopFrom) before the slow manoeuvres
 };
 
 /// The names of Fallback's values (common/enum_names.h).
-inline constexpr std::array<common::EnumName<Fallback>, 6> kFallbackNames{
+inline constexpr std::array<common::EnumName<Fallback>, 7> kFallbackNames{
     {{Fallback::kNone, "none"},
      {Fallback::kWiderMargin, "wider-margin"},
      {Fallback::kFollowPath, "follow-path"},
      {Fallback::kPoseSearch, "pose-search"},
      {Fallback::kTurnInPlace, "turn-in-place"},
-     {Fallback::kBackOut, "back-out"}}};
+     {Fallback::kBackOut, "back-out"},
+     {Fallback::kStop, "stop"}}};
 constexpr const auto& EnumNames(Fallback) { return kFallbackNames; }
 
 /// Result of one planning call.

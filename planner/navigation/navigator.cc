@@ -13,6 +13,14 @@
 namespace trav::planner {
 namespace {
 
+// The planner's settings with the stops of its fallbacks at the tracker's deceleration: the
+// hardest the robot is asked to brake.
+NavigationPlannerConfig WithTrackerBraking(NavigationPlannerConfig planner,
+                                           const controller::MpcConfig& mpc) {
+  planner.fallback.braking_m_s2 = mpc.max_acceleration_m_s2;
+  return planner;
+}
+
 // Events replan at most this often [s]: a deviation that persists must not replan every tick.
 constexpr double kMinEventInterval_s = 0.1;
 // Progress stalls when the plan asks for this speed [m/s] and the robot has been slower than a
@@ -74,7 +82,7 @@ Navigator::Navigator(const NavigationSettings& settings, const NavigationPlanner
                      const controller::MpcConfig& mpc, const Eigen::Vector2d& goal_W,
                      PathSearch search, std::unique_ptr<controller::TrajectoryTracker> tracker)
     : settings_(settings),
-      planner_(planner, std::move(search)),
+      planner_(WithTrackerBraking(planner, mpc), std::move(search)),
       tracker_(tracker
                    ? std::move(tracker)
                    : std::make_unique<controller::MpcTracker>(PlanTrackingConfig(mpc, planner))),

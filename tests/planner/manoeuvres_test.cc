@@ -19,6 +19,33 @@ common::TrajectoryPoint StartAt(double x, double y, double yaw) {
   return start;
 }
 
+TEST(ManoeuvresTest, StopFromBrakesAlongTheHeadingAtTheBrakingDeceleration) {
+  FallbackConfig config;
+  config.braking_m_s2 = 1.5;
+  common::TrajectoryPoint start = StartAt(1, 2, 0.5 * M_PI);
+  start.v = 0.6;  // 0.4 s and 0.12 m to rest, sampled every 0.02 s
+  const std::vector<common::TrajectoryPoint> stop = StopFrom(start, config).points();
+  ASSERT_EQ(stop.size(), 21U);
+  EXPECT_EQ(stop.front().v, 0.6);
+  EXPECT_NEAR(stop[10].v, 0.3, 1e-12);
+  EXPECT_EQ(stop[10].acceleration, -1.5);
+  EXPECT_NEAR(stop.back().t_s, 2.4, 1e-12);
+  EXPECT_NEAR((stop.back().position_W - Eigen::Vector2d(1, 2.12)).norm(), 0.0, 1e-12);
+  EXPECT_EQ(stop.back().v, 0.0);
+  EXPECT_EQ(stop.back().acceleration, 0.0);
+  // backward and turning: the yaw rate falls to zero with the speed (half its turn over 0.4 s)
+  start.v = -0.6;
+  start.omega = 0.5;
+  const common::TrajectoryPoint rest = StopFrom(start, config).points().back();
+  EXPECT_NEAR(rest.yaw, 0.5 * M_PI + 0.1, 1e-12);
+  EXPECT_EQ(rest.omega, 0.0);
+  EXPECT_NEAR(rest.position_W.y(), 2.0 - 0.12, 1e-3);
+  EXPECT_GT(rest.position_W.x(), 1.0);  // backward, the heading turned past +y
+  // at rest: the start alone
+  start.v = 0.0;
+  EXPECT_EQ(StopFrom(start, config).points().size(), 1U);
+}
+
 TEST(ManoeuvresTest, CreepAlongTurnsInPlaceAtEachVertexThenDrivesStraight) {
   FallbackConfig config;  // 0.3 m/s, 0.6 rad/s
   const common::Trajectory t =

@@ -228,5 +228,24 @@ TEST(NavigationPlannerTest, WithoutThePoseSearchARobotFacingTheEndOfADeadEndBack
   EXPECT_LT(t.Sample(0.5).v, 0.0);
 }
 
+// A robot still faster than the manoeuvres go stops first, straight along its heading at the
+// tracker's deceleration (the planner's default: the MPC's 2 m/s^2); at creep speed it takes them.
+TEST(NavigationPlannerTest, AFailedOptimisationAtSpeedStopsBeforeTheManoeuvres) {
+  const common::GridLayers map = DeadEndMap();
+  const NavigationPlannerConfig config = OneIteration();
+  NavigationPlanner dut(config);
+  common::TrajectoryPoint start = AtTheEndOfTheDeadEnd();
+  start.v = -0.5;  // reversing: 0.25 s and 0.0625 m to rest
+  const NavigationPlan plan = dut.Plan(map, start, {-5.5, 0.0}, {});
+  ASSERT_EQ(plan.fallback, Fallback::kStop) << common::NameOf(plan.status);
+  EXPECT_EQ(plan.status, NavigationStatus::kOptimizerFailed);  // not a plan to the goal
+  const common::Trajectory& t = plan.optimized.trajectory;
+  EXPECT_NEAR(t.end_time() - t.start_time(), 0.25, 1e-12);
+  EXPECT_NEAR(t.points().back().position_W.x(), 0.55 - 0.0625, 1e-12);
+  EXPECT_EQ(t.points().back().v, 0.0);
+  start.v = -config.fallback.creep_speed_m_s;
+  EXPECT_EQ(dut.Plan(map, start, {-5.5, 0.0}, {}).fallback, Fallback::kPoseSearch);
+}
+
 }  // namespace
 }  // namespace trav::planner
