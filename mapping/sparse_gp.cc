@@ -143,8 +143,8 @@ bool SparseGp::Fit(const Eigen::Ref<const Eigen::MatrixXd>& inputs,
       (scaled_xy.rowwise().maxCoeff() - scaled_xy.rowwise().minCoeff()).maxCoeff();
   buckets_.Rebuild(scaled_xy, std::isfinite(cutoff) ? std::sqrt(cutoff) : std::max(1.0, extent));
 
-  // an envelope factor in x order where it saves most of a dense factor's work: it runs about
-  // three times slower per multiply-add, in double precision and unblocked
+  // an envelope factor in x order where it saves most of a dense factor's work: in double
+  // precision and unblocked it does less per multiply-add (a factor of about 3 is an estimate)
   OrderAlongX(cutoff);
   double envelope_work = 0.0;  // multiply-adds of the envelope factor, sum of squared row widths
   for (Eigen::Index r = 0; r < m; ++r) {
