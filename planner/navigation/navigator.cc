@@ -23,10 +23,17 @@ NavigationPlannerConfig WithTrackerBraking(NavigationPlannerConfig planner,
 
 // Events replan at most this often [s]: a deviation that persists must not replan every tick.
 constexpr double kMinEventInterval_s = 0.1;
-// Progress stalls when the plan asks for this speed [m/s] and the robot has been slower than a
-// tenth of it for kStallTime_s.
+// Progress stalls when the plan has asked for this speed [m/s] for kStallTime_s [s] and the robot
+// has stayed within a tenth of the distance that speed covers in that time of where it was: it
+// crawls, or rocks in place (its wheels against a curb it cannot climb at this speed).
 constexpr double kStallSpeed_m_s = 0.3;
 constexpr double kStallTime_s = 1.0;
+constexpr double kStallDistance_m = 0.1 * kStallSpeed_m_s * kStallTime_s;
+// A stalled robot backs off straight along its heading by the longest of these distances [m] that
+// keeps the footprint clear, at the give-way speed, before it replans: a run-up for the next
+// attempt (a 0.12 m curb stalls the robot at 1 m/s, the planner's 1.5 m/s^2 needs 0.4 m to reach
+// the 1.1 m/s that climbs it, and at the stall the front wheels are 0.4 m past the face).
+constexpr double kBackOffDistances_m[] = {1.2, 0.8, 0.4};
 // Spacing of the samples of the safety and lethal-cell checks along the plan [s].
 constexpr double kCheckStep_s = 0.05;
 // Giving way: movers predicted this far ahead [s] that would come within this gap of the stopped
@@ -100,29 +107,39 @@ NavigatorTick Navigator::Update(const common::RobotState& state, const common::G
   NavigatorTick tick;
   if (map_updated || map != cost_map_source_) cost_map_.reset();
   cost_map_source_ = map;
-  // a give-way drive is followed to its end, then the robot replans; but a map update may show an
-  // obstacle on it (a walker standing behind the robot, which no track reports): then the robot
-  // chooses again from where it is, or stops if no drive keeps more room than standing still
-  const bool giving_way = state.time_s < giving_way_until_s_;
-  if (giving_way && map != nullptr && map_updated &&
-      !WayKeepsClear(state.time_s, giving_way_until_s_, CostMapOf(*map))) {
+  // a freeing drive (give way, back off) is followed to its end, then the robot replans; but a map
+  // update may show an obstacle on it (a walker standing behind the robot, which no track
+  // reports): then the robot chooses again from where it is, or stops if no drive keeps more room
+  // than standing still
+  bool driving_free = state.time_s < free_drive_until_s_;
+  if (driving_free && map != nullptr && map_updated &&
+      !WayKeepsClear(state.time_s, free_drive_until_s_, CostMapOf(*map))) {
     if (std::optional<common::Trajectory> drive = GiveWay(state, *map, movers)) {
-      StartGiveWay(std::move(*drive), state.time_s);
+      StartFreeDrive(std::move(*drive), state.time_s);
+      ++statistics_.give_ways;
     } else {
-      giving_way_until_s_ = state.time_s;
+      free_drive_until_s_ = state.time_s;
       force_replan_ = true;
       ++statistics_.safety_stops;
       tick.safety_stop = true;
       return tick;
     }
   }
-  const ReplanReason reason =
-      giving_way ? ReplanReason::kNone : ReasonToReplan(state, map, map_updated);
+  ReplanReason reason =
+      driving_free ? ReplanReason::kNone : ReasonToReplan(state, map, map_updated);
+  if (reason == ReplanReason::kStalled && map != nullptr) {
+    if (std::optional<common::Trajectory> drive = BackOff(state, *map)) {
+      StartFreeDrive(std::move(*drive), state.time_s);
+      ++statistics_.back_offs;
+      driving_free = true;
+      reason = ReplanReason::kNone;
+    }
+  }
   if (reason != ReplanReason::kNone && map != nullptr) {
     Replan(state, *map, movers, reason);
     tick.replan = reason;
   }
-  if (!giving_way) {
+  if (!driving_free) {
     // no plan, or the plan was found unsafe and no new one has replaced it: stand still rather
     // than chase a stale reference, unless a mover closes in
     bool stopped = trajectory_.empty() || force_replan_;
@@ -136,7 +153,8 @@ NavigatorTick Navigator::Update(const common::RobotState& state, const common::G
       std::optional<common::Trajectory> escape =
           map != nullptr ? GiveWay(state, *map, movers) : std::nullopt;
       if (!escape) return tick;
-      StartGiveWay(std::move(*escape), state.time_s);
+      StartFreeDrive(std::move(*escape), state.time_s);
+      ++statistics_.give_ways;
     }
   }
   if (!tracker_->SolveDue(state.time_s)) {
@@ -150,14 +168,47 @@ NavigatorTick Navigator::Update(const common::RobotState& state, const common::G
   return tick;
 }
 
-void Navigator::StartGiveWay(common::Trajectory drive, double now_s) {
+void Navigator::StartFreeDrive(common::Trajectory drive, double now_s) {
   trajectory_ = std::move(drive);
   tracker_->SetReference(trajectory_);
-  giving_way_until_s_ = trajectory_.end_time();
+  free_drive_until_s_ = trajectory_.end_time();
   // a committed way is given up here: it was a valid plan until now
   committed_until_s_ = std::min(committed_until_s_, now_s);
   force_replan_ = true;  // replan once the drive ends
-  ++statistics_.give_ways;
+}
+
+common::TrajectoryPoint Navigator::FreeDriveStart(const common::RobotState& state) const {
+  common::TrajectoryPoint start;
+  start.t_s = state.time_s;
+  start.position_W = state.X_WB.translation().head<2>();
+  start.yaw = YawOf(state);
+  return start;
+}
+
+FallbackConfig Navigator::FreeDriveConfig() const {
+  FallbackConfig drive = planner_.config().fallback;
+  drive.creep_speed_m_s = kGiveWaySpeed_m_s;
+  drive.creep_yaw_rate_rad_s = kGiveWayYawRate_rad_s;
+  return drive;
+}
+
+std::optional<common::Trajectory> Navigator::BackOff(const common::RobotState& state,
+                                                     const common::GridLayers& map) {
+  const common::TrajectoryPoint start = FreeDriveStart(state);
+  const Eigen::Vector2d forward_W(std::cos(start.yaw), std::sin(start.yaw));
+  const FallbackConfig drive = FreeDriveConfig();
+  const CostMap& costs = CostMapOf(map);
+  const NavigationPlannerConfig& config = planner_.config();
+  const std::vector<Eigen::Vector2d> body_B =
+      config.footprint.BoundaryPoints_B(costs.geometry().resolution_m);
+  for (const double length : kBackOffDistances_m) {
+    common::Trajectory candidate =
+        CreepAlong(start, {start.position_W, start.position_W - length * forward_W}, true, drive);
+    if (KeepsClear(costs.field(), candidate, body_B, config.optimizer.clearance_m)) {
+      return candidate;
+    }
+  }
+  return std::nullopt;
 }
 
 std::optional<common::Trajectory> Navigator::GiveWay(const common::RobotState& state,
@@ -188,13 +239,8 @@ std::optional<common::Trajectory> Navigator::GiveWay(const common::RobotState& s
       standing >= smallest_gap(nullptr, here_W, now, now) - kGiveWayGain_m) {
     return std::nullopt;
   }
-  common::TrajectoryPoint start;
-  start.t_s = now;
-  start.position_W = here_W;
-  start.yaw = YawOf(state);
-  FallbackConfig drive = planner_.config().fallback;
-  drive.creep_speed_m_s = kGiveWaySpeed_m_s;
-  drive.creep_yaw_rate_rad_s = kGiveWayYawRate_rad_s;
+  const common::TrajectoryPoint start = FreeDriveStart(state);
+  const FallbackConfig drive = FreeDriveConfig();
   const NavigationPlannerConfig& config = planner_.config();
   const CostMap& costs = CostMapOf(map);
   const std::vector<Eigen::Vector2d> body_B =
@@ -232,14 +278,15 @@ ReplanReason Navigator::ReasonToReplan(const common::RobotState& state,
     return ReplanReason::kNone;
   }
   if (force_replan_) return ReplanReason::kSafetyStop;
+  const Eigen::Vector2d position_W = state.X_WB.translation().head<2>();
   const double planned_speed = std::abs(trajectory_.Sample(now).v);
-  if (planned_speed < kStallSpeed_m_s || std::abs(state.v_WB_B.x()) > 0.1 * kStallSpeed_m_s) {
+  if (planned_speed < kStallSpeed_m_s || (position_W - last_moving_W_).norm() > kStallDistance_m) {
     last_moving_s_ = now;
+    last_moving_W_ = position_W;
   } else if (now - last_moving_s_ > kStallTime_s) {
     last_moving_s_ = now;
     return ReplanReason::kStalled;
   }
-  const Eigen::Vector2d position_W = state.X_WB.translation().head<2>();
   if ((trajectory_.Sample(now).position_W - position_W).norm() > settings_.replan_deviation_m) {
     return ReplanReason::kDeviation;
   }

@@ -71,7 +71,7 @@ enum class ReplanReason {
   kNewLethalCells,
   kDeviation,
   kSafetyStop,
-  kStalled,  ///< the plan says move, the robot has not for a second
+  kStalled,  ///< the plan says move, the robot has not for a second, and cannot back off
 };
 
 /// The names of ReplanReason's values (common/enum_names.h).
@@ -107,8 +107,10 @@ struct NavigatorTick {
 /// no valid plan. A stopped robot that a predicted mover would reach gives way: it drives a short
 /// straight stretch forward or backward, whichever keeps it furthest from the movers and clear
 /// of the map, and replans after it; if a map update shows that drive no longer keeps clear, it
-/// chooses again from where it is, or stops (docs/navigation.md). Time is simulation time; planning
-/// is synchronous (the world waits for it).
+/// chooses again from where it is, or stops. A robot that stalls (the plan asks it to move, it
+/// stays in place: a curb it cannot climb at that speed) backs off straight for a run-up, if that
+/// keeps clear of the map, and replans after it (docs/navigation.md). Time is simulation time;
+/// planning is synchronous (the world waits for it).
 class Navigator {
  public:
   /// @throws common::InputError for invalid planner or MPC settings.
@@ -152,6 +154,7 @@ class Navigator {
     std::array<int, kFallbackNames.size()> fallbacks{};
     int safety_stops{0};              ///< control ticks that braked for safety
     int give_ways{0};                 ///< times the stopped robot moved out of a mover's way
+    int back_offs{0};                 ///< times the stalled robot backed off for a run-up
     int replans_on_events{0};         ///< calls triggered by an event rather than the clock
     std::vector<double> planning_ms;  ///< wall time of each planning call
     std::vector<double> control_ms;   ///< wall time of each MPC solve
@@ -174,8 +177,17 @@ class Navigator {
   std::optional<common::Trajectory> GiveWay(const common::RobotState& state,
                                             const common::GridLayers& map,
                                             const std::vector<MovingObstacle>& movers);
-  // Starts following the give-way drive `drive` at now_s.
-  void StartGiveWay(common::Trajectory drive, double now_s);
+  // A straight drive backward along the heading of the stalled robot, the longest of
+  // kBackOffDistances_m that keeps clear of the map, if one does.
+  std::optional<common::Trajectory> BackOff(const common::RobotState& state,
+                                            const common::GridLayers& map);
+  // Starts following the freeing drive `drive` (give way, back off) at now_s: to its end, then
+  // replan.
+  void StartFreeDrive(common::Trajectory drive, double now_s);
+  // The first point of a freeing drive: the robot's pose at the state's time, at rest.
+  common::TrajectoryPoint FreeDriveStart(const common::RobotState& state) const;
+  // The manoeuvre settings of the freeing drives: the planner's, at the give-way speed and rate.
+  FallbackConfig FreeDriveConfig() const;
   // True if the footprint keeps min(optimizer.clearance, its gap at from_s) on `costs` along the
   // trajectory being followed from from_s to to_s (KeepsClear).
   bool WayKeepsClear(double from_s, double to_s, const CostMap& costs) const;
@@ -191,9 +203,12 @@ class Navigator {
   double next_plan_s_{0.0};
   double last_valid_plan_s_{0.0};
   bool force_replan_{false};
-  bool map_check_pending_{false};    // a map update not yet checked against the plan
-  double last_moving_s_{0.0};        // last time the robot moved or was meant to stand still
-  double giving_way_until_s_{-1.0};  // end of the give-way drive being followed
+  bool map_check_pending_{false};  // a map update not yet checked against the plan
+  // last time the robot moved (left kStallDistance_m of last_moving_W_) or was meant to stand
+  // still, and where it was then
+  double last_moving_s_{0.0};
+  Eigen::Vector2d last_moving_W_{Eigen::Vector2d::Zero()};
+  double free_drive_until_s_{-1.0};  // end of the freeing drive being followed
   // end of the narrows of the pose-search way being followed (NavigationPlan::commit_until_s):
   // no periodic replans before it
   double committed_until_s_{-1.0};

@@ -88,6 +88,7 @@ NavigationMetrics SummarizeNavigation(const ClosedLoop& loop, const RunSummary& 
   navigation.safety_stops = stats.safety_stops;
   navigation.fallbacks = stats.fallbacks;
   navigation.give_ways = stats.give_ways;
+  navigation.back_offs = stats.back_offs;
   navigation.mover_tracking_error_m = movers.tracking_error_m();
   navigation.perceived_mover_samples = movers.perceived_samples();
   navigation.false_mover_samples = movers.false_mover_samples();
@@ -358,6 +359,7 @@ void to_json(nlohmann::json& json, const NavigationMetrics& n) {
           {"safety_stops", n.safety_stops},
           {"fallbacks", FallbackCounts(n.fallbacks)},
           {"give_ways", n.give_ways},
+          {"back_offs", n.back_offs},
           {"last_planner_status", n.last_planner_status},
           {"planning_failure_cause", n.planning_failure_cause},
           {"mover_tracking_error_m", n.mover_tracking_error_m},

@@ -38,6 +38,7 @@ struct NavigationMetrics {
   int replans_on_events{0};
   int safety_stops{0};
   int give_ways{0};  ///< times the stopped robot drove out of a mover's way
+  int back_offs{0};  ///< times the stalled robot backed off for a run-up
   /// Plans that fell back on a manoeuvre, by planner::Fallback (docs/navigation.md).
   std::array<int, planner::kFallbackNames.size()> fallbacks{};
   std::string last_planner_status;

@@ -1,6 +1,7 @@
 // The navigator on its own (no simulator): synthetic maps and states.
 #include "planner/navigation/navigator.h"
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -295,6 +296,85 @@ TEST(NavigatorTest, AFollowedWayIsReplannedWhenTheMapClosesInOnItsFootprint) {
   });
   EXPECT_EQ(dut.Update(DeadEnd::On(way, 0.2), &world.map, true, {}).replan,
             planner::ReplanReason::kNewLethalCells);
+}
+
+// Ticks a robot that rocks in place at the origin (1 mm back and forth at 0.05 m/s, as against a
+// curb it cannot climb) every 0.02 s from 0 s on `map`, until the navigator first backs off or for
+// 3 s: when and where it backed off (nullopt if it never did) and every replan reason.
+struct Stall {
+  std::optional<double> back_off_s;
+  double x_m{0.0};
+  std::vector<planner::ReplanReason> replans;
+};
+Stall StallAtTheOrigin(planner::Navigator* dut, const common::GridLayers& map) {
+  Stall stall;
+  for (int k = 0; k <= 150 && !stall.back_off_s; ++k) {
+    common::RobotState state = At(0.02 * k, 0.001 * (k % 2));
+    state.v_WB_B.x() = k % 2 == 0 ? -0.05 : 0.05;  // rocking: never slower than 0.03 m/s
+    const planner::NavigatorTick tick = dut->Update(state, &map, k == 0, {});
+    if (tick.replan != planner::ReplanReason::kNone) stall.replans.push_back(tick.replan);
+    if (dut->statistics().back_offs > 0) {
+      stall.back_off_s = state.time_s;
+      stall.x_m = state.X_WB.translation().x();
+    }
+  }
+  return stall;
+}
+
+TEST(NavigatorTest, AStalledRobotBacksOffStraightForARunUpThenReplans) {
+  planner::Navigator dut = MakeNavigator();
+  const common::GridLayers map = OpenMap();
+  const Stall stall = StallAtTheOrigin(&dut, map);
+  // the plan asks for 0.3 m/s from about 0.2 s (1.5 m/s^2); a second later, still within 3 mm of
+  // the origin, the robot has stalled: no replan for it, a drive straight back by 1.2 m instead
+  ASSERT_TRUE(stall.back_off_s.has_value());
+  EXPECT_GT(*stall.back_off_s, 1.1);
+  EXPECT_LT(*stall.back_off_s, 1.5);
+  EXPECT_EQ(std::count(stall.replans.begin(), stall.replans.end(), planner::ReplanReason::kStalled),
+            0);
+  EXPECT_EQ(dut.statistics().back_offs, 1);
+  EXPECT_EQ(dut.statistics().give_ways, 0);
+  const common::Trajectory drive = dut.trajectory();
+  EXPECT_NEAR(drive.points().back().position_W.x(), stall.x_m - 1.2, 1e-9);
+  EXPECT_NEAR(drive.points().back().position_W.y(), 0.0, 1e-9);
+  EXPECT_NEAR(drive.end_time() - *stall.back_off_s, 1.2 / 0.6, 0.02);  // at the give-way speed
+  // followed backward to its end without replanning (the command brakes from the stalled
+  // forward one, then reverses), then the robot replans from where it is
+  double slowest_command = 0.0;
+  for (double t = *stall.back_off_s + 0.02; t < drive.end_time(); t += 0.02) {
+    const planner::NavigatorTick backing = dut.Update(OnDriveAt(drive, t), &map, false, {});
+    EXPECT_EQ(backing.replan, planner::ReplanReason::kNone);
+    slowest_command = std::min(slowest_command, backing.command.v);
+  }
+  EXPECT_LT(slowest_command, -0.3);
+  const planner::NavigatorTick after =
+      dut.Update(OnDriveAt(drive, drive.end_time() + 0.02), &map, false, {});
+  EXPECT_NE(after.replan, planner::ReplanReason::kNone);
+  EXPECT_NEAR(dut.trajectory().points().back().position_W.x(), 8.0, 0.05);
+}
+
+TEST(NavigatorTest, AStalledRobotBacksOffOnlyAsFarAsTheMapLeavesItRoom) {
+  planner::Navigator dut = MakeNavigator();
+  common::GridLayers map = OpenMap();
+  // a wall 1.4 m behind the origin: the 1.2 m drive would put the robot's back (0.31 m behind
+  // the base) into it, 0.8 m keeps it 0.29 m clear
+  PaintLethal(&map, [](const Eigen::Vector2d& p) { return p.x() < -1.4; });
+  const Stall stall = StallAtTheOrigin(&dut, map);
+  ASSERT_TRUE(stall.back_off_s.has_value());
+  EXPECT_NEAR(dut.trajectory().points().back().position_W.x(), stall.x_m - 0.8, 1e-9);
+}
+
+TEST(NavigatorTest, AStalledRobotWithNoRoomBehindReplansWhereItIs) {
+  planner::Navigator dut = MakeNavigator();
+  common::GridLayers map = OpenMap();
+  // the wall right behind the robot's back: any drive backward comes closer to it
+  PaintLethal(&map, [](const Eigen::Vector2d& p) { return p.x() < -0.4; });
+  const Stall stall = StallAtTheOrigin(&dut, map);
+  EXPECT_FALSE(stall.back_off_s.has_value());
+  EXPECT_EQ(dut.statistics().back_offs, 0);
+  // stalled after about 1.2 s, then again a second after each stall replan
+  EXPECT_EQ(std::count(stall.replans.begin(), stall.replans.end(), planner::ReplanReason::kStalled),
+            2);
 }
 
 }  // namespace
