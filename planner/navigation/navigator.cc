@@ -54,6 +54,16 @@ double YawOf(const common::RobotState& state) {
   return std::atan2(forward.y(), forward.x());
 }
 
+// The first point of a freeing drive (give way, back off): the robot's pose at the state's time,
+// at rest.
+common::TrajectoryPoint FreeDriveStart(const common::RobotState& state) {
+  common::TrajectoryPoint start;
+  start.t_s = state.time_s;
+  start.position_W = state.X_WB.translation().head<2>();
+  start.yaw = YawOf(state);
+  return start;
+}
+
 }  // namespace
 
 void ValidateNavigationSettings(const NavigationSettings& s) {
@@ -175,14 +185,6 @@ void Navigator::StartFreeDrive(common::Trajectory drive, double now_s) {
   // a committed way is given up here: it was a valid plan until now
   committed_until_s_ = std::min(committed_until_s_, now_s);
   force_replan_ = true;  // replan once the drive ends
-}
-
-common::TrajectoryPoint Navigator::FreeDriveStart(const common::RobotState& state) const {
-  common::TrajectoryPoint start;
-  start.t_s = state.time_s;
-  start.position_W = state.X_WB.translation().head<2>();
-  start.yaw = YawOf(state);
-  return start;
 }
 
 FallbackConfig Navigator::FreeDriveConfig() const {

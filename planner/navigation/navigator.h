@@ -184,8 +184,6 @@ class Navigator {
   // Starts following the freeing drive `drive` (give way, back off) at now_s: to its end, then
   // replan.
   void StartFreeDrive(common::Trajectory drive, double now_s);
-  // The first point of a freeing drive: the robot's pose at the state's time, at rest.
-  common::TrajectoryPoint FreeDriveStart(const common::RobotState& state) const;
   // The manoeuvre settings of the freeing drives: the planner's, at the give-way speed and rate.
   FallbackConfig FreeDriveConfig() const;
   // True if the footprint keeps min(optimizer.clearance, its gap at from_s) on `costs` along the
