@@ -144,15 +144,18 @@ bool SparseGp::Fit(const Eigen::Ref<const Eigen::MatrixXd>& inputs,
   buckets_.Rebuild(scaled_xy, std::isfinite(cutoff) ? std::sqrt(cutoff) : std::max(1.0, extent));
 
   // an envelope factor in x order where it saves most of a dense factor's work: in double
-  // precision and unblocked it does less per multiply-add (a factor of about 3 is an estimate)
-  OrderAlongX(cutoff);
-  double envelope_work = 0.0;  // multiply-adds of the envelope factor, sum of squared row widths
-  for (Eigen::Index r = 0; r < m; ++r) {
-    const double width = static_cast<double>(r - first_column_[static_cast<std::size_t>(r)]);
-    envelope_work += width * width / 2.0;
+  // precision and unblocked it does less per multiply-add (a factor of about 3 is an estimate);
+  // without compact support every row's envelope is the whole triangle, and nothing is sorted
+  envelope_ = false;
+  if (std::isfinite(cutoff)) {
+    OrderAlongX(cutoff);
+    double envelope_work = 0.0;  // multiply-adds of the envelope factor, sum of squared widths
+    for (Eigen::Index r = 0; r < m; ++r) {
+      const double width = static_cast<double>(r - first_column_[static_cast<std::size_t>(r)]);
+      envelope_work += width * width / 2.0;
+    }
+    envelope_ = 3.0 * envelope_work < std::pow(static_cast<double>(m), 3) / 6.0;
   }
-  const double dense_work = std::pow(static_cast<double>(m), 3) / 6.0;
-  envelope_ = 3.0 * envelope_work < dense_work;
   const bool factorised = envelope_ ? FactoriseEnvelope() : FactoriseDense();
   if (!factorised) return false;
   auto alpha = alpha_.Resize(m);

@@ -32,7 +32,8 @@ constexpr double kStallDistance_m = 0.1 * kStallSpeed_m_s * kStallTime_s;
 // A stalled robot backs off straight along its heading by the longest of these distances [m] that
 // keeps the footprint clear, at the give-way speed, before it replans: a run-up for the next
 // attempt (a 0.12 m curb stalls the robot at 1 m/s, the planner's 1.5 m/s^2 needs 0.4 m to reach
-// the 1.1 m/s that climbs it, and at the stall the front wheels are 0.4 m past the face).
+// the 1.1 m/s that climbs it, and at the stall the front wheels are about 0.36 m past the face:
+// the 0.451 m wheelbase less the rear wheel's 0.0875 m radius).
 constexpr double kBackOffDistances_m[] = {1.2, 0.8, 0.4};
 // Spacing of the samples of the safety and lethal-cell checks along the plan [s].
 constexpr double kCheckStep_s = 0.05;
