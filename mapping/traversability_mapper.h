@@ -37,6 +37,17 @@ inline const std::string kRoughness = "roughness";
 /// The lowest point any frame showed in the cell [m]: the ground there where it was ever seen (a
 /// static world's ground does not rise; movers are kept out of the frames).
 inline const std::string kFloor = "floor";
+/// Where a face taller than the crop lies within its cell: the box of the points that showed it
+/// (those more than 5 cm above the cell's lowest, not the ground at its foot) since its cell became
+/// a face, as offsets from the cell's centre along x and y of W [m], each within half a cell; NaN
+/// where the cell was seen free since, or its face showed no such points (a lower step, a drop):
+/// the whole cell. The planners measure the
+/// clearance to this box (planner::CellExtents): a 0.2 m cell holding a jamb's last 5 cm is no
+/// 0.2 m of jamb.
+inline const std::string kFaceXLow = "face_x_low";
+inline const std::string kFaceXHigh = "face_x_high";  ///< (see kFaceXLow)
+inline const std::string kFaceYLow = "face_y_low";    ///< (see kFaceXLow)
+inline const std::string kFaceYHigh = "face_y_high";  ///< (see kFaceXLow)
 
 /// Every layer above, in the order the mappers create them.
 inline std::vector<std::string> All() {
@@ -53,7 +64,11 @@ inline std::vector<std::string> All() {
           kObstacleSince,
           kFreeSince,
           kRoughness,
-          kFloor};
+          kFloor,
+          kFaceXLow,
+          kFaceXHigh,
+          kFaceYLow,
+          kFaceYHigh};
 }
 }  // namespace layers
 

@@ -20,13 +20,45 @@ constexpr float kFootTolerance_m = 0.02f;
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
+// A tall face's points are those of its cell more than this above the cell's lowest point (plus
+// the ground plane's rise across the cell): the ground at its foot lies within the points' noise of
+// the lowest (under 1 cm in height at the grazing angles the ground is seen at). The box of only
+// the cell's upper half of points left out the foot of a box leaning 11 deg (`hard/low_wall` at
+// LiDAR seed 16, whose robot then touched it).
+constexpr float kFacePoint_m = 0.05f;
+
+// True if `highest`(ix, iy) stands more than `max_bump_m` above the highest points of both cells
+// k = 1 or 2 away on either side of it along x, y or a diagonal, each raised by `rise` (the ground
+// plane's rise from that cell to this one): a bump the robot would straddle. (Their highest
+// points, not their lowest: along the edge of a curb the cells hold ground too.)
+template <typename View, typename Rise>
+bool IsBump(const View& highest, int ix, int iy, double max_bump_m, const Rise& rise) {
+  constexpr std::array<std::array<int, 2>, 4> kAxes{{{1, 0}, {0, 1}, {1, 1}, {1, -1}}};
+  const auto nx = static_cast<int>(highest.rows()), ny = static_cast<int>(highest.cols());
+  auto top = [&](int jx, int jy) {
+    return jx < 0 || jy < 0 || jx >= nx || jy >= ny || std::isinf(highest(jx, jy))
+               ? std::numeric_limits<float>::infinity()
+               : highest(jx, jy) + rise(jx, jy);
+  };
+  for (const auto& a : kAxes) {
+    for (int k = 1; k <= 2; ++k) {
+      const float higher_side =
+          std::max(top(ix - k * a[0], iy - k * a[1]), top(ix + k * a[0], iy + k * a[1]));
+      if (highest(ix, iy) - higher_side > max_bump_m) return true;
+    }
+  }
+  return false;
+}
+
 // The layers of a map that hold each cell's faces over time, and the rules that read them.
 struct FaceHistory {
   explicit FaceHistory(common::GridLayers* map)
       : obstacle(map->Layer(layers::kObstacle)),
         seen_s(map->Layer(layers::kObstacleSeen)),
         since_s(map->Layer(layers::kObstacleSince)),
-        free_since_s(map->Layer(layers::kFreeSince)) {}
+        free_since_s(map->Layer(layers::kFreeSince)),
+        extent{&map->Layer(layers::kFaceXLow), &map->Layer(layers::kFaceXHigh),
+               &map->Layer(layers::kFaceYLow), &map->Layer(layers::kFaceYHigh)} {}
 
   // True if points showed the face of cell (ix, iy) for `memory_s` (> 0) or longer: the world's.
   // Without a memory no face is forgotten and none is lasting: the first free points clear it.
@@ -36,8 +68,12 @@ struct FaceHistory {
 
   // Records what the points of t_s showed of cell (ix, iy): a face (1) or free ground (0). The
   // latest reading decides, but that a lasting face stays until the cell has shown free for
-  // `area.obstacle_clear_s`.
-  void Observe(int ix, int iy, float face, double t_s, const MapArea& area) {
+  // `area.obstacle_clear_s`. A face's extent is the union of the boxes (x_low, x_high, y_low,
+  // y_high) of the readings of its unbroken run that have one (NaN: none, a step's or a drop's);
+  // the whole cell (NaN) until one has; a cell seen free has none.
+  void Observe(int ix, int iy, float face, double t_s, const MapArea& area,
+               const Eigen::Vector4f& box) {
+    const bool was_face = obstacle(ix, iy) == 1.0f;
     const auto t = static_cast<float>(t_s);
     if (face == 1.0f) {
       if (obstacle(ix, iy) != 1.0f) since_s(ix, iy) = t;
@@ -49,7 +85,22 @@ struct FaceHistory {
     const bool stays = obstacle(ix, iy) == 1.0f && Lasting(ix, iy, area.obstacle_memory_s) &&
                        t_s - free_since_s(ix, iy) < area.obstacle_clear_s;
     if (!stays) obstacle(ix, iy) = face;
+    if (obstacle(ix, iy) != 1.0f) {
+      SetExtent(ix, iy, Eigen::Vector4f::Constant(kNaN));
+    } else if (face == 1.0f && (!was_face || std::isnan((*extent[0])(ix, iy)))) {
+      SetExtent(ix, iy, box);
+    } else if (face == 1.0f && !box.hasNaN()) {
+      const Eigen::Vector4f old((*extent[0])(ix, iy), (*extent[1])(ix, iy), (*extent[2])(ix, iy),
+                                (*extent[3])(ix, iy));
+      SetExtent(ix, iy,
+                Eigen::Vector4f(std::min(old(0), box(0)), std::max(old(1), box(1)),
+                                std::min(old(2), box(2)), std::max(old(3), box(3))));
+    }
   }
+
+  // Forgets the face of cell (ix, iy): its obstacle becomes unknown (its extent stays: where the
+  // cost the face left is lethal, the face lay there).
+  void Forget(int ix, int iy) { obstacle(ix, iy) = kNaN; }
 
   // True if cell (ix, iy), unseen at t_s, holds a face to forget (`area.obstacle_memory_s` > 0):
   // one shown for less than the memory, and not shown for longer than that since.
@@ -63,6 +114,12 @@ struct FaceHistory {
   Eigen::MatrixXf& seen_s;        // the latest points that showed the face [s]
   Eigen::MatrixXf& since_s;       // the first of their unbroken run [s]
   Eigen::MatrixXf& free_since_s;  // the first of the latest unbroken run of free readings [s]
+  // the face's box in its cell: x_low, x_high, y_low, y_high from the centre [m]
+  std::array<Eigen::MatrixXf*, 4> extent;
+
+  void SetExtent(int ix, int iy, const Eigen::Vector4f& box) {
+    for (int k = 0; k < 4; ++k) (*extent[k])(ix, iy) = box(k);
+  }
 };
 
 }  // namespace
@@ -148,18 +205,25 @@ void WindowCrop::KeepNearFloor(const common::GridLayers& map, double max_above_f
 common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
     const Eigen::Ref<const Eigen::Matrix3Xf>& points_W, const common::GridGeometry& g,
     const Eigen::Vector2i& low, const Eigen::Vector2i& high, double min_span_m, double max_step_m,
-    const WindowCrop* ground) {
+    double max_bump_m, const WindowCrop* ground) {
   const Eigen::Vector2i size = high - low + Eigen::Vector2i::Ones();
   auto lowest = lowest_.Resize(size.x(), size.y());
   auto highest = highest_.Resize(size.x(), size.y());
   lowest.setConstant(std::numeric_limits<float>::infinity());
   highest.setConstant(-std::numeric_limits<float>::infinity());
-  for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
+  // the cell of point i, indexed from `low`, if it lies between low and high
+  auto window_cell = [&](Eigen::Index i) -> std::optional<Eigen::Vector2i> {
     const std::optional<Eigen::Vector2i> cell =
         g.CellIndex(points_W.col(i).head<2>().cast<double>());
-    if (!cell) continue;
+    if (!cell) return std::nullopt;
     const Eigen::Vector2i local = *cell - low;
-    if ((local.array() < 0).any() || (local.array() >= size.array()).any()) continue;
+    if ((local.array() < 0).any() || (local.array() >= size.array()).any()) return std::nullopt;
+    return local;
+  };
+  for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
+    const std::optional<Eigen::Vector2i> cell = window_cell(i);
+    if (!cell) continue;
+    const Eigen::Vector2i local = *cell;
     lowest(local.x(), local.y()) = std::min(lowest(local.x(), local.y()), points_W(2, i));
     highest(local.x(), local.y()) = std::max(highest(local.x(), local.y()), points_W(2, i));
   }
@@ -169,6 +233,9 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
   cells.setConstant(std::numeric_limits<float>::quiet_NaN());
   auto roughness = roughness_.Resize(size.x(), size.y());
   roughness.setConstant(std::numeric_limits<float>::quiet_NaN());
+  // per cell, the height above which its points are a tall face's (infinity: no tall face)
+  auto face_floor = face_floor_.Resize(size.x(), size.y());
+  face_floor.setConstant(std::numeric_limits<float>::infinity());
   const auto resolution = static_cast<float>(g.resolution_m);
   for (int ix = 0; ix < size.x(); ++ix) {
     for (int iy = 0; iy < size.y(); ++iy) {
@@ -188,13 +255,15 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
         }
       }
       bool face = highest(ix, iy) - foot > min_span_m;
+      // (the ground plane's rise across the cell)
+      const float within = std::sqrt(2.0f) * resolution * slope.norm();
+      if (face) face_floor(ix, iy) = lowest(ix, iy) + kFacePoint_m + within;
       // a step above a side neighbour's top (a neighbour without points, at -infinity, is skipped),
       // or within a cell that holds its neighbourhood's lowest point (to kFootTolerance_m): a face
       // whose foot the sensor does not see (a low wall just ahead, whose lowest points are where
       // the lowest beam meets it, no ground beside them; rubble on a slope has lower ground beside
       // it)
       if (max_step_m > 0.0) {
-        const float within = std::sqrt(2.0f) * resolution * slope.norm();
         face = face || (lowest(ix, iy) <= foot + kFootTolerance_m &&
                         highest(ix, iy) - lowest(ix, iy) - within > max_step_m);
         const std::array<Eigen::Vector2i, 4> sides{
@@ -207,9 +276,26 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
               face || highest(ix, iy) - (highest(n.x(), n.y()) + rise(n.x(), n.y())) > max_step_m;
         }
       }
+      if (max_bump_m > 0.0 && !face) face = IsBump(highest, ix, iy, max_bump_m, rise);
       cells(ix, iy) = face ? 1.0f : 0.0f;
       roughness(ix, iy) = static_cast<float>(common::Roughness(highest, ix, iy));
     }
+  }
+  // each tall face's box of its points; a lower step's points (its top seen at grazing angles, its
+  // face in the blind zone once near) do not bound it: none
+  auto extents = extents_.Resize(4, size.x() * size.y());
+  extents.setConstant(kNaN);
+  for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
+    const std::optional<Eigen::Vector2i> cell = window_cell(i);
+    if (!cell || points_W(2, i) <= face_floor(cell->x(), cell->y())) continue;
+    const Eigen::Vector2f offset =
+        points_W.col(i).head<2>() -
+        g.CellCenter(low.x() + cell->x(), low.y() + cell->y()).cast<float>();
+    auto box = extents.col(cell->x() + size.x() * cell->y());
+    box(0) = std::fmin(box(0), offset.x());
+    box(1) = std::fmax(box(1), offset.x());
+    box(2) = std::fmin(box(2), offset.y());
+    box(3) = std::fmax(box(3), offset.y());
   }
   return cells_.const_view();
 }
@@ -349,7 +435,7 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
   // latest observation of each cell decides, so a cell seen free again clears
   const common::GridGeometry& g = map->geometry();
   const auto seen = Cells(crop.below_robot(), g, low, high, area.max_height_above_ground_m,
-                          area.max_step_m, &crop);
+                          area.max_step_m, area.max_bump_m, &crop);
   FaceHistory faces(map);
   Eigen::MatrixXf& rough = map->Layer(layers::kRoughness);
   const auto roughness = roughness_.const_view();
@@ -358,6 +444,8 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
   Eigen::MatrixXf& floor = map->Layer(layers::kFloor);
   const auto lowest = lowest_.const_view();
   const auto highest = highest_.const_view();
+  const auto extents = extents_.const_view();
+  const int extents_width = high.x() - low.x() + 1;
   const double blind_radius2 = area.blind_radius_m * area.blind_radius_m;
   const auto drops = Drops(g, area, p_WB);
   for (int ix = low.x(); ix <= high.x(); ++ix) {
@@ -379,7 +467,11 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
                     : kNaN;
       }
       if (!std::isnan(value)) {
-        faces.Observe(ix, iy, value, t_s, area);
+        // a drop's face is the whole cell (no point shows it)
+        faces.Observe(ix, iy, value, t_s, area,
+                      drops(local.x(), local.y()) != 0
+                          ? Eigen::Vector4f::Constant(kNaN)
+                          : Eigen::Vector4f(extents.col(local.x() + extents_width * local.y())));
         rough(ix, iy) = roughness(local.x(), local.y());
       } else if (faces.Forgettable(ix, iy, t_s, area) && !std::isnan(rough(ix, iy)) &&
                  (g.CellCenter(ix, iy) - p_WB.head<2>()).squaredNorm() < blind_radius2) {
@@ -387,7 +479,7 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
         // (the legs of a walker pass a cell in well under a second; a wall the robot turns beside
         // showed its face from afar, and its cost without the face would be the ground's) but not
         // a drop, whose roughness its mark left unknown: the ground there may never be seen
-        faces.obstacle(ix, iy) = kNaN;
+        faces.Forget(ix, iy);
         if (std::isnan(scored_s(ix, iy))) out(ix, iy) = kNaN;
       }
     }

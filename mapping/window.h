@@ -81,8 +81,11 @@ class ObstacleMarker {
   /// sparse), or more than `max_step_m` (> 0; 0 disables the test) above the highest point of a
   /// side neighbour with points, or of the cell's own lowest point where no point of the
   /// neighbourhood lies more than 2 cm lower (a step the robot cannot climb, however low: a
-  /// platform, a curb, a low wall whose foot the sensor does not see from close by), 0 where none
-  /// holds, NaN where the cell has no point. With `ground` (the crop of these points), every
+  /// platform, a curb, a low wall whose foot the sensor does not see from close by), or more than
+  /// `max_bump_m` (> 0; 0 disables the test) above the highest points of both cells one or two
+  /// cells away on either side along x, y or a diagonal (a bump the robot would straddle: rubble
+  /// between its wheels; a curb has ground as high on one side), 0 where none holds, NaN where
+  /// the cell has no point. With `ground` (the crop of these points), every
   /// comparison is made above the crop's ground plane at the cell (WindowCrop::GroundGradient): a
   /// neighbour's point counts as risen by the plane's rise between the two cells' centres, and a
   /// cell's own span less the plane's rise across its diagonal. Without it, ground of slope a rises
@@ -94,12 +97,21 @@ class ObstacleMarker {
                                                 const common::GridGeometry& g,
                                                 const Eigen::Vector2i& low,
                                                 const Eigen::Vector2i& high, double min_span_m,
-                                                double max_step_m,
+                                                double max_step_m, double max_bump_m,
                                                 const WindowCrop* ground = nullptr);
 
   /// Per cell of the last Cells call: common::Roughness of the highest points (NaN where the cell
   /// has no point; a neighbour without points is left out) [m].
   common::ScratchMatrix<float>::ConstView roughness() const { return roughness_.const_view(); }
+
+  /// Per cell of the last Cells call, column ix + nx iy (cell (ix, iy) of nx along x, indexed from
+  /// `low`): where its highest point stands more than `min_span_m` above its neighbourhood's
+  /// lowest (a face taller than the crop: a wall, a trunk, a box), the box of its points more than
+  /// 5 cm above its own lowest point and the ground plane's rise across it (the face's, not the
+  /// ground's at its foot), as the offsets x_low, x_high, y_low, y_high from the cell's centre
+  /// along x and y of W [m]; NaN elsewhere: a lower step's points (its top seen at grazing angles,
+  /// its face in the sensor's blind zone once the robot is near) do not bound it.
+  common::ScratchMatrix<float, 4>::ConstView extents() const { return extents_.const_view(); }
 
   /// Per cell of the last Cells call, 1 where a drop hides: the cell has no point, and lies on a
   /// line of cells (along x, y or a diagonal) from an edge to the first cell with points beyond,
@@ -127,7 +139,10 @@ class ObstacleMarker {
   /// `roughness` takes roughness() where a cell has points. Layer `floor` keeps the lowest point
   /// each cell ever showed; a cell whose lowest point stands more than half the crop height above
   /// it shows no ground and is no evidence of free space (its obstacle stays), or a face if its
-  /// highest point stands more than the crop height above it. The Drops are marked as faces. A face
+  /// highest point stands more than the crop height above it. The Drops are marked as faces. Layers
+  /// `face_x_low` to `face_y_high` keep the union of a face cell's extents() over the frames of its
+  /// unbroken run as a face that have one (NaN, the whole cell, until one has: a step's, a drop's);
+  /// a cell seen free has none, a forgotten face keeps its extent. A face
   /// cell within `area.blind_radius_m` of the base at p_WB that points showed for less than
   /// `area.obstacle_memory_s` (> 0), and that no point has shown for longer than that since, is
   /// forgotten: its obstacle becomes unknown, and its cost too if the mapper has never scored it.
@@ -142,7 +157,8 @@ class ObstacleMarker {
   // The closing (dilation, then erosion) of mask_ by the 3 x 3 cell square, into closed_.
   void CloseMask();
 
-  common::ScratchMatrix<float> lowest_, highest_, cells_, roughness_;
+  common::ScratchMatrix<float> lowest_, highest_, cells_, roughness_, face_floor_;
+  common::ScratchMatrix<float, 4> extents_;
   common::ScratchMatrix<std::uint8_t> mask_, dilated_, closed_, drops_;
   std::vector<Eigen::Vector2i> gap_;  // Drops: the cells without points along one line
 };

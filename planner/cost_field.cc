@@ -1,6 +1,7 @@
 #include "planner/cost_field.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -195,16 +196,78 @@ Eigen::MatrixXd DistanceTransform(const Mask& mask) {
   });
 }
 
+Eigen::MatrixXd ObstacleDistance(const common::GridGeometry& g, const Mask& lethal,
+                                 const CellExtents& extents) {
+  const int nx = g.num_x, ny = g.num_y;
+  const Eigen::MatrixXd centre_cells = DistanceTransform(lethal);
+  Eigen::MatrixXd distance_m(nx, ny);
+  for (int iy = 0; iy < ny; ++iy) {
+    for (int ix = 0; ix < nx; ++ix) {
+      distance_m(ix, iy) = lethal(ix, iy) ? 0.0 : (centre_cells(ix, iy) - 0.5) * g.resolution_m;
+    }
+  }
+  if (extents.empty()) return distance_m;
+  const double half = 0.5 * g.resolution_m;
+  auto whole = [&](int ix, int iy) {
+    return std::isnan(extents.x_low(ix, iy)) || std::isnan(extents.x_high(ix, iy)) ||
+           std::isnan(extents.y_low(ix, iy)) || std::isnan(extents.y_high(ix, iy));
+  };
+  auto obstacle = [&](int ix, int iy) {
+    const Eigen::Vector2d centre = g.CellCenter(ix, iy);
+    if (whole(ix, iy)) return Eigen::AlignedBox2d(centre.array() - half, centre.array() + half);
+    auto offset = [&](float v) { return std::clamp(static_cast<double>(v), -half, half); };
+    return Eigen::AlignedBox2d(
+        centre + Eigen::Vector2d(offset(extents.x_low(ix, iy)), offset(extents.y_low(ix, iy))),
+        centre + Eigen::Vector2d(offset(extents.x_high(ix, iy)), offset(extents.y_high(ix, iy))));
+  };
+  // a whole lethal cell whose four side neighbours are whole lethal cells is never the nearest
+  // obstacle: its boundary is theirs
+  auto hidden = [&](int ix, int iy) {
+    if (!whole(ix, iy) || ix == 0 || iy == 0 || ix == nx - 1 || iy == ny - 1) return false;
+    const std::array<Eigen::Vector2i, 4> sides{
+        {{ix - 1, iy}, {ix + 1, iy}, {ix, iy - 1}, {ix, iy + 1}}};
+    return std::all_of(sides.begin(), sides.end(), [&](const Eigen::Vector2i& n) {
+      return lethal(n.x(), n.y()) && whole(n.x(), n.y());
+    });
+  };
+  // the nearest obstacle of a cell within the reach lies within the reach, plus the half-diagonal
+  // of its cell, of the cell's centre, which lies within the reach plus half a cell of the nearest
+  // lethal centre, whose obstacle may lie a half-diagonal beyond it
+  const int window = static_cast<int>(std::ceil(kExactReach_m / g.resolution_m + 2.0));
+  Eigen::MatrixXd exact =
+      Eigen::MatrixXd::Constant(nx, ny, std::numeric_limits<double>::infinity());
+  for (int ix = 0; ix < nx; ++ix) {
+    for (int iy = 0; iy < ny; ++iy) {
+      if (!lethal(ix, iy) || hidden(ix, iy)) continue;
+      const Eigen::AlignedBox2d box = obstacle(ix, iy);
+      for (int jx = std::max(0, ix - window); jx <= std::min(nx - 1, ix + window); ++jx) {
+        for (int jy = std::max(0, iy - window); jy <= std::min(ny - 1, iy + window); ++jy) {
+          // (a whole lethal cell holds its centre: 0)
+          if (lethal(jx, jy) ? whole(jx, jy) : distance_m(jx, jy) >= kExactReach_m) continue;
+          exact(jx, jy) = std::min(exact(jx, jy), box.exteriorDistance(g.CellCenter(jx, jy)));
+        }
+      }
+    }
+  }
+  for (int iy = 0; iy < ny; ++iy) {
+    for (int ix = 0; ix < nx; ++ix) {
+      if (std::isfinite(exact(ix, iy))) distance_m(ix, iy) = exact(ix, iy);
+    }
+  }
+  return distance_m;
+}
+
 CostField::CostField(const common::GridLayers& map, const CostMapConfig& config)
     : CostField(map.geometry(), map.Layer(config.cost_layer), config,
                 map.Has(config.speed.roughness_layer) ? &map.Layer(config.speed.roughness_layer)
                                                       : nullptr,
                 map.Has(config.slope.elevation_layer) ? &map.Layer(config.slope.elevation_layer)
-                                                      : nullptr) {}
+                                                      : nullptr,
+                CellExtents::Of(map, config)) {}
 
 CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
                      const CostMapConfig& config, const Eigen::MatrixXf* roughness_m,
-                     const Eigen::MatrixXf* elevation_m)
+                     const Eigen::MatrixXf* elevation_m, const CellExtents& extents)
     : geometry_(geometry),
       max_pitch_roll_tangents_(config.slope.Tangents()),
       open_speed_m_s_(config.speed.open_m_s) {
@@ -219,18 +282,18 @@ CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf
       lethal(ix, iy) = IsLethal(c, config);
     }
   }
-  // signed distance between cell boundaries: half a cell less than between centres on both sides,
-  // so that it crosses zero on the boundary of the lethal region
-  const Eigen::MatrixXd outside = DistanceTransform(lethal);
+  // signed distance: outside, to the obstacles (between cell boundaries where their extents are
+  // unknown); inside, half a cell less than between centres, so that it crosses zero on the
+  // boundary of the lethal region
+  const Eigen::MatrixXd outside = ObstacleDistance(geometry_, lethal, extents);
   const Eigen::MatrixXd inside = DistanceTransform(lethal.unaryExpr([](bool b) { return !b; }));
   distance_.resize(nx, ny);
   const double half = 0.5;
   for (int iy = 0; iy < ny; ++iy) {
     for (int ix = 0; ix < nx; ++ix) {
       double d = 0.0;
-      if (!lethal(ix, iy)) {
-        d = std::isfinite(outside(ix, iy)) ? (outside(ix, iy) - half) * geometry_.resolution_m
-                                           : kFarDistance;
+      if (!lethal(ix, iy) || outside(ix, iy) > 0.0) {
+        d = std::isfinite(outside(ix, iy)) ? outside(ix, iy) : kFarDistance;
       } else {
         d = std::isfinite(inside(ix, iy)) ? -(inside(ix, iy) - half) * geometry_.resolution_m
                                           : -kFarDistance;

@@ -32,16 +32,19 @@ class CostField {
 
   /// From the cost layer itself (`layer` on `geometry`) and, unless null, the roughness and the
   /// elevation of the same cells (TerrainSpeedConfig, SlopeLimits; without them the speed limit
-  /// knows no roughness and no slope is limited).
+  /// knows no roughness and no slope is limited) and where the obstacles lie within the lethal
+  /// cells (empty: the whole cells).
   CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
             const CostMapConfig& config, const Eigen::MatrixXf* roughness_m = nullptr,
-            const Eigen::MatrixXf* elevation_m = nullptr);
+            const Eigen::MatrixXf* elevation_m = nullptr, const CellExtents& extents = {});
 
   /// Cost at p_W.
   FieldSample Cost(const Eigen::Vector2d& p_W) const { return Interpolate(cost_, p_W); }
 
-  /// Signed distance to the nearest lethal cell at p_W [m]; a map without lethal cells reads as
-  /// `kFarDistance` everywhere.
+  /// Signed distance to the nearest lethal cell at p_W [m], bilinear in ObstacleDistance at the
+  /// cell centres (a lethal cell whose centre lies inside its obstacle: minus the distance from its
+  /// centre to the nearest cell that is not lethal, less half a cell); a map without lethal cells
+  /// reads as `kFarDistance` everywhere.
   FieldSample Distance(const Eigen::Vector2d& p_W) const { return Interpolate(distance_, p_W); }
 
   /// The terrain's speed limit at p_W [m/s] (TerrainSpeedConfig): `unknown_m_s` over unknown
@@ -94,6 +97,21 @@ double FootprintDistance(const CostField& field, const Eigen::Vector2d& position
 /// dx^2 + dy^2 <= radius^2: an erosion by a disc), by one pass along x per half-width of the disc
 /// and one along y. 0 or less: `values` itself.
 Eigen::MatrixXd MinimumWithinDisc(const Eigen::MatrixXd& values, int radius);
+
+/// Distance [m] from each cell's centre to the obstacles of the cells where `lethal` is true. With
+/// `extents` empty: the distance to the nearest lethal cell's centre less half a cell,
+/// which is the distance to its boundary along x or y. With them: within kExactReach_m, the
+/// Euclidean distance to the nearest of the lethal cells' obstacles, each the box `extents` gives
+/// within its cell or the whole cell where that is NaN; farther, as without them. A lethal cell
+/// reads 0 where its centre lies inside its obstacle, else its distance as any other cell's (a
+/// cell holding a wall's last few centimetres). Infinity everywhere if no cell is lethal.
+Eigen::MatrixXd ObstacleDistance(const common::GridGeometry& g,
+                                 const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& lethal,
+                                 const CellExtents& extents);
+
+/// How far from lethal cells ObstacleDistance measures to their boxes [m]: beyond the optimiser's
+/// clearance and A*'s band round the footprint's circumscribed radius (0.52 m for the Scout Mini).
+inline constexpr double kExactReach_m = 0.8;
 
 /// Euclidean distance [cells] from each cell centre to the nearest cell where `mask` is true, exact
 /// (Felzenszwalb and Huttenlocher, "Distance Transforms of Sampled Functions", 2012: two passes of

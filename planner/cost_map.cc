@@ -17,7 +17,7 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Per-cell cost for the search (infinity = blocked), with the inflation and the band applied round
 // the known lethal cells (unknown cells blocked by the policy are not grown).
 Eigen::MatrixXd SearchCosts(const common::GridGeometry& g, const Eigen::MatrixXf& layer,
-                            const CostMapConfig& config) {
+                            const CostMapConfig& config, const CellExtents& extents) {
   Eigen::MatrixXd costs(g.num_x, g.num_y);
   Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> lethal(g.num_x, g.num_y);
   for (int ix = 0; ix < g.num_x; ++ix) {
@@ -32,13 +32,13 @@ Eigen::MatrixXd SearchCosts(const common::GridGeometry& g, const Eigen::MatrixXf
     }
   }
   if (config.inflation_radius_m <= 0.0 && config.band_radius_m <= 0.0) return costs;
-  // the distance between the boundaries of a cell and of the nearest lethal cell, as CostField
+  // the distance from a cell's centre to the nearest lethal cell's obstacle, as CostField
   // measures it: the search admits exactly the cells where the field's distance allows the robot
-  const Eigen::MatrixXd centre_cells = DistanceTransform(lethal);
+  const Eigen::MatrixXd obstacle_m = ObstacleDistance(g, lethal, extents);
   const double band = config.band_radius_m - config.inflation_radius_m;
   for (int ix = 0; ix < g.num_x; ++ix) {
     for (int iy = 0; iy < g.num_y; ++iy) {
-      const double distance_m = (centre_cells(ix, iy) - 0.5) * g.resolution_m;
+      const double distance_m = obstacle_m(ix, iy);
       if (lethal(ix, iy) || !std::isfinite(distance_m)) continue;
       if (distance_m < config.inflation_radius_m) {
         costs(ix, iy) = kInfinity;
@@ -63,14 +63,29 @@ bool IsLethal(float cost, const CostMapConfig& config) {
   return cost >= config.lethal_threshold;
 }
 
+CellExtents CellExtents::Of(const common::GridLayers& map, const CostMapConfig& config) {
+  CellExtents extents;
+  const std::array<std::string, 4>& layers = config.extent_layers;
+  if (config.obstacle_extents &&
+      std::all_of(layers.begin(), layers.end(),
+                  [&](const std::string& layer) { return map.Has(layer); })) {
+    extents.x_low = map.Layer(layers[0]);
+    extents.x_high = map.Layer(layers[1]);
+    extents.y_low = map.Layer(layers[2]);
+    extents.y_high = map.Layer(layers[3]);
+  }
+  return extents;
+}
+
 SearchCostMap::SearchCostMap(const common::GridLayers& map, const CostMapConfig& config)
-    : SearchCostMap(map.geometry(), map.Layer(config.cost_layer), config) {}
+    : SearchCostMap(map.geometry(), map.Layer(config.cost_layer), config,
+                    CellExtents::Of(map, config)) {}
 
 SearchCostMap::SearchCostMap(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
-                             const CostMapConfig& config)
+                             const CostMapConfig& config, const CellExtents& extents)
     : geometry_(geometry),
       config_(config),
-      costs_(SearchCosts(geometry, layer, config)),
+      costs_(SearchCosts(geometry, layer, config, extents)),
       min_cost_(MinFiniteCost(costs_)) {}
 
 double SearchCostMap::CostAt(const Eigen::Vector2d& p_W) const {
@@ -115,10 +130,13 @@ CostMap::CostMap(const common::GridLayers& map, const CostMapConfig& config)
     : geometry_(map.geometry()), config_(config), layer_(map.Layer(config.cost_layer)) {
   if (map.Has(config.speed.roughness_layer)) roughness_ = map.Layer(config.speed.roughness_layer);
   if (map.Has(config.slope.elevation_layer)) elevation_ = map.Layer(config.slope.elevation_layer);
+  extents_ = CellExtents::Of(map, config);
   if (!config.operating_area_W) return;
   for (int ix = 0; ix < geometry_.num_x; ++ix) {
     for (int iy = 0; iy < geometry_.num_y; ++iy) {
-      if (!config.operating_area_W->contains(geometry_.CellCenter(ix, iy))) layer_(ix, iy) = 1.0f;
+      if (config.operating_area_W->contains(geometry_.CellCenter(ix, iy))) continue;
+      layer_(ix, iy) = 1.0f;
+      if (!extents_.empty()) extents_.x_low(ix, iy) = std::numeric_limits<float>::quiet_NaN();
     }
   }
 }
@@ -133,7 +151,7 @@ bool CostMap::LethalAt(const Eigen::Vector2d& p_W) const {
 }
 
 const SearchCostMap& CostMap::search() const {
-  if (!search_) search_ = std::make_unique<SearchCostMap>(geometry_, layer_, config_);
+  if (!search_) search_ = std::make_unique<SearchCostMap>(geometry_, layer_, config_, extents_);
   return *search_;
 }
 
@@ -141,7 +159,7 @@ const SearchCostMap& CostMap::wide_search() const {
   if (!wide_search_) {
     CostMapConfig wide = config_;
     wide.inflation_radius_m = std::max(config_.inflation_radius_m, config_.band_radius_m);
-    wide_search_ = std::make_unique<SearchCostMap>(geometry_, layer_, wide);
+    wide_search_ = std::make_unique<SearchCostMap>(geometry_, layer_, wide, extents_);
   }
   return *wide_search_;
 }
@@ -150,7 +168,7 @@ const CostField& CostMap::field() const {
   if (!field_) {
     field_ = std::make_unique<CostField>(geometry_, layer_, config_,
                                          roughness_.size() > 0 ? &roughness_ : nullptr,
-                                         elevation_.size() > 0 ? &elevation_ : nullptr);
+                                         elevation_.size() > 0 ? &elevation_ : nullptr, extents_);
   }
   return *field_;
 }

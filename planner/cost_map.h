@@ -105,6 +105,14 @@ struct CostMapConfig {
   std::optional<Eigen::AlignedBox2d> operating_area_W;
   TerrainSpeedConfig speed;  ///< the terrain's speed limits (CostField::SpeedLimit)
   SlopeLimits slope;         ///< the steepest pitch and roll
+  /// Whether the planners measure the distance to an obstacle's box within its lethal cell, where
+  /// the map has one (CellExtents), instead of to the whole cell. Off by default: with it the
+  /// fragile doors and low walls pass, but the suite's seeds do not yet hold (docs/navigation.md).
+  bool obstacle_extents{false};
+  /// The layers of CellExtents (x_low, x_high, y_low, y_high). Not a scenario key; a map without
+  /// them has whole lethal cells.
+  std::array<std::string, 4> extent_layers{
+      {"face_x_low", "face_x_high", "face_y_low", "face_y_high"}};
 
   /// The keys of scenario section `planner.search` that configure the costs (common/archive.h).
   template <typename Archive>
@@ -114,7 +122,21 @@ struct CostMapConfig {
     a->Enum("unknown_policy", &unknown_policy);
     a->Field("unknown_cost", &unknown_cost, {0, 1});
     a->Field("band_cost", &band_cost, {0, 1});
+    a->Field("obstacle_extents", &obstacle_extents);
   }
+};
+
+/// Where the obstacle lies within each lethal cell, for the distances to it (ObstacleDistance): the
+/// box of the points that showed it, as offsets from the cell's centre along x and y of W [m]
+/// (mapping's layers `face_x_low` to `face_y_high`); NaN where unknown: the whole cell. Empty
+/// matrices: every lethal cell whole.
+struct CellExtents {
+  Eigen::MatrixXf x_low, x_high, y_low, y_high;
+
+  /// The extents in `map`'s layers `config.extent_layers` (x_low, x_high, y_low, y_high); empty
+  /// unless `config.obstacle_extents` is set and the map has all four.
+  static CellExtents Of(const common::GridLayers& map, const CostMapConfig& config);
+  bool empty() const { return x_low.size() == 0; }
 };
 
 /// The lethal rule, the one every planner and safety check applies: a cell is lethal when its cost
@@ -132,9 +154,10 @@ class SearchCostMap {
   /// @throws std::out_of_range if the map lacks `config.cost_layer`.
   SearchCostMap(const common::GridLayers& map, const CostMapConfig& config);
 
-  /// From the cost layer itself (`layer` on `geometry`).
+  /// From the cost layer itself (`layer` on `geometry`) and where the obstacles lie within the
+  /// lethal cells (empty: the whole cells).
   SearchCostMap(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
-                const CostMapConfig& config);
+                const CostMapConfig& config, const CellExtents& extents = {});
 
   const common::GridGeometry& geometry() const { return geometry_; }
   const CostMapConfig& config() const { return config_; }
@@ -207,6 +230,7 @@ class CostMap {
   Eigen::MatrixXf layer_;
   Eigen::MatrixXf roughness_;  // empty when the map has no `config.speed.roughness_layer`
   Eigen::MatrixXf elevation_;  // empty when the map has no `config.slope.elevation_layer`
+  CellExtents extents_;        // empty when the map has no `config.extent_layers`
   mutable std::unique_ptr<SearchCostMap> search_;
   mutable std::unique_ptr<SearchCostMap> wide_search_;
   mutable std::unique_ptr<CostField> field_;

@@ -16,6 +16,7 @@
 
 #include "common/random.h"
 #include "planner/astar.h"
+#include "planner/cost_field.h"
 #include "planner/cost_map.h"
 #include "planner/navigation_planner.h"
 #include "planner/ompl/ompl_planner.h"
@@ -249,5 +250,28 @@ BENCHMARK_CAPTURE(BM_PoseSearch, through_a_door, false)->Unit(benchmark::kMillis
 BENCHMARK_CAPTURE(BM_PoseSearch, no_way, true)->Unit(benchmark::kMillisecond);
 
 }  // namespace
+
+// ObstacleDistance on the 50 x 50 m map at the closed loop's 0.2 m (150 lethal discs), every
+// lethal cell holding a box of half its side (`with_extents`) or whole: what the boxes add to each
+// map update's cost field and search costs.
+void BM_ObstacleDistance(benchmark::State& state, bool with_extents) {
+  const trav::common::GridLayers map = CostMap(0.2);
+  const trav::common::GridGeometry& g = map.geometry();
+  const Eigen::MatrixXf& cost = map.Layer("traversability");
+  const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> lethal =
+      (cost.array() >= 0.8f).matrix();
+  trav::planner::CellExtents extents;
+  if (with_extents) {
+    extents.x_low = Eigen::MatrixXf::Constant(g.num_x, g.num_y, -0.05f);
+    extents.x_high = Eigen::MatrixXf::Constant(g.num_x, g.num_y, 0.05f);
+    extents.y_low = extents.x_low;
+    extents.y_high = extents.x_high;
+  }
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(trav::planner::ObstacleDistance(g, lethal, extents));
+  }
+}
+BENCHMARK_CAPTURE(BM_ObstacleDistance, whole_cells, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ObstacleDistance, boxes, true)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -226,7 +226,7 @@ TEST(ObstacleCellsTest, AFaceAboveItsNeighbourhoodIsAnObstacleAndASlopeIsNot) {
   const Eigen::Matrix3Xf cloud = common::MakePointCloud(points).points;
   const Eigen::Vector2i low(0, 0), high(g.num_x - 1, g.num_y - 1);
   ObstacleMarker marker;
-  const Eigen::MatrixXf dut = marker.Cells(cloud, g, low, high, 0.3, 0.15);
+  const Eigen::MatrixXf dut = marker.Cells(cloud, g, low, high, 0.3, 0.15, 0.0);
   const Eigen::Vector2i wall = *g.CellIndex({0.4, 0.4});
   for (int ix = 0; ix < g.num_x; ++ix) {
     for (int iy = 0; iy < g.num_y; ++iy) {
@@ -234,7 +234,7 @@ TEST(ObstacleCellsTest, AFaceAboveItsNeighbourhoodIsAnObstacleAndASlopeIsNot) {
     }
   }
   // no points: unknown
-  EXPECT_TRUE(std::isnan(marker.Cells(Eigen::Matrix3Xf(3, 0), g, low, high, 0.3, 0.15)(3, 3)));
+  EXPECT_TRUE(std::isnan(marker.Cells(Eigen::Matrix3Xf(3, 0), g, low, high, 0.3, 0.15, 0.0)(3, 3)));
 }
 
 TEST(ObstacleCellsTest, AboveTheCropsGroundPlaneASteepSlopeIsNoFaceAndAWallOnItIs) {
@@ -266,7 +266,7 @@ TEST(ObstacleCellsTest, AboveTheCropsGroundPlaneASteepSlopeIsNoFaceAndAWallOnItI
   EXPECT_NEAR(crop.GroundGradient({0.3, -0.6}).y(), rise, 1e-5);
   const Eigen::Vector2i low(0, 0), high(g.num_x - 1, g.num_y - 1);
   ObstacleMarker marker;
-  const Eigen::MatrixXf dut = marker.Cells(cloud.points, g, low, high, 0.3, 0.15, &crop);
+  const Eigen::MatrixXf dut = marker.Cells(cloud.points, g, low, high, 0.3, 0.15, 0.0, &crop);
   // the wall's cells (x = 1.0, y = -0.4 to 0.4) and no other
   int faces = 0;
   for (int ix = 0; ix < g.num_x; ++ix) {
@@ -280,7 +280,7 @@ TEST(ObstacleCellsTest, AboveTheCropsGroundPlaneASteepSlopeIsNoFaceAndAWallOnItI
   }
   EXPECT_EQ(faces, 5);
   // against the lowest point of the neighbourhood alone the slope itself reads as faces
-  const Eigen::MatrixXf level = marker.Cells(cloud.points, g, low, high, 0.3, 0.15);
+  const Eigen::MatrixXf level = marker.Cells(cloud.points, g, low, high, 0.3, 0.15, 0.0);
   EXPECT_GT((level.array() == 1.0f).count(), 100);
 }
 
@@ -303,7 +303,7 @@ TEST(ObstacleCellsTest, AStepHigherThanTheClimbableOneIsAnObstacleHoweverLow) {
   ObstacleMarker marker;
   // a 0.25 m platform, lower than the 0.3 m face test: the step test marks its edge cells (its
   // top 0.25 m above the cell before the edge), nothing else
-  const Eigen::MatrixXf platform = marker.Cells(PlatformCloud(0.25), g, low, high, 0.3, 0.15);
+  const Eigen::MatrixXf platform = marker.Cells(PlatformCloud(0.25), g, low, high, 0.3, 0.15, 0.0);
   const int edge = g.CellIndex({0.2, 0.0})->x();
   for (int ix = 0; ix < g.num_x; ++ix) {
     for (int iy = 0; iy < g.num_y; ++iy) {
@@ -311,8 +311,8 @@ TEST(ObstacleCellsTest, AStepHigherThanTheClimbableOneIsAnObstacleHoweverLow) {
     }
   }
   // without the step test, or for a 0.10 m curb, nothing
-  EXPECT_EQ(marker.Cells(PlatformCloud(0.25), g, low, high, 0.3, 0.0).maxCoeff(), 0.0f);
-  EXPECT_EQ(marker.Cells(PlatformCloud(0.10), g, low, high, 0.3, 0.15).maxCoeff(), 0.0f);
+  EXPECT_EQ(marker.Cells(PlatformCloud(0.25), g, low, high, 0.3, 0.0, 0.0).maxCoeff(), 0.0f);
+  EXPECT_EQ(marker.Cells(PlatformCloud(0.10), g, low, high, 0.3, 0.15, 0.0).maxCoeff(), 0.0f);
   // but the curb's roughness: half its height on the cells either side of its edge, 0 elsewhere
   const Eigen::MatrixXf roughness = marker.roughness();
   for (int ix = 0; ix < g.num_x; ++ix) {
@@ -343,7 +343,7 @@ TEST(ObstacleCellsTest, ALowWallSeenFromCloseByIsAnObstacleThoughItsFootIsHidden
   const Eigen::Matrix3Xf cloud = common::MakePointCloud(points).points;
   const Eigen::Vector2i low(0, 0), high(g.num_x - 1, g.num_y - 1);
   ObstacleMarker marker;
-  const Eigen::MatrixXf dut = marker.Cells(cloud, g, low, high, 0.3, 0.15);
+  const Eigen::MatrixXf dut = marker.Cells(cloud, g, low, high, 0.3, 0.15, 0.0);
   const int face = g.CellIndex({1.01, 0.0})->x();
   const int first = g.CellIndex({0.0, -0.9})->y(), last = g.CellIndex({0.0, 0.9})->y();
   for (int iy = first; iy <= last; ++iy) {
@@ -351,7 +351,7 @@ TEST(ObstacleCellsTest, ALowWallSeenFromCloseByIsAnObstacleThoughItsFootIsHidden
     EXPECT_EQ(dut(face + 1, iy), 0.0f) << iy;  // the top alone: no face
   }
   // without the step test the 0.25 m of face seen is no obstacle: the robot drove into it
-  const Eigen::MatrixXf without = marker.Cells(cloud, g, low, high, 0.3, 0.0);
+  const Eigen::MatrixXf without = marker.Cells(cloud, g, low, high, 0.3, 0.0, 0.0);
   EXPECT_EQ(without(face, g.CellIndex({0.0, 0.0})->y()), 0.0f);
 
   // the wall met obliquely: the lowest beam meets its face at heights that differ from cell to
@@ -364,7 +364,7 @@ TEST(ObstacleCellsTest, ALowWallSeenFromCloseByIsAnObstacleThoughItsFootIsHidden
     oblique.emplace_back(p.x(), p.y(), raised ? std::max(p.z(), 0.215f) : p.z());
   }
   const Eigen::MatrixXf scattered =
-      marker.Cells(common::MakePointCloud(oblique).points, g, low, high, 0.3, 0.15);
+      marker.Cells(common::MakePointCloud(oblique).points, g, low, high, 0.3, 0.15, 0.0);
   for (int iy = first; iy <= last; ++iy) EXPECT_EQ(scattered(face, iy), 1.0f) << iy;
 
   // rubble on a slope: a cell whose points span 0.16 m beside a cell whose ground lies lower (its
@@ -374,10 +374,55 @@ TEST(ObstacleCellsTest, ALowWallSeenFromCloseByIsAnObstacleThoughItsFootIsHidden
   for (double z = 0.0; z <= 0.16 + 1e-9; z += 0.02) rubble.emplace_back(1.05f, 0.05f, z);
   for (double z = -0.05; z <= 0.05 + 1e-9; z += 0.05) rubble.emplace_back(0.85f, 0.05f, z);
   const Eigen::MatrixXf slope =
-      marker.Cells(common::MakePointCloud(rubble).points, g, low, high, 0.3, 0.15);
+      marker.Cells(common::MakePointCloud(rubble).points, g, low, high, 0.3, 0.15, 0.0);
   const Eigen::Vector2i spanning = *g.CellIndex({1.05, 0.05}), lower = *g.CellIndex({0.85, 0.05});
   EXPECT_EQ(slope(spanning.x(), spanning.y()), 0.0f);
   EXPECT_EQ(slope(lower.x(), lower.y()), 0.0f);
+}
+
+// Ground every 5 cm with a block 0.3 x 0.3 m and `height_m` high centred at (1.1, 0) on it.
+Eigen::Matrix3Xf BlockCloud(double height_m) {
+  std::vector<Eigen::Vector3f> points;
+  for (int ix = -39; ix <= 39; ++ix) {
+    for (int iy = -39; iy <= 39; ++iy) {
+      const double x = 0.05 * ix + 0.01, y = 0.05 * iy + 0.01;
+      const bool raised = std::abs(x - 1.1) < 0.15 && std::abs(y) < 0.15;
+      points.emplace_back(static_cast<float>(x), static_cast<float>(y),
+                          raised ? static_cast<float>(height_m) : 0.0f);
+    }
+  }
+  return common::MakePointCloud(points).points;
+}
+
+// Rubble 0.12 m high and 0.3 m wide passes between the Scout Mini's wheels and meets its chassis
+// (0.115 m clear): `probes/ruin_dense` at seed 1 and `suite/ruin` at seed 105 ended on such a
+// piece. It is marked; a curb as high (ground as high on one side), a block lower than the bump
+// limit and the block without the test are not (nor any of them as a step or a face).
+TEST(ObstacleCellsTest, ABumpTheChassisWouldStraddleIsAnObstacleAndACurbIsNot) {
+  const common::GridGeometry g =
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(4, 4), 0.2);
+  const Eigen::Vector2i low(0, 0), high(g.num_x - 1, g.num_y - 1);
+  ObstacleMarker marker;
+  const Eigen::MatrixXf rubble = marker.Cells(BlockCloud(0.12), g, low, high, 0.3, 0.15, 0.1);
+  int bumps = 0;
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const Eigen::Vector2d c = g.CellCenter(ix, iy);
+      // the cells holding the block's points: two along x, three along y
+      const bool on_block = c.x() > 0.85 && c.x() < 1.35 && std::abs(c.y()) < 0.25;
+      EXPECT_EQ(rubble(ix, iy), on_block ? 1.0f : 0.0f) << c.transpose();
+      bumps += on_block;
+    }
+  }
+  EXPECT_EQ(bumps, 6);
+  // no obstacle (cells without points are NaN): a 0.12 m curb from x = 0.12 on, a 0.09 m block,
+  // the 0.12 m block without the test
+  const auto obstacles = [&](const Eigen::Matrix3Xf& cloud, double max_bump_m) {
+    return (marker.Cells(cloud, g, low, high, 0.3, 0.15, max_bump_m).array() == 1.0f).count();
+  };
+  EXPECT_EQ(obstacles(PlatformCloud(0.12), 0.1), 0);
+  EXPECT_EQ(obstacles(BlockCloud(0.09), 0.1), 0);
+  EXPECT_EQ(obstacles(BlockCloud(0.12), 0.0), 0);
 }
 
 TEST(FsgpBgkMapperTest, AWallIsUntraversableAndItsCellsClearWhenSeenFree) {
@@ -454,6 +499,72 @@ TEST(ObstacleCellsTest, ALowWallWhoseTopAloneIsSeenStaysAnObstacle) {
   EXPECT_EQ(map.At(layers::kObstacle, top_W), 0.0f);
 }
 
+// The end of a 4 cm thick wall 0.45 m high, at x = 2.03 to 2.07 and y = -0.27 to 0.03, fills a
+// few centimetres of its 0.2 m cells: the cell centred at (2, 0) holds x = 0.03 to 0.07 and
+// y = -0.07 to 0.03 of it. Each face cell keeps the box of its points over its run as a face; the
+// cells of a step lower than the crop (the same end 0.2 m high at x = -2) are whole.
+TEST(ObstacleCellsTest, AFaceCellKeepsTheBoxOfItsFacesPointsWhileItIsAFace) {
+  const MapArea area = FsgpConfig{}.area;
+  common::GridLayers map(
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(12, 12), 0.2),
+      layers::All());
+  const Eigen::Vector3d p_WB(0.0, 0.0, 0.3);
+  const auto [low, high] = WindowCells(map.geometry(), p_WB, area.window_m);
+  const common::PointCloud ground = Surface([](double, double) { return 0.0; }, {0, 0});
+  const auto frame = [&](float far_face_x) {
+    std::vector<Eigen::Vector3f> points;
+    for (Eigen::Index i = 0; i < ground.size(); ++i) points.emplace_back(ground.points.col(i));
+    if (far_face_x > 0.0f) {
+      for (int k = 0; k <= 6; ++k) {
+        for (int j = 0; j <= 9; ++j) {
+          const float y = -0.27f + 0.05f * static_cast<float>(k);
+          const float z = 0.05f * static_cast<float>(j);
+          points.emplace_back(2.03f, y, z);
+          points.emplace_back(far_face_x, y, z);
+          if (z <= 0.2f) points.emplace_back(-1.97f, y, z);
+        }
+      }
+    }
+    return common::MakePointCloud(points);
+  };
+  WindowCrop crop;
+  ObstacleMarker marker;
+  MapUpdateResult result;
+  const auto mark = [&](const common::PointCloud& points, double t_s) {
+    crop.Crop(points, p_WB, area.window_m, area.max_height_above_robot_m, area.GroundCropHeight(),
+              &result);
+    marker.Mark(crop, low, high, area, p_WB, t_s, 2, &map);
+  };
+  // (GridLayers::At reads NaN as no value)
+  const auto extent = [&](const Eigen::Vector2d& p_W) {
+    const Eigen::Vector2i c = *map.geometry().CellIndex(p_W);
+    return Eigen::Vector4f(
+        map.Layer(layers::kFaceXLow)(c.x(), c.y()), map.Layer(layers::kFaceXHigh)(c.x(), c.y()),
+        map.Layer(layers::kFaceYLow)(c.x(), c.y()), map.Layer(layers::kFaceYHigh)(c.x(), c.y()));
+  };
+  const Eigen::Vector2d end_W(2.0, 0.0), side_W(2.0, -0.2), ground_W(1.0, 0.0);
+  mark(frame(2.07f), 0.0);
+  ASSERT_EQ(map.At(layers::kObstacle, end_W), 1.0f);
+  ASSERT_EQ(map.At(layers::kObstacle, side_W), 1.0f);
+  EXPECT_TRUE(extent(end_W).isApprox(Eigen::Vector4f(0.03f, 0.07f, -0.07f, 0.03f), 1e-5f))
+      << extent(end_W).transpose();
+  EXPECT_TRUE(extent(side_W).isApprox(Eigen::Vector4f(0.03f, 0.07f, -0.07f, 0.08f), 1e-5f))
+      << extent(side_W).transpose();
+  EXPECT_EQ(map.At(layers::kObstacle, ground_W), 0.0f);
+  EXPECT_TRUE(extent(ground_W).hasNaN());
+  const Eigen::Vector2d step_W(-2.0, 0.0);
+  EXPECT_EQ(map.At(layers::kObstacle, step_W), 1.0f);
+  EXPECT_TRUE(extent(step_W).hasNaN());
+  // the far face seen a centimetre farther (range noise): the box grows to hold both
+  mark(frame(2.08f), 0.1);
+  EXPECT_TRUE(extent(end_W).isApprox(Eigen::Vector4f(0.03f, 0.08f, -0.07f, 0.03f), 1e-5f))
+      << extent(end_W).transpose();
+  // seen free (the face was no lasting one): no face, no box
+  mark(frame(0.0f), 0.2);
+  EXPECT_EQ(map.At(layers::kObstacle, end_W), 0.0f);
+  EXPECT_TRUE(extent(end_W).hasNaN());
+}
+
 // A plateau 1 m high up to x = 2 and ground seen `drop_m` lower from x = 4 on, nothing between
 // (every 5 cm for |y| <= 1).
 struct DropWorld {
@@ -472,7 +583,7 @@ struct DropWorld {
 
   // Drops after Cells over the whole grid.
   Eigen::MatrixXf Drops(const MapArea& area) {
-    marker.Cells(cloud, g, low, high, 0.3, 0.15);
+    marker.Cells(cloud, g, low, high, 0.3, 0.15, 0.0);
     return marker.Drops(g, area, p_WB).cast<float>();
   }
 

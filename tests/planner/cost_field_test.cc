@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -61,6 +63,122 @@ TEST(CostFieldTest, SignedDistanceCrossesZeroOnTheLethalBoundary) {
   const FieldSample s = dut.Distance({0.03, 0.31});
   EXPECT_NEAR(s.gradient_W.x(), -1.0, 1e-12);
   EXPECT_NEAR(s.gradient_W.y(), 0.0, 1e-12);
+}
+
+// The distance from a point to the union of the lethal cells' obstacles, by brute force.
+double BruteForceObstacleDistance(const common::GridGeometry& g, const Mask& lethal,
+                                  const CellExtents& extents, const Eigen::Vector2d& p_W) {
+  const double half = 0.5 * g.resolution_m;
+  double best = std::numeric_limits<double>::infinity();
+  for (int jx = 0; jx < g.num_x; ++jx) {
+    for (int jy = 0; jy < g.num_y; ++jy) {
+      if (!lethal(jx, jy)) continue;
+      const Eigen::Vector2d c = g.CellCenter(jx, jy);
+      Eigen::AlignedBox2d box(c.array() - half, c.array() + half);
+      if (!std::isnan(extents.x_low(jx, jy))) {
+        box = Eigen::AlignedBox2d(
+            c + Eigen::Vector2d(extents.x_low(jx, jy), extents.y_low(jx, jy)),
+            c + Eigen::Vector2d(extents.x_high(jx, jy), extents.y_high(jx, jy)));
+      }
+      best = std::min(best, box.exteriorDistance(p_W));
+    }
+  }
+  return best;
+}
+
+TEST(ObstacleDistanceTest, EqualsTheBruteForceDistanceToTheObstaclesWithinTheReach) {
+  const common::GridGeometry g =
+      common::GridGeometry::Centered(Eigen::Vector2d(1, -2), Eigen::Vector2d(6, 4), 0.2);
+  common::Random random(3);
+  Mask lethal(g.num_x, g.num_y);
+  CellExtents extents;
+  for (Eigen::MatrixXf* layer :
+       {&extents.x_low, &extents.x_high, &extents.y_low, &extents.y_high}) {
+    layer->setConstant(g.num_x, g.num_y, std::numeric_limits<float>::quiet_NaN());
+  }
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      // scattered cells and a block (whose inner cells no point outside sees), a third of them
+      // whole, the others holding a random box
+      lethal(ix, iy) = random.Bernoulli(0.04) || (ix >= 5 && ix <= 9 && iy >= 4 && iy <= 8);
+      if (!lethal(ix, iy) || random.Bernoulli(1.0 / 3.0)) continue;
+      const double a = random.Uniform(-0.1, 0.1), b = random.Uniform(-0.1, 0.1);
+      const double c = random.Uniform(-0.1, 0.1), d = random.Uniform(-0.1, 0.1);
+      extents.x_low(ix, iy) = static_cast<float>(std::min(a, b));
+      extents.x_high(ix, iy) = static_cast<float>(std::max(a, b));
+      extents.y_low(ix, iy) = static_cast<float>(std::min(c, d));
+      extents.y_high(ix, iy) = static_cast<float>(std::max(c, d));
+    }
+  }
+  const Eigen::MatrixXd dut = ObstacleDistance(g, lethal, extents);
+  const Eigen::MatrixXd cells = ObstacleDistance(g, lethal, CellExtents{});
+  const Eigen::MatrixXd centres = DistanceTransform(lethal);
+  int exact = 0, inside = 0;
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const double former = lethal(ix, iy) ? 0.0 : (centres(ix, iy) - 0.5) * g.resolution_m;
+      // without extents: between cell boundaries, as before
+      EXPECT_EQ(cells(ix, iy), former) << ix << "," << iy;
+      if (lethal(ix, iy) || former < kExactReach_m) {
+        const double expected =
+            BruteForceObstacleDistance(g, lethal, extents, g.CellCenter(ix, iy));
+        EXPECT_NEAR(dut(ix, iy), expected, 1e-9) << ix << "," << iy;
+        exact += expected > 0.0;
+        inside += expected == 0.0;
+      } else {
+        EXPECT_EQ(dut(ix, iy), former) << ix << "," << iy;
+      }
+    }
+  }
+  EXPECT_GT(exact, 100);
+  EXPECT_GT(inside, 20);
+}
+
+// A 1.3 m door in a 0.1 m wall along y = 0.6 on a 0.2 m map: the jambs end at x = -0.65 and
+// 0.65, the last 5 cm of the cells centred at x = -0.6 and 0.6. Whole cells leave the door 1 m
+// wide; the jambs' boxes leave it its 1.3 m.
+TEST(CostFieldTest, AJambsBoxLeavesTheDoorItsWidthAndTheSearchPassesWhereWholeCellsBlock) {
+  const std::vector<std::string> extent_layers{"face_x_low", "face_x_high", "face_y_low",
+                                               "face_y_high"};
+  std::vector<std::string> layers = extent_layers;
+  layers.push_back("traversability");
+  common::GridLayers map(
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(4, 4), 0.2), layers);
+  const common::GridGeometry& g = map.geometry();
+  for (const std::string& layer : extent_layers) {
+    map.Layer(layer).setConstant(std::numeric_limits<float>::quiet_NaN());
+  }
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const Eigen::Vector2d c = g.CellCenter(ix, iy);
+      const bool wall = std::abs(c.y() - 0.6) < 0.01 && std::abs(c.x()) > 0.5;
+      map.Layer("traversability")(ix, iy) = wall ? 1.0f : 0.0f;
+      if (!wall) continue;
+      const bool jamb = std::abs(std::abs(c.x()) - 0.6) < 0.01;
+      map.Layer("face_x_low")(ix, iy) = jamb && c.x() > 0.0 ? 0.05f : -0.1f;
+      map.Layer("face_x_high")(ix, iy) = jamb && c.x() < 0.0 ? -0.05f : 0.1f;
+      map.Layer("face_y_low")(ix, iy) = -0.05f;
+      map.Layer("face_y_high")(ix, iy) = 0.05f;
+    }
+  }
+  CostMapConfig config;
+  config.obstacle_extents = true;
+  const CostField dut(map, config);
+  // in the doorway's middle, 0.65 m from either jamb; a jamb cell's centre, 5 cm from its jamb
+  EXPECT_NEAR(dut.Distance({0.0, 0.6}).value, 0.65, 1e-6);
+  EXPECT_NEAR(dut.Distance({0.6, 0.6}).value, 0.05, 1e-6);
+  EXPECT_NEAR(dut.Distance({-0.6, 0.6}).value, 0.05, 1e-6);
+  EXPECT_NEAR(dut.Distance({0.0, 0.4}).value, std::hypot(0.65, 0.15), 1e-6);
+  // a wall cell whose box holds its centre: half a cell inside, as a whole cell
+  EXPECT_NEAR(dut.Distance({1.0, 0.6}).value, -0.1, 1e-12);
+  // the search blocks the cells closer than 0.55 m to an obstacle: with whole jamb cells the
+  // doorway's middle lies 0.5 m from them and is shut; with their boxes it is open
+  config.inflation_radius_m = 0.55;
+  const SearchCostMap boxes(map, config);
+  EXPECT_EQ(boxes.CostAt({0.0, 0.6}), 0.0);
+  EXPECT_EQ(boxes.CostAt({0.2, 0.6}), std::numeric_limits<double>::infinity());
+  const SearchCostMap whole(g, map.Layer("traversability"), config);
+  EXPECT_EQ(whole.CostAt({0.0, 0.6}), std::numeric_limits<double>::infinity());
 }
 
 TEST(CostFieldTest, CostIsBilinearWithItsGradient) {
