@@ -179,6 +179,14 @@ TEST(CostFieldTest, AJambsBoxLeavesTheDoorItsWidthAndTheSearchPassesWhereWholeCe
   EXPECT_EQ(boxes.CostAt({0.2, 0.6}), std::numeric_limits<double>::infinity());
   const SearchCostMap whole(g, map.Layer("traversability"), config);
   EXPECT_EQ(whole.CostAt({0.0, 0.6}), std::numeric_limits<double>::infinity());
+  // the navigator's CostMap hands the boxes to both, and only with the key
+  const CostMap costs(map, config);
+  EXPECT_NEAR(costs.field().Distance({0.6, 0.6}).value, 0.05, 1e-6);
+  EXPECT_EQ(costs.search().CostAt({0.0, 0.6}), 0.0);
+  config.obstacle_extents = false;
+  const CostMap off(map, config);
+  EXPECT_NEAR(off.field().Distance({0.6, 0.6}).value, -0.1, 1e-12);
+  EXPECT_EQ(off.search().CostAt({0.0, 0.6}), std::numeric_limits<double>::infinity());
 }
 
 TEST(CostFieldTest, CostIsBilinearWithItsGradient) {
