@@ -87,11 +87,11 @@ struct MapArea {
   double max_step_m{0.15};
   /// A cell whose highest point stands more than this above the ground on both sides of it, one or
   /// two cells away along x, y or a diagonal, is a bump the robot would straddle with its chassis
-  /// low over it: marked untraversable with the faces [m] (0, the default: no bump test; not yet
-  /// measured on the suite's seeds alone, docs/navigation.md). 0.1 suits the Scout Mini, whose
-  /// chassis clears 0.115 m (sim::kDriveOverHeight_m), less 1.5 cm for the points' noise; a bump
-  /// up to about 0.4 m wide passes between its wheels (wider ones, up to 0.6 m, are marked too).
-  double max_bump_m{0.0};
+  /// low over it: marked untraversable with the faces [m] (0: no bump test). The default suits
+  /// the Scout Mini, whose chassis clears 0.115 m (sim::kDriveOverHeight_m), less 1.5 cm for the
+  /// points' noise; a bump up to about 0.4 m wide passes between its wheels (wider ones, up to
+  /// 0.6 m, are marked too).
+  double max_bump_m{0.1};
   /// The deepest drop the robot drives down [m]: the Scout Mini tilts 45 deg down 0.27 m at 1 m/s
   /// (the physical truth's `max_drop`, docs/ground-truth.md).
   double max_drop_m{0.27};

@@ -110,7 +110,7 @@ Eigen::MatrixXd ObstacleDistance(const common::GridGeometry& g,
                                  const CellExtents& extents);
 
 /// How far from lethal cells ObstacleDistance measures to their boxes [m]: beyond the optimiser's
-/// clearance and A*'s band round the footprint's circumscribed radius (0.52 m for the Scout Mini).
+/// clearance and A*'s band round the footprint's circumscribed radius (0.57 m for the Scout Mini).
 inline constexpr double kExactReach_m = 0.8;
 
 /// Euclidean distance [cells] from each cell centre to the nearest cell where `mask` is true, exact

@@ -26,8 +26,9 @@ struct TrajectoryOptimizerConfig {
   /// Gap kept between the footprint and lethal cells [m], >= 0; shrinks to 85 % of the start's or
   /// goal's gap when that is less (DDR-opt), so that an end near lethal cells is not infeasible by
   /// itself, and below zero for a start that overlaps a lethal cell (its gap less 15 % of its
-  /// size).
-  double clearance_m{0.1};
+  /// size). The default is the tracker's margin at speed where the map bounds a face within its
+  /// cell (docs/navigation.md, "One robot model for clearance").
+  double clearance_m{0.15};
   /// When no trajectory keeps `clearance_m`, one more cold solve keeps this instead [m], in
   /// [0, clearance]; the search admits exactly the cells where the footprint's inscribed disc keeps
   /// it (NavigationPlannerConfig::SearchConfig).

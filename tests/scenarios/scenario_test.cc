@@ -15,6 +15,7 @@
 #include "common/input_error.h"
 #include "common/point_cloud.h"
 #include "common/yaml_reader.h"
+#include "mapping/traversability_mapper.h"
 #include "scenarios/run/mappers.h"
 #include "tests/cli_test_util.h"
 
@@ -41,6 +42,22 @@ TEST(ScenarioTest, BuiltInDefaultIsAThirtyMetreTraverseOfWoodedHillsWithVideo) {
   EXPECT_EQ(dut.expected_outcome, Outcome::kSuccess);
   EXPECT_TRUE(dut.video.enabled);
   EXPECT_EQ(dut.video.render.width, 1280);
+}
+
+// The planner names the mapper's layers it reads by string (planner/cost_map.h): a layer renamed on
+// one side only would leave the planner without it (the faces' boxes: whole cells again).
+TEST(ScenarioTest, ThePlannersReadLayersTheMappersWrite) {
+  const Scenario dut =
+      LoadScenario(common::YamlDocument::Parse(DefaultScenarioYaml(), "<built-in>"));
+  const planner::CostMapConfig costs = dut.planner.SearchConfig();
+  std::vector<std::string> read{costs.cost_layer, costs.speed.roughness_layer,
+                                costs.slope.elevation_layer};
+  read.insert(read.end(), costs.extent_layers.begin(), costs.extent_layers.end());
+  const std::vector<std::string> written = mapping::layers::All();
+  for (const std::string& layer : read) {
+    EXPECT_THAT(written, ::testing::Contains(layer)) << layer;
+  }
+  EXPECT_TRUE(costs.obstacle_extents);
 }
 
 TEST(ScenarioTest, EveryKeyTakesEffect) {
