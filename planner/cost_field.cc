@@ -230,28 +230,58 @@ Eigen::MatrixXd ObstacleDistance(const common::GridGeometry& g, const Mask& leth
       return lethal(n.x(), n.y()) && whole(n.x(), n.y());
     });
   };
+  // the cells that take the exact distance: within the reach, and not inside a whole lethal cell
+  // (which holds its centre: 0)
+  Mask target(nx, ny);
+  for (int iy = 0; iy < ny; ++iy) {
+    for (int ix = 0; ix < nx; ++ix) {
+      target(ix, iy) = lethal(ix, iy) ? !whole(ix, iy) : distance_m(ix, iy) < kExactReach_m;
+    }
+  }
   // the nearest obstacle of a cell within the reach lies within the reach, plus the half-diagonal
   // of its cell, of the cell's centre, which lies within the reach plus half a cell of the nearest
   // lethal centre, whose obstacle may lie a half-diagonal beyond it
   const int window = static_cast<int>(std::ceil(kExactReach_m / g.resolution_m + 2.0));
-  Eigen::MatrixXd exact =
+  // The squared distance from a box to a cell centre is the sum of its squares along x and y,
+  // each taken once per window column and row (what Eigen::AlignedBox2d::squaredExteriorDistance
+  // sums, in the same order, so the distances are the same to the bit).
+  auto squared_outside = [](double p, double low, double high) {
+    const double outside = p < low ? low - p : (p > high ? p - high : 0.0);
+    return outside * outside;
+  };
+  std::vector<double> centre_x(nx), centre_y(ny);
+  for (int jx = 0; jx < nx; ++jx) centre_x[jx] = g.CellCenter(jx, 0).x();
+  for (int jy = 0; jy < ny; ++jy) centre_y[jy] = g.CellCenter(0, jy).y();
+  std::vector<double> squared_x(2 * window + 1), squared_y(2 * window + 1);
+  Eigen::MatrixXd squared =
       Eigen::MatrixXd::Constant(nx, ny, std::numeric_limits<double>::infinity());
-  for (int ix = 0; ix < nx; ++ix) {
-    for (int iy = 0; iy < ny; ++iy) {
+  for (int iy = 0; iy < ny; ++iy) {
+    for (int ix = 0; ix < nx; ++ix) {
       if (!lethal(ix, iy) || hidden(ix, iy)) continue;
       const Eigen::AlignedBox2d box = obstacle(ix, iy);
-      for (int jx = std::max(0, ix - window); jx <= std::min(nx - 1, ix + window); ++jx) {
-        for (int jy = std::max(0, iy - window); jy <= std::min(ny - 1, iy + window); ++jy) {
-          // (a whole lethal cell holds its centre: 0)
-          if (lethal(jx, jy) ? whole(jx, jy) : distance_m(jx, jy) >= kExactReach_m) continue;
-          exact(jx, jy) = std::min(exact(jx, jy), box.exteriorDistance(g.CellCenter(jx, jy)));
+      const int x0 = std::max(0, ix - window), x1 = std::min(nx - 1, ix + window);
+      const int y0 = std::max(0, iy - window), y1 = std::min(ny - 1, iy + window);
+      for (int jx = x0; jx <= x1; ++jx) {
+        squared_x[jx - x0] = squared_outside(centre_x[jx], box.min().x(), box.max().x());
+      }
+      for (int jy = y0; jy <= y1; ++jy) {
+        squared_y[jy - y0] = squared_outside(centre_y[jy], box.min().y(), box.max().y());
+      }
+      // every cell of the window, without a branch (the loop vectorises); only targets are read
+      for (int jy = y0; jy <= y1; ++jy) {
+        double* column = &squared(0, jy);
+        const double along_y = squared_y[jy - y0];
+        for (int jx = x0; jx <= x1; ++jx) {
+          column[jx] = std::min(column[jx], squared_x[jx - x0] + along_y);
         }
       }
     }
   }
   for (int iy = 0; iy < ny; ++iy) {
     for (int ix = 0; ix < nx; ++ix) {
-      if (std::isfinite(exact(ix, iy))) distance_m(ix, iy) = exact(ix, iy);
+      if (target(ix, iy) && std::isfinite(squared(ix, iy))) {
+        distance_m(ix, iy) = std::sqrt(squared(ix, iy));
+      }
     }
   }
   return distance_m;
