@@ -90,8 +90,7 @@ struct FaceHistory {
     } else if (face == 1.0f && (!was_face || std::isnan((*extent[0])(ix, iy)))) {
       SetExtent(ix, iy, box);
     } else if (face == 1.0f && !box.hasNaN()) {
-      const Eigen::Vector4f old((*extent[0])(ix, iy), (*extent[1])(ix, iy), (*extent[2])(ix, iy),
-                                (*extent[3])(ix, iy));
+      const Eigen::Vector4f old = Extent(ix, iy);
       SetExtent(ix, iy,
                 Eigen::Vector4f(std::min(old(0), box(0)), std::max(old(1), box(1)),
                                 std::min(old(2), box(2)), std::max(old(3), box(3))));
@@ -117,6 +116,9 @@ struct FaceHistory {
   // the face's box in its cell: x_low, x_high, y_low, y_high from the centre [m]
   std::array<Eigen::MatrixXf*, 4> extent;
 
+  Eigen::Vector4f Extent(int ix, int iy) const {
+    return {(*extent[0])(ix, iy), (*extent[1])(ix, iy), (*extent[2])(ix, iy), (*extent[3])(ix, iy)};
+  }
   void SetExtent(int ix, int iy, const Eigen::Vector4f& box) {
     for (int k = 0; k < 4; ++k) (*extent[k])(ix, iy) = box(k);
   }
@@ -211,19 +213,18 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
   auto highest = highest_.Resize(size.x(), size.y());
   lowest.setConstant(std::numeric_limits<float>::infinity());
   highest.setConstant(-std::numeric_limits<float>::infinity());
-  // the cell of point i, indexed from `low`, if it lies between low and high
-  auto window_cell = [&](Eigen::Index i) -> std::optional<Eigen::Vector2i> {
+  // each point's cell, indexed from `low` (-1 outside low to high), kept for the faces' boxes
+  point_cells_.resize(static_cast<std::size_t>(points_W.cols()));
+  for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
+    Eigen::Vector2i& local = point_cells_[static_cast<std::size_t>(i)];
+    local.setConstant(-1);
     const std::optional<Eigen::Vector2i> cell =
         g.CellIndex(points_W.col(i).head<2>().cast<double>());
-    if (!cell) return std::nullopt;
-    const Eigen::Vector2i local = *cell - low;
-    if ((local.array() < 0).any() || (local.array() >= size.array()).any()) return std::nullopt;
-    return local;
-  };
-  for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
-    const std::optional<Eigen::Vector2i> cell = window_cell(i);
     if (!cell) continue;
-    const Eigen::Vector2i local = *cell;
+    if (((*cell - low).array() < 0).any() || ((*cell - low).array() >= size.array()).any()) {
+      continue;
+    }
+    local = *cell - low;
     lowest(local.x(), local.y()) = std::min(lowest(local.x(), local.y()), points_W(2, i));
     highest(local.x(), local.y()) = std::max(highest(local.x(), local.y()), points_W(2, i));
   }
@@ -286,12 +287,12 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
   auto extents = extents_.Resize(4, size.x() * size.y());
   extents.setConstant(kNaN);
   for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
-    const std::optional<Eigen::Vector2i> cell = window_cell(i);
-    if (!cell || points_W(2, i) <= face_floor(cell->x(), cell->y())) continue;
+    const Eigen::Vector2i& cell = point_cells_[static_cast<std::size_t>(i)];
+    if (cell.x() < 0 || points_W(2, i) <= face_floor(cell.x(), cell.y())) continue;
     const Eigen::Vector2f offset =
         points_W.col(i).head<2>() -
-        g.CellCenter(low.x() + cell->x(), low.y() + cell->y()).cast<float>();
-    auto box = extents.col(cell->x() + size.x() * cell->y());
+        g.CellCenter(low.x() + cell.x(), low.y() + cell.y()).cast<float>();
+    auto box = extents.col(cell.x() + size.x() * cell.y());
     box(0) = std::fmin(box(0), offset.x());
     box(1) = std::fmax(box(1), offset.x());
     box(2) = std::fmin(box(2), offset.y());

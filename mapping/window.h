@@ -160,7 +160,8 @@ class ObstacleMarker {
   common::ScratchMatrix<float> lowest_, highest_, cells_, roughness_, face_floor_;
   common::ScratchMatrix<float, 4> extents_;
   common::ScratchMatrix<std::uint8_t> mask_, dilated_, closed_, drops_;
-  std::vector<Eigen::Vector2i> gap_;  // Drops: the cells without points along one line
+  std::vector<Eigen::Vector2i> gap_;          // Drops: the cells without points along one line
+  std::vector<Eigen::Vector2i> point_cells_;  // Cells: each point's cell from `low`, -1 outside
 };
 
 /// The first and last cell (ix, iy) of the window around the robot on the grid `g`.
