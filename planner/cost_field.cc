@@ -287,6 +287,14 @@ Eigen::MatrixXd ObstacleDistance(const common::GridGeometry& g, const Mask& leth
   return distance_m;
 }
 
+Eigen::MatrixXd LethalDistance(const common::GridGeometry& g, const Eigen::MatrixXf& layer,
+                               const CostMapConfig& config, const CellExtents& extents,
+                               bool known_only) {
+  const Mask lethal = layer.unaryExpr(
+      [&](float c) { return IsLethal(c, config) && !(known_only && std::isnan(c)); });
+  return ObstacleDistance(g, lethal, extents);
+}
+
 CostField::CostField(const common::GridLayers& map, const CostMapConfig& config)
     : CostField(map.geometry(), map.Layer(config.cost_layer), config,
                 map.Has(config.speed.roughness_layer) ? &map.Layer(config.speed.roughness_layer)
@@ -298,6 +306,12 @@ CostField::CostField(const common::GridLayers& map, const CostMapConfig& config)
 CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
                      const CostMapConfig& config, const Eigen::MatrixXf* roughness_m,
                      const Eigen::MatrixXf* elevation_m, const CellExtents& extents)
+    : CostField(geometry, layer, config, roughness_m, elevation_m,
+                LethalDistance(geometry, layer, config, extents, /*known_only=*/false)) {}
+
+CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
+                     const CostMapConfig& config, const Eigen::MatrixXf* roughness_m,
+                     const Eigen::MatrixXf* elevation_m, const Eigen::MatrixXd& outside_m)
     : geometry_(geometry),
       max_pitch_roll_tangents_(config.slope.Tangents()),
       open_speed_m_s_(config.speed.open_m_s) {
@@ -315,15 +329,14 @@ CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf
   // signed distance: outside, to the obstacles (between cell boundaries where their extents are
   // unknown); inside, half a cell less than between centres, so that it crosses zero on the
   // boundary of the lethal region
-  const Eigen::MatrixXd outside = ObstacleDistance(geometry_, lethal, extents);
   const Eigen::MatrixXd inside = DistanceTransform(lethal.unaryExpr([](bool b) { return !b; }));
   distance_.resize(nx, ny);
   const double half = 0.5;
   for (int iy = 0; iy < ny; ++iy) {
     for (int ix = 0; ix < nx; ++ix) {
       double d = 0.0;
-      if (!lethal(ix, iy) || outside(ix, iy) > 0.0) {
-        d = std::isfinite(outside(ix, iy)) ? outside(ix, iy) : kFarDistance;
+      if (!lethal(ix, iy) || outside_m(ix, iy) > 0.0) {
+        d = std::isfinite(outside_m(ix, iy)) ? outside_m(ix, iy) : kFarDistance;
       } else {
         d = std::isfinite(inside(ix, iy)) ? -(inside(ix, iy) - half) * geometry_.resolution_m
                                           : -kFarDistance;

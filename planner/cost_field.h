@@ -38,6 +38,12 @@ class CostField {
             const CostMapConfig& config, const Eigen::MatrixXf* roughness_m = nullptr,
             const Eigen::MatrixXf* elevation_m = nullptr, const CellExtents& extents = {});
 
+  /// The same from the signed distance's outside part, already computed: `outside_m` is
+  /// LethalDistance(geometry, layer, config, extents, /*known_only=*/false).
+  CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
+            const CostMapConfig& config, const Eigen::MatrixXf* roughness_m,
+            const Eigen::MatrixXf* elevation_m, const Eigen::MatrixXd& outside_m);
+
   /// Cost at p_W.
   FieldSample Cost(const Eigen::Vector2d& p_W) const { return Interpolate(cost_, p_W); }
 
@@ -108,6 +114,13 @@ Eigen::MatrixXd MinimumWithinDisc(const Eigen::MatrixXd& values, int radius);
 Eigen::MatrixXd ObstacleDistance(const common::GridGeometry& g,
                                  const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& lethal,
                                  const CellExtents& extents);
+
+/// ObstacleDistance of the cells of the cost layer `layer` (on `g`) that IsLethal reads lethal;
+/// with `known_only`, without the unknown cells the unknown policy blocks (A*'s inflation and band
+/// grow known obstacles only). Without unknown lethal cells the two are the same.
+Eigen::MatrixXd LethalDistance(const common::GridGeometry& g, const Eigen::MatrixXf& layer,
+                               const CostMapConfig& config, const CellExtents& extents,
+                               bool known_only);
 
 /// How far from lethal cells ObstacleDistance measures to their boxes [m]: beyond the optimiser's
 /// clearance and A*'s band round the footprint's circumscribed radius (0.57 m for the Scout Mini).

@@ -14,16 +14,20 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
+// Whether the search grows the lethal cells (by the inflation or the band).
+bool Grows(const CostMapConfig& config) {
+  return config.inflation_radius_m > 0.0 || config.band_radius_m > 0.0;
+}
+
 // Per-cell cost for the search (infinity = blocked), with the inflation and the band applied round
-// the known lethal cells (unknown cells blocked by the policy are not grown).
+// the known lethal cells (unknown cells blocked by the policy are not grown) by their distances
+// `known_obstacle_m` (LethalDistance, known only; not read unless Grows(config)).
 Eigen::MatrixXd SearchCosts(const common::GridGeometry& g, const Eigen::MatrixXf& layer,
-                            const CostMapConfig& config, const CellExtents& extents) {
+                            const CostMapConfig& config, const Eigen::MatrixXd& known_obstacle_m) {
   Eigen::MatrixXd costs(g.num_x, g.num_y);
-  Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> lethal(g.num_x, g.num_y);
   for (int ix = 0; ix < g.num_x; ++ix) {
     for (int iy = 0; iy < g.num_y; ++iy) {
       const float c = layer(ix, iy);
-      lethal(ix, iy) = IsLethal(c, config) && !std::isnan(c);
       if (IsLethal(c, config)) {
         costs(ix, iy) = kInfinity;
       } else {
@@ -31,15 +35,14 @@ Eigen::MatrixXd SearchCosts(const common::GridGeometry& g, const Eigen::MatrixXf
       }
     }
   }
-  if (config.inflation_radius_m <= 0.0 && config.band_radius_m <= 0.0) return costs;
+  if (!Grows(config)) return costs;
   // the distance from a cell's centre to the nearest lethal cell's obstacle, as CostField
   // measures it: the search admits exactly the cells where the field's distance allows the robot
-  const Eigen::MatrixXd obstacle_m = ObstacleDistance(g, lethal, extents);
   const double band = config.band_radius_m - config.inflation_radius_m;
   for (int ix = 0; ix < g.num_x; ++ix) {
     for (int iy = 0; iy < g.num_y; ++iy) {
-      const double distance_m = obstacle_m(ix, iy);
-      if (lethal(ix, iy) || !std::isfinite(distance_m)) continue;
+      const double distance_m = known_obstacle_m(ix, iy);
+      if (!std::isfinite(costs(ix, iy)) || !std::isfinite(distance_m)) continue;
       if (distance_m < config.inflation_radius_m) {
         costs(ix, iy) = kInfinity;
       } else if (band > 0.0 && distance_m < config.band_radius_m) {
@@ -83,9 +86,15 @@ SearchCostMap::SearchCostMap(const common::GridLayers& map, const CostMapConfig&
 
 SearchCostMap::SearchCostMap(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
                              const CostMapConfig& config, const CellExtents& extents)
+    : SearchCostMap(geometry, layer, config,
+                    Grows(config) ? LethalDistance(geometry, layer, config, extents, true)
+                                  : Eigen::MatrixXd()) {}
+
+SearchCostMap::SearchCostMap(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
+                             const CostMapConfig& config, const Eigen::MatrixXd& known_obstacle_m)
     : geometry_(geometry),
       config_(config),
-      costs_(SearchCosts(geometry, layer, config, extents)),
+      costs_(SearchCosts(geometry, layer, config, known_obstacle_m)),
       min_cost_(MinFiniteCost(costs_)) {}
 
 double SearchCostMap::CostAt(const Eigen::Vector2d& p_W) const {
@@ -150,8 +159,18 @@ bool CostMap::LethalAt(const Eigen::Vector2d& p_W) const {
   return cell && IsLethal(layer_(cell->x(), cell->y()), config_);
 }
 
+const Eigen::MatrixXd& CostMap::known_obstacle_m() const {
+  if (!known_obstacle_m_) {
+    known_obstacle_m_ = std::make_unique<Eigen::MatrixXd>(
+        LethalDistance(geometry_, layer_, config_, extents_, /*known_only=*/true));
+  }
+  return *known_obstacle_m_;
+}
+
 const SearchCostMap& CostMap::search() const {
-  if (!search_) search_ = std::make_unique<SearchCostMap>(geometry_, layer_, config_, extents_);
+  if (!search_) {
+    search_ = std::make_unique<SearchCostMap>(geometry_, layer_, config_, known_obstacle_m());
+  }
   return *search_;
 }
 
@@ -159,16 +178,22 @@ const SearchCostMap& CostMap::wide_search() const {
   if (!wide_search_) {
     CostMapConfig wide = config_;
     wide.inflation_radius_m = std::max(config_.inflation_radius_m, config_.band_radius_m);
-    wide_search_ = std::make_unique<SearchCostMap>(geometry_, layer_, wide, extents_);
+    wide_search_ = std::make_unique<SearchCostMap>(geometry_, layer_, wide, known_obstacle_m());
   }
   return *wide_search_;
 }
 
 const CostField& CostMap::field() const {
   if (!field_) {
-    field_ = std::make_unique<CostField>(geometry_, layer_, config_,
-                                         roughness_.size() > 0 ? &roughness_ : nullptr,
-                                         elevation_.size() > 0 ? &elevation_ : nullptr, extents_);
+    const Eigen::MatrixXf* roughness_m = roughness_.size() > 0 ? &roughness_ : nullptr;
+    const Eigen::MatrixXf* elevation_m = elevation_.size() > 0 ? &elevation_ : nullptr;
+    // the field's lethal cells are the searches' unless unknown cells are lethal
+    const bool unknown_lethal =
+        config_.unknown_policy == UnknownPolicy::kBlocked && layer_.array().isNaN().any();
+    field_ = unknown_lethal ? std::make_unique<CostField>(geometry_, layer_, config_, roughness_m,
+                                                          elevation_m, extents_)
+                            : std::make_unique<CostField>(geometry_, layer_, config_, roughness_m,
+                                                          elevation_m, known_obstacle_m());
   }
   return *field_;
 }

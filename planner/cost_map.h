@@ -159,6 +159,11 @@ class SearchCostMap {
   SearchCostMap(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
                 const CostMapConfig& config, const CellExtents& extents = {});
 
+  /// The same from the distances the inflation and the band are measured on, already computed:
+  /// `known_obstacle_m` is LethalDistance(geometry, layer, config, extents, /*known_only=*/true).
+  SearchCostMap(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
+                const CostMapConfig& config, const Eigen::MatrixXd& known_obstacle_m);
+
   const common::GridGeometry& geometry() const { return geometry_; }
   const CostMapConfig& config() const { return config_; }
 
@@ -198,7 +203,8 @@ class CostField;
 /// update: the search costs of A* (SearchCostMap), the smooth cost and distance fields of the
 /// trajectory optimiser (CostField) and the lethal test of the navigator's safety checks, all
 /// from one copy of the cost layer and one lethal rule (IsLethal). The search costs and the fields
-/// are built on first use. Not thread-safe (the lazy parts).
+/// are built on first use, on one distance transform of the lethal cells (LethalDistance) where
+/// their lethal cells agree. Not thread-safe (the lazy parts).
 class CostMap {
  public:
   /// The cells outside `config.operating_area_W` read as lethal (cost 1) for every part.
@@ -231,6 +237,10 @@ class CostMap {
   Eigen::MatrixXf roughness_;  // empty when the map has no `config.speed.roughness_layer`
   Eigen::MatrixXf elevation_;  // empty when the map has no `config.slope.elevation_layer`
   CellExtents extents_;        // empty when the map has no `config.extent_layers`
+  // LethalDistance of the known lethal cells, shared by the searches and (where no unknown cell is
+  // lethal) the field
+  const Eigen::MatrixXd& known_obstacle_m() const;
+  mutable std::unique_ptr<Eigen::MatrixXd> known_obstacle_m_;
   mutable std::unique_ptr<SearchCostMap> search_;
   mutable std::unique_ptr<SearchCostMap> wide_search_;
   mutable std::unique_ptr<CostField> field_;

@@ -7,6 +7,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "planner/cost_field.h"
+
 namespace trav::planner {
 namespace {
 
@@ -137,6 +139,43 @@ TEST(CostMapTest, UnknownCellsFollowThePolicyAndCostsAreClampedAtZero) {
   EXPECT_EQ(SearchCostMap(map, config).cost(3, 4), kInfinity);
   // blocked unknown cells are not lethal: they do not grow
   EXPECT_EQ(SearchCostMap(map, config).cost(3, 5), 0.25);
+}
+
+// CostMap builds its searches and its field on one distance transform where their lethal cells
+// agree: each part must read exactly as the same part built alone, under either unknown policy.
+TEST(CostMapTest, ItsPartsAreThePartsBuiltAloneUnderEitherUnknownPolicy) {
+  common::GridLayers map = ConstantMap(3.0, 0.25f);
+  Eigen::MatrixXf& layer = map.Layer("traversability");
+  for (int iy = 5; iy < 25; ++iy) layer(12, iy) = 1.0f;  // a wall along y
+  layer(20, 15) = std::numeric_limits<float>::quiet_NaN();
+  layer(21, 15) = std::numeric_limits<float>::quiet_NaN();
+  CostMapConfig config;
+  config.inflation_radius_m = 0.25;
+  config.band_radius_m = 0.45;
+  for (const UnknownPolicy policy : {UnknownPolicy::kCost, UnknownPolicy::kBlocked}) {
+    SCOPED_TRACE(static_cast<int>(policy));
+    config.unknown_policy = policy;
+    const CostMap dut(map, config);
+    const SearchCostMap search(map, config);
+    CostMapConfig wide_config = config;
+    wide_config.inflation_radius_m = config.band_radius_m;
+    const SearchCostMap wide(map, wide_config);
+    const CostField field(map, config);
+    const common::GridGeometry& g = map.geometry();
+    for (int ix = 0; ix < g.num_x; ++ix) {
+      for (int iy = 0; iy < g.num_y; ++iy) {
+        ASSERT_EQ(dut.search().cost(ix, iy), search.cost(ix, iy)) << ix << ", " << iy;
+        ASSERT_EQ(dut.wide_search().cost(ix, iy), wide.cost(ix, iy)) << ix << ", " << iy;
+        const Eigen::Vector2d c = g.CellCenter(ix, iy);
+        ASSERT_EQ(dut.field().Distance(c).value, field.Distance(c).value) << ix << ", " << iy;
+      }
+    }
+    // blocked unknown cells are obstacles to the field (a cell beside them 5 cm away, else the
+    // wall 0.95 m away), never grown by the searches
+    const double beside_unknown = dut.field().Distance(g.CellCenter(22, 15)).value;
+    EXPECT_NEAR(beside_unknown, policy == UnknownPolicy::kBlocked ? 0.05 : 0.95, 1e-9);
+    EXPECT_EQ(dut.search().cost(22, 15), 0.25);
+  }
 }
 
 TEST(CostMapTest, AMapWithoutFreeCellsHasMinimumCostZeroAndAMissingLayerThrows) {
