@@ -122,19 +122,22 @@ Eigen::MatrixXd MinimumWithinDisc(const Eigen::MatrixXd& values, int radius) {
     while (w * w + dy * dy > radius * radius) --w;
     half_width[static_cast<std::size_t>(dy)] = w;
   }
-  // the minimum along x over each half-width the disc has, then over the rows
+  // the minimum along x over each half-width the disc has, then over the rows; a width's minimum
+  // is the next narrower one's with the two cells it adds (an exact minimum, in any order)
   std::vector<Eigen::MatrixXd> along_x(static_cast<std::size_t>(radius) + 1);
-  for (const int w : half_width) {
-    Eigen::MatrixXd& row_min = along_x[static_cast<std::size_t>(w)];
-    if (row_min.size() > 0) continue;
-    row_min.resize(nx, ny);
+  Eigen::MatrixXd widening = values;
+  for (int w = 1; w <= radius; ++w) {
     for (int iy = 0; iy < ny; ++iy) {
       for (int ix = 0; ix < nx; ++ix) {
-        const int from = std::max(0, ix - w), to = std::min(nx - 1, ix + w);
-        row_min(ix, iy) = values.col(iy).segment(from, to - from + 1).minCoeff();
+        if (ix - w >= 0) widening(ix, iy) = std::min(widening(ix, iy), values(ix - w, iy));
+        if (ix + w < nx) widening(ix, iy) = std::min(widening(ix, iy), values(ix + w, iy));
       }
     }
+    if (std::find(half_width.begin(), half_width.end(), w) != half_width.end()) {
+      along_x[static_cast<std::size_t>(w)] = widening;
+    }
   }
+  along_x[0] = values;
   Eigen::MatrixXd eroded = along_x[static_cast<std::size_t>(radius)];
   for (int iy = 0; iy < ny; ++iy) {
     for (int dy = 1; dy <= radius; ++dy) {
