@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include "common/check.h"
 #include "common/input_error.h"
@@ -102,6 +104,54 @@ common::Trajectory StopFrom(const common::TrajectoryPoint& start, const Fallback
   return common::Trajectory(std::move(points));
 }
 
+std::optional<common::Trajectory> StopAlong(const common::Trajectory& path,
+                                            const common::TrajectoryPoint& start,
+                                            const FallbackConfig& config) {
+  TRAV_DEMAND(config.braking_m_s2 > 0.0);
+  const double speed = std::abs(start.v);
+  if (path.empty() || speed < 1e-9) return std::nullopt;
+  const double duration_s = speed / config.braking_m_s2;
+  const double stop_m = 0.5 * speed * duration_s;
+  // the distance the path's positions cover from start.t_s, as (time, distance) at a quarter of
+  // the output step, up to the stop's
+  const double fine_s = 0.25 * config.output_step_s;
+  std::vector<std::pair<double, double>> covered = {{start.t_s, 0.0}};
+  Eigen::Vector2d previous_W = path.Sample(start.t_s).position_W;
+  while (covered.back().second < stop_m) {
+    const double t = covered.back().first;
+    if (t >= path.end_time()) return std::nullopt;
+    const double next = std::min(t + fine_s, path.end_time());
+    const Eigen::Vector2d p_W = path.Sample(next).position_W;
+    covered.emplace_back(next, covered.back().second + (p_W - previous_W).norm());
+    previous_W = p_W;
+  }
+  const int steps = std::max(1, static_cast<int>(std::ceil(duration_s / config.output_step_s)));
+  const double deceleration = std::copysign(config.braking_m_s2, start.v);
+  std::vector<common::TrajectoryPoint> points = {start};
+  std::size_t segment = 1;
+  for (int k = 1; k <= steps; ++k) {
+    const double tau = duration_s * k / steps;
+    const double distance_m = speed * tau - 0.5 * config.braking_m_s2 * tau * tau;
+    while (segment + 1 < covered.size() && covered[segment].second < distance_m) ++segment;
+    const auto [t0, d0] = covered[segment - 1];
+    const auto [t1, d1] = covered[segment];
+    const double t =
+        d1 > d0 ? t0 + (t1 - t0) * std::clamp((distance_m - d0) / (d1 - d0), 0.0, 1.0) : t1;
+    const common::TrajectoryPoint on = path.Sample(t);
+    common::TrajectoryPoint p;
+    p.t_s = start.t_s + tau;
+    p.position_W = on.position_W;
+    p.yaw = on.yaw;
+    p.v = start.v - deceleration * tau;
+    p.omega = std::abs(on.v) > 1e-9 ? on.omega * p.v / on.v : 0.0;
+    p.acceleration = -deceleration;
+    points.push_back(p);
+  }
+  common::TrajectoryPoint& rest = points.back();
+  rest.v = rest.omega = rest.acceleration = 0.0;
+  return common::Trajectory(std::move(points));
+}
+
 common::Trajectory CreepAlong(const common::TrajectoryPoint& start,
                               const std::vector<Eigen::Vector2d>& waypoints_W, bool reverse,
                               const FallbackConfig& config) {
@@ -136,6 +186,15 @@ common::Trajectory TurnInPlace(const common::TrajectoryPoint& start, double yaw,
   return common::Trajectory(std::move(points));
 }
 
+double SmallestGap(const CostField& field, const common::Trajectory& trajectory,
+                   const std::vector<Eigen::Vector2d>& body_points_B) {
+  double smallest = std::numeric_limits<double>::infinity();
+  for (const common::TrajectoryPoint& p : trajectory.points()) {
+    smallest = std::min(smallest, FootprintDistance(field, p.position_W, p.yaw, body_points_B));
+  }
+  return smallest;
+}
+
 bool KeepsClear(const CostField& field, const common::Trajectory& trajectory,
                 const std::vector<Eigen::Vector2d>& body_points_B, double min_clearance_m) {
   const std::vector<common::TrajectoryPoint>& points = trajectory.points();
@@ -144,9 +203,7 @@ bool KeepsClear(const CostField& field, const common::Trajectory& trajectory,
       std::min(min_clearance_m, FootprintDistance(field, points.front().position_W,
                                                   points.front().yaw, body_points_B)) -
       1e-9;
-  return std::all_of(points.begin(), points.end(), [&](const common::TrajectoryPoint& p) {
-    return FootprintDistance(field, p.position_W, p.yaw, body_points_B) >= floor_m;
-  });
+  return SmallestGap(field, trajectory, body_points_B) >= floor_m;
 }
 
 }  // namespace trav::planner

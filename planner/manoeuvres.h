@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -45,6 +46,21 @@ void ValidateFallbackConfig(const FallbackConfig& config);
 /// from start.t_s, the start first, the last point at rest (the start alone, at rest, if it does
 /// not move forward or backward).
 common::Trajectory StopFrom(const common::TrajectoryPoint& start, const FallbackConfig& config);
+
+/// The robot brought to rest along `path`, the trajectory it is following (its pose at start.t_s
+/// the start's): at `braking_m_s2` from start.v, each sample at the distance along the path's
+/// positions that the stop has covered by then, with the path's yaw there and its yaw rate scaled
+/// to the stop's speed. Sampled every `output_step_s` from start.t_s, the last point at rest.
+/// Nothing when the path, from start.t_s to its end, is shorter than the stop, or the start is
+/// at rest.
+std::optional<common::Trajectory> StopAlong(const common::Trajectory& path,
+                                            const common::TrajectoryPoint& start,
+                                            const FallbackConfig& config);
+
+/// The smallest distance of the footprint's body points to lethal cells over the trajectory's
+/// points (FootprintDistance) [m]; infinity without points.
+double SmallestGap(const CostField& field, const common::Trajectory& trajectory,
+                   const std::vector<Eigen::Vector2d>& body_points_B);
 
 /// A slow trajectory through `waypoints_W` from the start's pose: at the start and at each vertex
 /// the robot turns in place to the next segment's heading at `creep_yaw_rate`, then drives the

@@ -141,13 +141,15 @@ NavigationPlanner::NavigationPlanner(const NavigationPlannerConfig& config, Path
 NavigationPlan NavigationPlanner::Plan(const common::GridLayers& map,
                                        const common::TrajectoryPoint& start,
                                        const Eigen::Vector2d& goal_W,
-                                       const std::vector<MovingObstacle>& obstacles) {
-  return Plan(CostMap(map, config_.SearchConfig()), start, goal_W, obstacles);
+                                       const std::vector<MovingObstacle>& obstacles,
+                                       const common::Trajectory* followed) {
+  return Plan(CostMap(map, config_.SearchConfig()), start, goal_W, obstacles, followed);
 }
 
 NavigationPlan NavigationPlanner::Plan(const CostMap& costs, const common::TrajectoryPoint& start,
                                        const Eigen::Vector2d& goal_W,
-                                       const std::vector<MovingObstacle>& obstacles) {
+                                       const std::vector<MovingObstacle>& obstacles,
+                                       const common::Trajectory* followed) {
   NavigationPlan plan;
   const common::Stopwatch search_start;
   const GridPlanner search(costs.search());
@@ -201,7 +203,7 @@ NavigationPlan NavigationPlanner::Plan(const CostMap& costs, const common::Traje
   plan.status = plan.path.status == PlanStatus::kFound ? NavigationStatus::kPlanned
                                                        : NavigationStatus::kPlannedToNearest;
   if (plan.optimized.status == OptimizationStatus::kInfeasible) {
-    FallBack(costs, start, search_start_W, obstacles, &plan);
+    FallBack(costs, start, search_start_W, obstacles, followed, &plan);
   }
   plan.optimization_time_s = optimization_start.ElapsedSeconds();
   return plan;
@@ -210,7 +212,7 @@ NavigationPlan NavigationPlanner::Plan(const CostMap& costs, const common::Traje
 void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryPoint& start,
                                  const Eigen::Vector2d& search_start_W,
                                  const std::vector<MovingObstacle>& obstacles,
-                                 NavigationPlan* plan) {
+                                 const common::Trajectory* followed, NavigationPlan* plan) {
   const CostField& field = costs.field();
   const double resolution_m = field.geometry().resolution_m;
   const std::vector<Eigen::Vector2d> body_B = config_.footprint.BoundaryPoints_B(resolution_m);
@@ -246,9 +248,17 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
   // 2. to 5. are slow manoeuvres that begin at rest where the robot is: a robot faster than they
   // go stops first, straight along its heading, and they are planned from rest at a later replan
   // (begun at speed, the robot ran on past their start and the tracker pulled it back while it
-  // turned)
+  // turned); along the trajectory it is on where that keeps its footprint farther from obstacles
+  // than the heading's arc (in a turn round a corner the arc cuts the corner)
   if (std::abs(start.v) > config_.fallback.creep_speed_m_s) {
-    take(StopFrom(start, config_.fallback), Fallback::kStop);
+    common::Trajectory stop = StopFrom(start, config_.fallback);
+    if (followed != nullptr) {
+      std::optional<common::Trajectory> along = StopAlong(*followed, start, config_.fallback);
+      if (along && SmallestGap(field, *along, body_B) > SmallestGap(field, stop, body_B)) {
+        stop = std::move(*along);
+      }
+    }
+    take(std::move(stop), Fallback::kStop);
     plan->status = NavigationStatus::kOptimizerFailed;  // it frees nothing and leads nowhere
     return;
   }

@@ -88,7 +88,7 @@ enum class Fallback {
   kPoseSearch,   ///< the footprint's own way (SearchPoses) to a point of the search path ahead
   kTurnInPlace,  ///< a turn in place toward the path's first segment
   kBackOut,      ///< a straight reverse drive
-  kStop,         ///< a stop along the heading (StopFrom) before the slow manoeuvres
+  kStop,  ///< a stop (StopFrom, or StopAlong the trajectory followed) before the slow manoeuvres
 };
 
 /// The names of Fallback's values (common/enum_names.h).
@@ -153,15 +153,19 @@ class NavigationPlanner {
   explicit NavigationPlanner(const NavigationPlannerConfig& config,
                              PathSearch search = AStarSearch);
 
-  /// Plans from `start` (time, pose and velocities) to goal_W on `map`.
+  /// Plans from `start` (time, pose and velocities) to goal_W on `map`. `followed`, unless null,
+  /// is the trajectory the robot is on at start.t_s: a stop at speed (Fallback::kStop) brakes along
+  /// it instead of along the heading's arc where its footprint keeps farther from obstacles.
   /// @throws std::out_of_range if the map lacks the cost layer.
   NavigationPlan Plan(const common::GridLayers& map, const common::TrajectoryPoint& start,
-                      const Eigen::Vector2d& goal_W, const std::vector<MovingObstacle>& obstacles);
+                      const Eigen::Vector2d& goal_W, const std::vector<MovingObstacle>& obstacles,
+                      const common::Trajectory* followed = nullptr);
 
   /// Plans on a map's costs built before (with this planner's `config().SearchConfig()`), so that
   /// plans on one map share them.
   NavigationPlan Plan(const CostMap& costs, const common::TrajectoryPoint& start,
-                      const Eigen::Vector2d& goal_W, const std::vector<MovingObstacle>& obstacles);
+                      const Eigen::Vector2d& goal_W, const std::vector<MovingObstacle>& obstacles,
+                      const common::Trajectory* followed = nullptr);
 
   /// Forgets the previous trajectory and substitute goal.
   void Reset() {
@@ -172,10 +176,11 @@ class NavigationPlanner {
   const NavigationPlannerConfig& config() const { return config_; }
 
  private:
-  // The fallbacks of an optimisation that failed along plan->waypoints_W, in order.
+  // The fallbacks of an optimisation that failed along plan->waypoints_W, in order (`followed`:
+  // Plan's).
   void FallBack(const CostMap& costs, const common::TrajectoryPoint& start,
                 const Eigen::Vector2d& search_start_W, const std::vector<MovingObstacle>& obstacles,
-                NavigationPlan* plan);
+                const common::Trajectory* followed, NavigationPlan* plan);
 
   NavigationPlannerConfig config_;
   PathSearch search_;

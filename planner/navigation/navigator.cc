@@ -337,7 +337,8 @@ void Navigator::Replan(const common::RobotState& state, const common::GridLayers
   start.omega = std::clamp(start.omega, -omega_max, omega_max);
   start.acceleration = std::clamp(start.acceleration, -a_max, a_max);
 
-  const NavigationPlan plan = planner_.Plan(CostMapOf(map), start, goal_W_, movers);
+  const NavigationPlan plan =
+      planner_.Plan(CostMapOf(map), start, goal_W_, movers, on_plan ? &trajectory_ : nullptr);
   map_check_pending_ = false;  // the new plan saw the latest map
   ++statistics_.plans;
   if (reason != ReplanReason::kPeriodic && reason != ReplanReason::kFirst) {

@@ -1,6 +1,8 @@
 #include "planner/manoeuvres.h"
 
 #include <cmath>
+#include <optional>
+#include <vector>
 
 #include "planner_test_util.h"
 #include <gtest/gtest.h>
@@ -44,6 +46,42 @@ TEST(ManoeuvresTest, StopFromBrakesAlongTheHeadingAtTheBrakingDeceleration) {
   // at rest: the start alone
   start.v = 0.0;
   EXPECT_EQ(StopFrom(start, config).points().size(), 1U);
+}
+
+// A robot turning at 2 rad/s (0.6 m radius) onto a straight: stopped along the path it follows, it
+// straightens with it where the heading's arc would keep turning.
+TEST(ManoeuvresTest, StopAlongBrakesOnThePathsOwnPositionsAndYaws) {
+  const common::Trajectory path = test_util::TurnThenStraight(2.0, 1.2, 0.05, 2.0, 2.0);
+  FallbackConfig config;  // 2 m/s^2: 0.6 s and 0.36 m to rest, sampled every 0.02 s
+  const common::TrajectoryPoint start = path.Sample(2.0);
+  const std::optional<common::Trajectory> stop = StopAlong(path, start, config);
+  ASSERT_TRUE(stop.has_value());
+  const std::vector<common::TrajectoryPoint>& points = stop->points();
+  ASSERT_EQ(points.size(), 31U);
+  EXPECT_EQ(points.front().position_W, start.position_W);
+  // the turn's 0.05 m (1/12 rad), then 0.31 m straight on
+  const double turned = 0.05 / 0.6;
+  const Eigen::Vector2d turn_end(0.6 * std::sin(turned), 0.6 * (1.0 - std::cos(turned)));
+  const Eigen::Vector2d rest_W =
+      turn_end + 0.31 * Eigen::Vector2d(std::cos(turned), std::sin(turned));
+  EXPECT_LT((points.back().position_W - rest_W).norm(), 1e-3);
+  EXPECT_NEAR(points.back().yaw, turned, 1e-3);
+  EXPECT_NEAR(points.back().t_s, 2.6, 1e-12);
+  EXPECT_EQ(points.back().v, 0.0);
+  EXPECT_EQ(points.back().omega, 0.0);
+  // half way in time: half the speed, 0.27 m along; in the turn the yaw rate scales with the speed
+  EXPECT_NEAR(points[15].v, 0.6, 1e-12);
+  EXPECT_NEAR(points[15].position_W.x(), turn_end.x() + 0.22 * std::cos(turned), 1e-3);
+  EXPECT_NEAR(points[1].omega, 2.0 * 1.16 / 1.2, 1e-9);
+  EXPECT_EQ(points[15].omega, 0.0);
+  // the heading's arc keeps the turn's curvature: a quarter of a radian more
+  EXPECT_NEAR(StopFrom(start, config).points().back().yaw, 0.6, 1e-12);
+  // nothing when the path ends before the stop would (0.24 m), or at rest
+  const common::Trajectory short_path = test_util::TurnThenStraight(2.0, 1.2, 0.0, 0.0, 0.2);
+  EXPECT_FALSE(StopAlong(short_path, short_path.Sample(2.0), config).has_value());
+  common::TrajectoryPoint rest = start;
+  rest.v = 0.0;
+  EXPECT_FALSE(StopAlong(path, rest, config).has_value());
 }
 
 TEST(ManoeuvresTest, CreepAlongTurnsInPlaceAtEachVertexThenDrivesStraight) {

@@ -1,11 +1,15 @@
 #include "planner/navigation_planner.h"
 
+#include <optional>
+#include <vector>
+
 #include "planner_test_util.h"
 #include <gtest/gtest.h>
 
 #include "common/enum_names.h"
 #include "common/random.h"
 #include "planner/cost_field.h"
+#include "planner/manoeuvres.h"
 
 namespace trav::planner {
 namespace {
@@ -245,6 +249,34 @@ TEST(NavigationPlannerTest, AFailedOptimisationAtSpeedStopsBeforeTheManoeuvres) 
   EXPECT_EQ(t.points().back().v, 0.0);
   start.v = -config.fallback.creep_speed_m_s;
   EXPECT_EQ(dut.Plan(map, start, {-5.5, 0.0}, {}).fallback, Fallback::kPoseSearch);
+}
+
+// Turning onto a 1.2 m corridor's straight at 1.2 m/s when the optimisation fails: the stop brakes
+// along the trajectory the robot follows, which straightens, where the heading's arc would keep
+// turning toward the wall.
+TEST(NavigationPlannerTest, AStopAtSpeedBrakesAlongTheFollowedPathWhenItKeepsFartherFromObstacles) {
+  common::GridLayers map = WallMap();
+  test_util::Paint(&map, 0.1f, [](const Eigen::Vector2d&) { return true; });
+  test_util::Paint(&map, 1.0f, [](const Eigen::Vector2d& p) { return std::abs(p.y()) > 0.55; });
+  const NavigationPlannerConfig config = OneIteration();
+  const common::Trajectory followed = test_util::TurnThenStraight(1.0, 1.2, 0.05, 2.0, 3.0);
+  const common::TrajectoryPoint start = followed.Sample(1.0);
+  NavigationPlanner dut(config);
+  const NavigationPlan along = dut.Plan(map, start, {5.0, 0.0}, {}, &followed);
+  ASSERT_EQ(along.fallback, Fallback::kStop) << common::NameOf(along.status);
+  EXPECT_EQ(along.status, NavigationStatus::kOptimizerFailed);
+  const std::optional<common::Trajectory> expected = StopAlong(followed, start, config.fallback);
+  ASSERT_TRUE(expected.has_value());
+  EXPECT_EQ(along.optimized.trajectory.points().back().position_W,
+            expected->points().back().position_W);
+  // without the followed trajectory: the arc, which ends closer to the wall
+  const NavigationPlan arc = dut.Plan(map, start, {5.0, 0.0}, {});
+  ASSERT_EQ(arc.fallback, Fallback::kStop);
+  EXPECT_NEAR(arc.optimized.trajectory.points().back().yaw, 0.6, 1e-12);
+  const CostField field(map, config.SearchConfig());
+  const std::vector<Eigen::Vector2d> body = config.footprint.BoundaryPoints_B(0.1);
+  EXPECT_GT(SmallestGap(field, along.optimized.trajectory, body), 0.15);
+  EXPECT_LT(SmallestGap(field, arc.optimized.trajectory, body), 0.08);
 }
 
 }  // namespace

@@ -1,10 +1,13 @@
 #pragma once
 
+#include <cmath>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
 #include "common/grid.h"
+#include "common/trajectory.h"
 
 namespace trav::planner::test_util {
 
@@ -17,6 +20,29 @@ void Paint(common::GridLayers* map, float value, Inside inside) {
       if (inside(g.CellCenter(ix, iy))) map->Layer("traversability")(ix, iy) = value;
     }
   }
+}
+
+// A drive from (0, 0) heading +x at `v_m_s` from t0_s for `duration_s`, sampled every 0.01 s: at
+// yaw rate `turn_rad_s` over its first `turn_m` metres, then straight (the midpoint rule at
+// 1 ms).
+inline common::Trajectory TurnThenStraight(double t0_s, double v_m_s, double turn_m,
+                                           double turn_rad_s, double duration_s) {
+  std::vector<common::TrajectoryPoint> points;
+  common::TrajectoryPoint p;
+  p.t_s = t0_s;
+  p.v = v_m_s;
+  double travelled_m = 0.0;
+  const int steps = static_cast<int>(std::lround(duration_s / 1e-3));
+  for (int k = 0; k <= steps; ++k) {
+    p.omega = travelled_m < turn_m ? turn_rad_s : 0.0;
+    if (k % 10 == 0) points.push_back(p);
+    const double mid_yaw = p.yaw + 0.5e-3 * p.omega;
+    p.position_W += 1e-3 * v_m_s * Eigen::Vector2d(std::cos(mid_yaw), std::sin(mid_yaw));
+    p.yaw += 1e-3 * p.omega;
+    p.t_s = t0_s + (k + 1) * 1e-3;
+    travelled_m += 1e-3 * v_m_s;
+  }
+  return common::Trajectory(std::move(points));
 }
 
 }  // namespace trav::planner::test_util
