@@ -353,6 +353,12 @@ CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf
                    : Eigen::MatrixXd::Constant(nx, ny, std::numeric_limits<double>::quiet_NaN());
 }
 
+std::vector<Eigen::Vector2d> BodyPoints_B(const common::Footprint& footprint, double resolution_m,
+                                          double clearance_m) {
+  return footprint.BoundaryPoints_B(
+      std::min(resolution_m, std::max(0.5 * clearance_m, 0.25 * resolution_m)));
+}
+
 double FootprintDistance(const CostField& field, const Eigen::Vector2d& position_W, double yaw,
                          const std::vector<Eigen::Vector2d>& body_points_B) {
   const Eigen::Rotation2Dd R_WB(yaw);

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 
+#include "common/footprint.h"
 #include "common/grid.h"
 #include "planner/cost_map.h"
 
@@ -93,8 +94,16 @@ class CostField {
   double open_speed_m_s_{0.0};
 };
 
+/// The footprint's boundary points in B (common::Footprint::BoundaryPoints_B) at which the planners
+/// measure its distance to lethal cells on a field of `resolution_m` cells, keeping `clearance_m`:
+/// at most a cell apart (no lethal cell fits between two of them) and at most half the clearance,
+/// since an obstacle's box may end anywhere within its cell (a box's corner between two points
+/// lies within a quarter of the clearance of one), but not closer than a quarter of a cell.
+std::vector<Eigen::Vector2d> BodyPoints_B(const common::Footprint& footprint, double resolution_m,
+                                          double clearance_m);
+
 /// The smallest signed distance to lethal cells (CostField::Distance) of the robot's body points
-/// `body_points_B` (common::Footprint::BoundaryPoints_B) with its base at position_W and heading
+/// `body_points_B` (BodyPoints_B) with its base at position_W and heading
 /// `yaw` [m]; infinity without points.
 double FootprintDistance(const CostField& field, const Eigen::Vector2d& position_W, double yaw,
                          const std::vector<Eigen::Vector2d>& body_points_B);

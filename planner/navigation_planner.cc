@@ -215,11 +215,12 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
                                  const common::Trajectory* followed, NavigationPlan* plan) {
   const CostField& field = costs.field();
   const double resolution_m = field.geometry().resolution_m;
-  const std::vector<Eigen::Vector2d> body_B = config_.footprint.BoundaryPoints_B(resolution_m);
   // the manoeuvres keep the desired clearance, not the smallest: they are slow and taken without
   // optimisation, the map may show less of an obstacle than there is, and a turn sweeps the
   // corners
   const double clearance_m = config_.optimizer.clearance_m;
+  const std::vector<Eigen::Vector2d> body_B =
+      BodyPoints_B(config_.footprint, resolution_m, clearance_m);
   const OptimizationDiagnostics failed = plan->optimized.diagnostics;
   auto take = [&](common::Trajectory trajectory, Fallback fallback) {
     plan->optimized = OptimizedTrajectory{};

@@ -415,8 +415,8 @@ OptimizedTrajectory TrajectoryOptimizer::Optimize(const CostField& field,
   TrajectoryCostSetup setup;
   setup.limits = config_.limits;
   setup.weights = config_.weights;
-  // body points at most a cell apart: no lethal cell fits between two of them
-  setup.body_points_B = config_.footprint.BoundaryPoints_B(field.geometry().resolution_m);
+  setup.body_points_B =
+      BodyPoints_B(config_.footprint, field.geometry().resolution_m, config_.clearance_m);
   setup.body_reach_m = config_.footprint.CircumscribedRadius();
   // DDR-opt's rule for ends near lethal cells: the clearance shrinks to 85 % of the smaller gap
   // of the start and the goal, so that neither end violates it (the goal's yaw is free: its gap

@@ -203,7 +203,7 @@ std::optional<common::Trajectory> Navigator::BackOff(const common::RobotState& s
   const CostMap& costs = CostMapOf(map);
   const NavigationPlannerConfig& config = planner_.config();
   const std::vector<Eigen::Vector2d> body_B =
-      config.footprint.BoundaryPoints_B(costs.geometry().resolution_m);
+      BodyPoints_B(config.footprint, costs.geometry().resolution_m, config.optimizer.clearance_m);
   for (const double length : kBackOffDistances_m) {
     common::Trajectory candidate =
         CreepAlong(start, {start.position_W, start.position_W - length * forward_W}, true, drive);
@@ -247,7 +247,7 @@ std::optional<common::Trajectory> Navigator::GiveWay(const common::RobotState& s
   const NavigationPlannerConfig& config = planner_.config();
   const CostMap& costs = CostMapOf(map);
   const std::vector<Eigen::Vector2d> body_B =
-      config.footprint.BoundaryPoints_B(costs.geometry().resolution_m);
+      BodyPoints_B(config.footprint, costs.geometry().resolution_m, config.optimizer.clearance_m);
   std::optional<common::Trajectory> best;
   double best_gap = standing + kGiveWayGain_m;
   for (const double sign : {-1.0, 1.0}) {
@@ -386,9 +386,10 @@ bool Navigator::WayKeepsClear(double from_s, double to_s, const CostMap& costs) 
   for (double t = from_s; t <= to_s; t += kCheckStep_s) {
     ahead.push_back(trajectory_.Sample(t));
   }
-  return KeepsClear(costs.field(), common::Trajectory(std::move(ahead)),
-                    config.footprint.BoundaryPoints_B(costs.geometry().resolution_m),
-                    config.optimizer.clearance_m);
+  return KeepsClear(
+      costs.field(), common::Trajectory(std::move(ahead)),
+      BodyPoints_B(config.footprint, costs.geometry().resolution_m, config.optimizer.clearance_m),
+      config.optimizer.clearance_m);
 }
 
 const CostMap& Navigator::CostMapOf(const common::GridLayers& map) {

@@ -1,5 +1,6 @@
 #include "planner/cost_field.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -7,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/footprint.h"
 #include "common/random.h"
 
 namespace trav::planner {
@@ -310,6 +312,54 @@ TEST(CostFieldTest, NearLethalCellsTheElevationIsTheSurroundingGroundsNotTheObst
   EXPECT_TRUE(std::isnan(field.Elevation(g.CellCenter(unknown.x(), unknown.y())).value));
   // with the limits off (89 deg) no elevation is read
   EXPECT_TRUE(std::isnan(CostField(map, CostMapConfig{}).Elevation({3.05, 2.05}).value));
+}
+
+TEST(BodyPointsTest, KeepNeighboursWithinACellAndHalfTheClearanceButAQuarterCellApart) {
+  const common::Footprint footprint;
+  auto largest_spacing = [](const std::vector<Eigen::Vector2d>& points) {
+    double largest = 0.0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      largest = std::max(largest, (points[(i + 1) % points.size()] - points[i]).norm());
+    }
+    return largest;
+  };
+  // 0.2 m cells: half the 0.15 m clearance; the 0.6 m clearance: the cell; none: a quarter cell
+  EXPECT_LE(largest_spacing(BodyPoints_B(footprint, 0.2, 0.15)), 0.075);
+  EXPECT_GT(largest_spacing(BodyPoints_B(footprint, 0.2, 0.15)), 0.06);
+  EXPECT_EQ(BodyPoints_B(footprint, 0.2, 0.6), footprint.BoundaryPoints_B(0.2));
+  EXPECT_EQ(BodyPoints_B(footprint, 0.2, 0.0), footprint.BoundaryPoints_B(0.05));
+}
+
+// A post whose box (2 x 2 cm, in a 0.2 m cell) ends 1.5 cm from the robot's side, half way between
+// two of the points a cell apart: those read it over 6 cm farther than it is; the body points for
+// the 0.15 m clearance within a quarter of the clearance.
+TEST(BodyPointsTest, SeeABoxsCornerBetweenPointsACellApart) {
+  const std::vector<std::string> extent_layers{"face_x_low", "face_x_high", "face_y_low",
+                                               "face_y_high"};
+  std::vector<std::string> layers = extent_layers;
+  layers.push_back("traversability");
+  common::GridLayers map(
+      common::GridGeometry::Centered(Eigen::Vector2d(0.1, 0.1), Eigen::Vector2d(4, 4), 0.2),
+      layers);
+  map.Layer("traversability").setConstant(0.1f);
+  for (const std::string& layer : extent_layers) {
+    map.Layer(layer).setConstant(std::numeric_limits<float>::quiet_NaN());
+  }
+  // the cell centred at (0.1, 0.3): the post at x in [0.07, 0.09], y in [0.30, 0.32]
+  const Eigen::Vector2i cell = *map.geometry().CellIndex({0.1, 0.3});
+  map.Layer("traversability")(cell.x(), cell.y()) = 1.0f;
+  map.Layer("face_x_low")(cell.x(), cell.y()) = -0.03f;
+  map.Layer("face_x_high")(cell.x(), cell.y()) = -0.01f;
+  map.Layer("face_y_low")(cell.x(), cell.y()) = 0.0f;
+  map.Layer("face_y_high")(cell.x(), cell.y()) = 0.02f;
+  CostMapConfig config;
+  config.obstacle_extents = true;
+  const CostField field(map, config);
+  const common::Footprint footprint;  // the left side at y = 0.285, from x = -0.313 to 0.313
+  const double coarse = FootprintDistance(field, {0, 0}, 0.0, footprint.BoundaryPoints_B(0.2));
+  const double fine = FootprintDistance(field, {0, 0}, 0.0, BodyPoints_B(footprint, 0.2, 0.15));
+  EXPECT_GT(coarse, 0.015 + 0.06);
+  EXPECT_LT(fine, 0.015 + 0.15 / 4);
 }
 
 TEST(MinimumWithinDiscTest, EqualsTheBruteForceMinimumOverTheDisc) {
