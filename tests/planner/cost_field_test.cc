@@ -1,6 +1,7 @@
 #include "planner/cost_field.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -13,6 +14,20 @@
 
 namespace trav::planner {
 namespace {
+
+// A 4 x 4 m map at 0.2 m centred on `centre_W`: its traversability layer and the four layers of the
+// obstacles' boxes within their cells (CellExtents), NaN (whole cells) everywhere.
+common::GridLayers MapWithBoxes(const Eigen::Vector2d& centre_W) {
+  const std::array<std::string, 4> extent_layers = CostMapConfig{}.extent_layers;
+  std::vector<std::string> layers(extent_layers.begin(), extent_layers.end());
+  layers.push_back("traversability");
+  common::GridLayers map(common::GridGeometry::Centered(centre_W, Eigen::Vector2d(4, 4), 0.2),
+                         layers);
+  for (const std::string& layer : extent_layers) {
+    map.Layer(layer).setConstant(std::numeric_limits<float>::quiet_NaN());
+  }
+  return map;
+}
 
 using Mask = Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>;
 
@@ -140,16 +155,8 @@ TEST(ObstacleDistanceTest, EqualsTheBruteForceDistanceToTheObstaclesWithinTheRea
 // 0.65, the last 5 cm of the cells centred at x = -0.6 and 0.6. Whole cells leave the door 1 m
 // wide; the jambs' boxes leave it its 1.3 m.
 TEST(CostFieldTest, AJambsBoxLeavesTheDoorItsWidthAndTheSearchPassesWhereWholeCellsBlock) {
-  const std::vector<std::string> extent_layers{"face_x_low", "face_x_high", "face_y_low",
-                                               "face_y_high"};
-  std::vector<std::string> layers = extent_layers;
-  layers.push_back("traversability");
-  common::GridLayers map(
-      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(4, 4), 0.2), layers);
+  common::GridLayers map = MapWithBoxes(Eigen::Vector2d::Zero());
   const common::GridGeometry& g = map.geometry();
-  for (const std::string& layer : extent_layers) {
-    map.Layer(layer).setConstant(std::numeric_limits<float>::quiet_NaN());
-  }
   for (int ix = 0; ix < g.num_x; ++ix) {
     for (int iy = 0; iy < g.num_y; ++iy) {
       const Eigen::Vector2d c = g.CellCenter(ix, iy);
@@ -334,17 +341,8 @@ TEST(BodyPointsTest, KeepNeighboursWithinACellAndHalfTheClearanceButAQuarterCell
 // two of the points a cell apart: those read it over 6 cm farther than it is; the body points for
 // the 0.15 m clearance within a quarter of the clearance.
 TEST(BodyPointsTest, SeeABoxsCornerBetweenPointsACellApart) {
-  const std::vector<std::string> extent_layers{"face_x_low", "face_x_high", "face_y_low",
-                                               "face_y_high"};
-  std::vector<std::string> layers = extent_layers;
-  layers.push_back("traversability");
-  common::GridLayers map(
-      common::GridGeometry::Centered(Eigen::Vector2d(0.1, 0.1), Eigen::Vector2d(4, 4), 0.2),
-      layers);
+  common::GridLayers map = MapWithBoxes(Eigen::Vector2d(0.1, 0.1));
   map.Layer("traversability").setConstant(0.1f);
-  for (const std::string& layer : extent_layers) {
-    map.Layer(layer).setConstant(std::numeric_limits<float>::quiet_NaN());
-  }
   // the cell centred at (0.1, 0.3): the post at x in [0.07, 0.09], y in [0.30, 0.32]
   const Eigen::Vector2i cell = *map.geometry().CellIndex({0.1, 0.3});
   map.Layer("traversability")(cell.x(), cell.y()) = 1.0f;
