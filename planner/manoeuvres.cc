@@ -186,6 +186,20 @@ common::Trajectory TurnInPlace(const common::TrajectoryPoint& start, double yaw,
   return common::Trajectory(std::move(points));
 }
 
+common::Trajectory SaferStop(const CostField& field, const common::TrajectoryPoint& start,
+                             const common::Trajectory* followed,
+                             const std::vector<Eigen::Vector2d>& body_points_B,
+                             const FallbackConfig& config) {
+  common::Trajectory stop = StopFrom(start, config);
+  if (followed == nullptr) return stop;
+  std::optional<common::Trajectory> along = StopAlong(*followed, start, config);
+  if (along &&
+      SmallestGap(field, *along, body_points_B) > SmallestGap(field, stop, body_points_B)) {
+    return std::move(*along);
+  }
+  return stop;
+}
+
 double SmallestGap(const CostField& field, const common::Trajectory& trajectory,
                    const std::vector<Eigen::Vector2d>& body_points_B) {
   double smallest = std::numeric_limits<double>::infinity();

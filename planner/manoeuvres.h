@@ -57,6 +57,13 @@ std::optional<common::Trajectory> StopAlong(const common::Trajectory& path,
                                             const common::TrajectoryPoint& start,
                                             const FallbackConfig& config);
 
+/// StopFrom `start`, or StopAlong `followed` (unless null) where that keeps the footprint's body
+/// points farther from lethal cells (SmallestGap).
+common::Trajectory SaferStop(const CostField& field, const common::TrajectoryPoint& start,
+                             const common::Trajectory* followed,
+                             const std::vector<Eigen::Vector2d>& body_points_B,
+                             const FallbackConfig& config);
+
 /// The smallest distance of the footprint's body points to lethal cells over the trajectory's
 /// points (FootprintDistance) [m]; infinity without points.
 double SmallestGap(const CostField& field, const common::Trajectory& trajectory,

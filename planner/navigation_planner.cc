@@ -250,16 +250,9 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
   // go stops first, straight along its heading, and they are planned from rest at a later replan
   // (begun at speed, the robot ran on past their start and the tracker pulled it back while it
   // turned); along the trajectory it is on where that keeps its footprint farther from obstacles
-  // than the heading's arc (in a turn round a corner the arc cuts the corner)
+  // than the heading's arc (where the way turns or straightens ahead, the arc does not)
   if (std::abs(start.v) > config_.fallback.creep_speed_m_s) {
-    common::Trajectory stop = StopFrom(start, config_.fallback);
-    if (followed != nullptr) {
-      std::optional<common::Trajectory> along = StopAlong(*followed, start, config_.fallback);
-      if (along && SmallestGap(field, *along, body_B) > SmallestGap(field, stop, body_B)) {
-        stop = std::move(*along);
-      }
-    }
-    take(std::move(stop), Fallback::kStop);
+    take(SaferStop(field, start, followed, body_B, config_.fallback), Fallback::kStop);
     plan->status = NavigationStatus::kOptimizerFailed;  // it frees nothing and leads nowhere
     return;
   }
