@@ -221,10 +221,9 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
     const std::optional<Eigen::Vector2i> cell =
         g.CellIndex(points_W.col(i).head<2>().cast<double>());
     if (!cell) continue;
-    if (((*cell - low).array() < 0).any() || ((*cell - low).array() >= size.array()).any()) {
-      continue;
-    }
-    local = *cell - low;
+    const Eigen::Vector2i from_low = *cell - low;
+    if ((from_low.array() < 0).any() || (from_low.array() >= size.array()).any()) continue;
+    local = from_low;
     lowest(local.x(), local.y()) = std::min(lowest(local.x(), local.y()), points_W(2, i));
     highest(local.x(), local.y()) = std::max(highest(local.x(), local.y()), points_W(2, i));
   }

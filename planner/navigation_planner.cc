@@ -247,7 +247,7 @@ void NavigationPlanner::FallBack(const CostMap& costs, const common::TrajectoryP
     }
   }
   // 2. to 5. are slow manoeuvres that begin at rest where the robot is: a robot faster than they
-  // go stops first, straight along its heading, and they are planned from rest at a later replan
+  // go stops first, along its heading's arc, and they are planned from rest at a later replan
   // (begun at speed, the robot ran on past their start and the tracker pulled it back while it
   // turned); along the trajectory it is on where that keeps its footprint farther from obstacles
   // than the heading's arc (where the way turns or straightens ahead, the arc does not)

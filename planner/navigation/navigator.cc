@@ -202,8 +202,7 @@ std::optional<common::Trajectory> Navigator::BackOff(const common::RobotState& s
   const FallbackConfig drive = FreeDriveConfig();
   const CostMap& costs = CostMapOf(map);
   const NavigationPlannerConfig& config = planner_.config();
-  const std::vector<Eigen::Vector2d> body_B =
-      BodyPoints_B(config.footprint, costs.geometry().resolution_m, config.optimizer.clearance_m);
+  const std::vector<Eigen::Vector2d> body_B = BodyPointsOn(costs);
   for (const double length : kBackOffDistances_m) {
     common::Trajectory candidate =
         CreepAlong(start, {start.position_W, start.position_W - length * forward_W}, true, drive);
@@ -246,8 +245,7 @@ std::optional<common::Trajectory> Navigator::GiveWay(const common::RobotState& s
   const FallbackConfig drive = FreeDriveConfig();
   const NavigationPlannerConfig& config = planner_.config();
   const CostMap& costs = CostMapOf(map);
-  const std::vector<Eigen::Vector2d> body_B =
-      BodyPoints_B(config.footprint, costs.geometry().resolution_m, config.optimizer.clearance_m);
+  const std::vector<Eigen::Vector2d> body_B = BodyPointsOn(costs);
   std::optional<common::Trajectory> best;
   double best_gap = standing + kGiveWayGain_m;
   for (const double sign : {-1.0, 1.0}) {
@@ -386,10 +384,14 @@ bool Navigator::WayKeepsClear(double from_s, double to_s, const CostMap& costs) 
   for (double t = from_s; t <= to_s; t += kCheckStep_s) {
     ahead.push_back(trajectory_.Sample(t));
   }
-  return KeepsClear(
-      costs.field(), common::Trajectory(std::move(ahead)),
-      BodyPoints_B(config.footprint, costs.geometry().resolution_m, config.optimizer.clearance_m),
-      config.optimizer.clearance_m);
+  return KeepsClear(costs.field(), common::Trajectory(std::move(ahead)), BodyPointsOn(costs),
+                    config.optimizer.clearance_m);
+}
+
+std::vector<Eigen::Vector2d> Navigator::BodyPointsOn(const CostMap& costs) const {
+  const NavigationPlannerConfig& config = planner_.config();
+  return BodyPoints_B(config.footprint, costs.geometry().resolution_m,
+                      config.optimizer.clearance_m);
 }
 
 const CostMap& Navigator::CostMapOf(const common::GridLayers& map) {

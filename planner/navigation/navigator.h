@@ -191,6 +191,9 @@ class Navigator {
   bool WayKeepsClear(double from_s, double to_s, const CostMap& costs) const;
   // The costs of the map, built on first use after each map update.
   const CostMap& CostMapOf(const common::GridLayers& map);
+  // The footprint's body points for clearance checks on `costs` (BodyPoints_B with the
+  // optimiser's clearance).
+  std::vector<Eigen::Vector2d> BodyPointsOn(const CostMap& costs) const;
 
   NavigationSettings settings_;
   NavigationPlanner planner_;
