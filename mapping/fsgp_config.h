@@ -108,7 +108,8 @@ struct MapArea {
   /// shown since for longer than this, is forgotten (its obstacle unknown again) [s]: the points of
   /// a walker the tracker missed would otherwise stay lethal where the ground is never seen free
   /// again. A face shown for longer is the world's (a wall the robot holds in its blind zone while
-  /// it turns). 0: faces are never forgotten.
+  /// it turns), and so is one beside such a face or beside a face shown after it (a wall's end,
+  /// seen from close by only, continues the wall). 0: faces are never forgotten.
   double obstacle_memory_s{2.0};
   /// A face that points showed for `obstacle_memory_s` or longer (the world's) is cleared only by
   /// points that show the cell free for this long without a face between [s]: a wall's face

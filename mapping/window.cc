@@ -102,11 +102,30 @@ struct FaceHistory {
   void Forget(int ix, int iy) { obstacle(ix, iy) = kNaN; }
 
   // True if cell (ix, iy), unseen at t_s, holds a face to forget (`area.obstacle_memory_s` > 0):
-  // one shown for less than the memory, and not shown for longer than that since.
+  // one shown for less than the memory, and not shown for longer than that since, beside no face
+  // that lasts or that was shown after it. The end of a wall seen along its length shows free
+  // ground from afar and its face only from close by, for well under the memory, then lies in the
+  // blind zone; the wall's faces beside it are shown after it or last (`hard/low_wall` at LiDAR
+  // seeds 21 and 37 forgot such an end and drove into it). A walker's trail of faces is forgotten
+  // from its newest cell back, a cell per frame.
   bool Forgettable(int ix, int iy, double t_s, const MapArea& area) const {
     return obstacle(ix, iy) == 1.0f && area.obstacle_memory_s > 0.0 &&
            t_s - seen_s(ix, iy) > area.obstacle_memory_s &&
-           !Lasting(ix, iy, area.obstacle_memory_s);
+           !Lasting(ix, iy, area.obstacle_memory_s) &&
+           !BesideAFaceThatOutlastsIt(ix, iy, area.obstacle_memory_s);
+  }
+
+  // True if a side or diagonal neighbour of cell (ix, iy) holds a face that lasts or that points
+  // showed after the cell's.
+  bool BesideAFaceThatOutlastsIt(int ix, int iy, double memory_s) const {
+    for (int jx = std::max(0, ix - 1); jx <= std::min<int>(obstacle.rows() - 1, ix + 1); ++jx) {
+      for (int jy = std::max(0, iy - 1); jy <= std::min<int>(obstacle.cols() - 1, iy + 1); ++jy) {
+        if ((jx != ix || jy != iy) && obstacle(jx, jy) == 1.0f &&
+            (Lasting(jx, jy, memory_s) || seen_s(jx, jy) > seen_s(ix, iy)))
+          return true;
+      }
+    }
+    return false;
   }
 
   Eigen::MatrixXf& obstacle;      // 1 face, 0 free, NaN unknown

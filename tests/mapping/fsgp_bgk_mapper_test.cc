@@ -761,6 +761,39 @@ TEST(FsgpBgkMapperTest, AFaceShownForLongerThanTheMemoryIsNotForgottenInTheBlind
   EXPECT_FALSE(dut.map().At(layers::kObstacle, walker_W).has_value());
 }
 
+TEST(FsgpBgkMapperTest, AWallsEndShownBrieflyStaysBesideTheWallWhileAWalkersTrailIsForgotten) {
+  // a wall of two columns 1 m ahead shows its faces from 0 to 2 s; its end, a column beside them,
+  // only at 1.5 and 2 s (seen along the wall from close by); a walker stands 1.3 m to the right at
+  // 0.5 s and 1.9 m at 1 s (the ground where it stood first then hidden), apart from the wall. Then
+  // no point shows any of them (the blind zone): the walker's trail is forgotten, its newest faces
+  // first, the wall's end stays with the wall
+  FsgpBgkMapper dut(FsgpConfig{});
+  const Eigen::Vector2d wall_W(1.1, 0.1), end_W(1.1, -0.3);  // cell centres
+  const Eigen::Vector2d walker_first_W(1.1, -1.3), walker_then_W(1.1, -1.9);
+  for (const double t : {0.0, 0.5, 1.0, 1.5, 2.0}) {
+    std::vector<Eigen::Vector2d> columns{wall_W, {1.1, 0.5}};
+    if (t >= 1.5) columns.push_back(end_W);
+    if (t == 0.5) columns.push_back(walker_first_W);
+    if (t == 1.0) columns.push_back(walker_then_W);
+    const Eigen::Vector2d hidden = t >= 1.0 ? walker_first_W : Eigen::Vector2d(100, 100);
+    ASSERT_EQ(dut.Update(GroundAndColumns(0.0, columns, hidden), RobotAt(0, 0), t).status,
+              MapUpdateStatus::kUpdated);
+  }
+  EXPECT_EQ(*dut.map().At(layers::kObstacleSince, end_W), 1.5f);
+  EXPECT_EQ(*dut.map().At(layers::kObstacleSeen, walker_first_W), 0.5f);
+  EXPECT_EQ(*dut.map().At(layers::kObstacleSeen, walker_then_W), 1.0f);
+  const common::PointCloud blind = GroundAndColumns(2.6, {});
+  ASSERT_EQ(dut.Update(blind, RobotAt(0, 0), 3.05).status, MapUpdateStatus::kUpdated);
+  EXPECT_FALSE(dut.map().At(layers::kObstacle, walker_then_W).has_value());
+  for (const double t : {3.15, 12.0}) {
+    ASSERT_EQ(dut.Update(blind, RobotAt(0, 0), t).status, MapUpdateStatus::kUpdated);
+  }
+  EXPECT_FALSE(dut.map().At(layers::kObstacle, walker_first_W).has_value());
+  EXPECT_EQ(*dut.map().At(layers::kObstacle, end_W), 1.0f);
+  EXPECT_EQ(*dut.map().At(layers::kTraversability, end_W), 1.0f);
+  EXPECT_EQ(*dut.map().At(layers::kObstacle, wall_W), 1.0f);
+}
+
 TEST(FsgpBgkMapperTest, AFaceShownForLongerThanTheMemoryClearsOnlyOnceSeenFreeForTheClearTime) {
   // a column 3 m ahead (beyond the blind zone) shows its face from 0 to 2 s, one 3 m to the side
   // from 1.5 to 2 s; then both are gone and the ground shows: the short-lived face clears at the

@@ -97,14 +97,15 @@ INSTANTIATE_TEST_SUITE_P(
                      testing::Range(1, 4)),
     TestName);
 #else
-// On `hard/curb` at LiDAR seed 2 the robot meets the curb at 1.05 m/s, its front wheels climb, and
+// On `hard/curb` at LiDAR seed 10 the robot meets the curb at 1.07 m/s, its front wheels climb, and
 // its rear wheels stall against the face; it rocks there at a few centimetres per second. It backs
 // off for a run-up and climbs the curb at its next attempt (docs/navigation.md); before, it pushed
-// at the curb until the run ended as stuck.
+// at the curb until the run ended as stuck. (Which seeds stall moves with any change to the
+// trajectory: 2 of the 24 seeds 1 to 24 do, 10 and 22.)
 TEST(StallTest, ARobotStalledAtACurbBacksOffAndClimbsItAtTheNextAttempt) {
   Scenario scenario = LoadScenario(
       common::YamlDocument::Load(std::string(TRAV_SOURCE_DIR) + "/scenarios/hard/curb.yaml"));
-  scenario.lidar.seed = 2;
+  scenario.lidar.seed = 10;
   const fs::path out = fs::temp_directory_path() / ("trav_hard_stall_" + std::to_string(getpid()));
   fs::create_directories(out);
   const RunSummary summary =
