@@ -101,7 +101,10 @@ void MpcHorizon::Jacobian(const double* u, double* jacobian) const {
   const double lag = LagFactor(c);
   const double h = c.step_s;
   // the rollout's achieved speeds and midpoint yaws, on which every sensitivity below depends
-  std::vector<double> speed(static_cast<std::size_t>(n)), mid_yaw(static_cast<std::size_t>(n));
+  std::vector<double>& speed = speed_;
+  std::vector<double>& mid_yaw = mid_yaw_;
+  speed.resize(static_cast<std::size_t>(n));
+  mid_yaw.resize(static_cast<std::size_t>(n));
   RolloutState s = Start(*this);
   for (int k = 0; k < n; ++k) {
     Step(h, lag, u + 2 * k, &s);

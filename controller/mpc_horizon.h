@@ -1,5 +1,7 @@
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "controller/mpc.h"
@@ -16,7 +18,8 @@ namespace trav::controller {
 /// deviation from reference_inputs(j, k), its rate against the step before (the first against
 /// previous_command over one control period), and the smooth excess of that rate over the
 /// acceleration limit, kRateLimitWeight (sqrt(rate^2 + 1e-6) - limit) where positive.
-struct MpcHorizon {
+class MpcHorizon {
+ public:
   /// Residuals per step: x, y, yaw; then per input its deviation, rate and rate-limit excess.
   static constexpr int kResidualsPerStep = 9;
   /// Weight of the rate-limit excess (per unit of acceleration beyond the limit).
@@ -44,6 +47,11 @@ struct MpcHorizon {
   /// the forward sensitivities of the rollout, O(N^2), where automatic differentiation would
   /// carry a derivative per input through every step.
   void Jacobian(const double* u, double* jacobian) const;
+
+ private:
+  // The rollout's achieved speeds and midpoint yaws per step, which Jacobian reads: storage kept
+  // between calls (no allocation per evaluation once sized), so one horizon serves one thread.
+  mutable std::vector<double> speed_, mid_yaw_;
 };
 
 }  // namespace trav::controller
