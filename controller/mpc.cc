@@ -50,7 +50,7 @@ struct MpcController::Problem {
 
 namespace {
 
-// The horizon's residuals with their Jacobian in closed form (MpcHorizon::Jacobian): about a tenth
+// The horizon's residuals with their Jacobian in closed form (MpcHorizon::Evaluate): about a tenth
 // of a solve less than Ceres's automatic differentiation over the rollout (controller_benchmark).
 class HorizonCost : public ceres::CostFunction {
  public:
@@ -61,9 +61,7 @@ class HorizonCost : public ceres::CostFunction {
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
-    horizon_->Residuals(parameters[0], residuals);
-    if (jacobians != nullptr && jacobians[0] != nullptr)
-      horizon_->Jacobian(parameters[0], jacobians[0]);
+    horizon_->Evaluate(parameters[0], residuals, jacobians != nullptr ? jacobians[0] : nullptr);
     return true;
   }
 

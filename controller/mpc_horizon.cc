@@ -63,16 +63,21 @@ Eigen::Matrix3Xd MpcHorizon::States(const double* u) const {
   return states_W;
 }
 
-void MpcHorizon::Residuals(const double* u, double* residuals) const {
+void MpcHorizon::Evaluate(const double* u, double* residuals, double* jacobian) const {
   const MpcConfig& c = *config;
   const Eigen::Vector3d q = c.state_weights.cwiseSqrt();
   const Eigen::Vector2d r = c.input_weights.cwiseSqrt();
   const Eigen::Vector2d rd = c.rate_weights.cwiseSqrt();
   const double lag = LagFactor(c);
+  // the rollout's achieved speeds and midpoint yaws, on which every sensitivity depends
+  speed_.resize(static_cast<std::size_t>(c.horizon));
+  mid_yaw_.resize(static_cast<std::size_t>(c.horizon));
   RolloutState s = Start(*this);
   double* out = residuals;
   for (int k = 0; k < c.horizon; ++k) {
     Step(c.step_s, lag, u + 2 * k, &s);
+    speed_[static_cast<std::size_t>(k)] = s.achieved[0];
+    mid_yaw_[static_cast<std::size_t>(k)] = s.mid_yaw;
     *out++ = q[0] * (s.x - reference_states_W(0, k));
     *out++ = q[1] * (s.y - reference_states_W(1, k));
     *out++ = q[2] * (s.yaw - reference_states_W(2, k));
@@ -85,9 +90,10 @@ void MpcHorizon::Residuals(const double* u, double* residuals) const {
       *out++ = magnitude > limit ? kRateLimitWeight * (magnitude - limit) : 0.0;
     }
   }
+  if (jacobian != nullptr) JacobianOfRollout(u, jacobian);
 }
 
-void MpcHorizon::Jacobian(const double* u, double* jacobian) const {
+void MpcHorizon::JacobianOfRollout(const double* u, double* jacobian) const {
   const MpcConfig& c = *config;
   const int n = c.horizon;
   const int cols = NumInputs();
@@ -100,17 +106,8 @@ void MpcHorizon::Jacobian(const double* u, double* jacobian) const {
   const Eigen::Vector2d rd = c.rate_weights.cwiseSqrt();
   const double lag = LagFactor(c);
   const double h = c.step_s;
-  // the rollout's achieved speeds and midpoint yaws, on which every sensitivity below depends
-  std::vector<double>& speed = speed_;
-  std::vector<double>& mid_yaw = mid_yaw_;
-  speed.resize(static_cast<std::size_t>(n));
-  mid_yaw.resize(static_cast<std::size_t>(n));
-  RolloutState s = Start(*this);
-  for (int k = 0; k < n; ++k) {
-    Step(h, lag, u + 2 * k, &s);
-    speed[static_cast<std::size_t>(k)] = s.achieved[0];
-    mid_yaw[static_cast<std::size_t>(k)] = s.mid_yaw;
-  }
+  const std::vector<double>& speed = speed_;
+  const std::vector<double>& mid_yaw = mid_yaw_;
   for (int j = 0; j < n; ++j) {
     // the speed command of step j moves the achieved speed of steps k >= j by lag (1 - lag)^(k-j)
     double d_speed = lag, dx = 0.0, dy = 0.0;

@@ -40,17 +40,18 @@ class MpcHorizon {
   /// The states (x, y, yaw in W) after each step under inputs `u` (NumInputs values), 3 x N.
   Eigen::Matrix3Xd States(const double* u) const;
 
-  /// Writes the NumResiduals residuals under inputs `u` (NumInputs values).
-  void Residuals(const double* u, double* residuals) const;
-
-  /// Writes d residuals / d u at `u`, row-major (NumResiduals rows of NumInputs), in closed form:
-  /// the forward sensitivities of the rollout, O(N^2), where automatic differentiation would
-  /// carry a derivative per input through every step.
-  void Jacobian(const double* u, double* jacobian) const;
+  /// Writes the NumResiduals residuals under inputs `u` (NumInputs values) and, unless
+  /// `jacobian` is null, d residuals / d u there, row-major (NumResiduals rows of NumInputs), in
+  /// closed form: the forward sensitivities of the same rollout, O(N^2), where automatic
+  /// differentiation would carry a derivative per input through every step.
+  void Evaluate(const double* u, double* residuals, double* jacobian = nullptr) const;
 
  private:
-  // The rollout's achieved speeds and midpoint yaws per step, which Jacobian reads: storage kept
-  // between calls (no allocation per evaluation once sized), so one horizon serves one thread.
+  // Writes the Jacobian at `u` from the rollout Evaluate has just stepped (speed_, mid_yaw_).
+  void JacobianOfRollout(const double* u, double* jacobian) const;
+
+  // The rollout's achieved speeds and midpoint yaws per step: storage kept between calls (no
+  // allocation per evaluation once sized), so one horizon serves one thread.
   mutable std::vector<double> speed_, mid_yaw_;
 };
 

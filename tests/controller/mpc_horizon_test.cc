@@ -50,7 +50,7 @@ Case MakeCase(std::uint64_t seed, double actuator_time_constant_s) {
 
 std::vector<double> Residuals(const MpcHorizon& h, const std::vector<double>& u) {
   std::vector<double> r(static_cast<std::size_t>(h.NumResiduals()));
-  h.Residuals(u.data(), r.data());
+  h.Evaluate(u.data(), r.data());
   return r;
 }
 
@@ -64,7 +64,9 @@ TEST(MpcHorizonTest, JacobianMatchesCentralDifferences) {
       const MpcHorizon& h = c.horizon;
       const int rows = h.NumResiduals(), cols = h.NumInputs();
       std::vector<double> jacobian(static_cast<std::size_t>(rows * cols));
-      h.Jacobian(c.inputs.data(), jacobian.data());
+      std::vector<double> residuals(static_cast<std::size_t>(rows));
+      h.Evaluate(c.inputs.data(), residuals.data(), jacobian.data());
+      EXPECT_EQ(residuals, Residuals(h, c.inputs));
       int active_limits = 0;
       constexpr double kStep = 1e-6;
       for (int col = 0; col < cols; ++col) {
