@@ -107,7 +107,8 @@ struct FaceHistory {
   // ground from afar and its face only from close by, for well under the memory, then lies in the
   // blind zone; the wall's faces beside it are shown after it or last (`hard/low_wall` at LiDAR
   // seeds 21 and 37 forgot such an end and drove into it). A walker's trail of faces is forgotten
-  // from its newest cell back, a cell per frame.
+  // once the faces shown after each of its cells are (in the same frame where the scan reaches
+  // them first, else in the next).
   bool Forgettable(int ix, int iy, double t_s, const MapArea& area) const {
     return obstacle(ix, iy) == 1.0f && area.obstacle_memory_s > 0.0 &&
            t_s - seen_s(ix, iy) > area.obstacle_memory_s &&

@@ -765,8 +765,8 @@ TEST(FsgpBgkMapperTest, AWallsEndShownBrieflyStaysBesideTheWallWhileAWalkersTrai
   // a wall of two columns 1 m ahead shows its faces from 0 to 2 s; its end, a column beside them,
   // only at 1.5 and 2 s (seen along the wall from close by); a walker stands 1.3 m to the right at
   // 0.5 s and 1.9 m at 1 s (the ground where it stood first then hidden), apart from the wall. Then
-  // no point shows any of them (the blind zone): the walker's trail is forgotten, its newest faces
-  // first, the wall's end stays with the wall
+  // no point shows any of them (the blind zone): the walker's trail is forgotten (its newest faces
+  // at once, the older ones once those are), the wall's end stays with the wall
   FsgpBgkMapper dut(FsgpConfig{});
   const Eigen::Vector2d wall_W(1.1, 0.1), end_W(1.1, -0.3);  // cell centres
   const Eigen::Vector2d walker_first_W(1.1, -1.3), walker_then_W(1.1, -1.9);
