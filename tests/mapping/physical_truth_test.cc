@@ -164,20 +164,36 @@ TEST(PhysicalTruthTest, ABoxTallerThanTheBellyClearanceBetweenTheWheelsIsNotTrav
 }
 
 TEST(PhysicalTruthTest, EachHeadingsLayerIsItsPose) {
+  // rolling ground with a 0.12 m step and a 0.2 m box: every limit in play somewhere
   const Eigen::MatrixXf ground = Sampled([](double x, double y) {
     return 0.1 * std::sin(3.0 * x) * std::cos(2.0 * y) + (x > 1.0 ? 0.12 : 0.0);
   });
-  const common::GridLayers truth = Truth(ground, kNoObstacles);
-  const RestingSurface surface{kWorld, ground, kWorld, kNoObstacles};
+  const Eigen::MatrixXf box = Sampled([](double x, double y) {
+    return std::abs(x + 1.0) < 0.3 && std::abs(y - 0.5) < 0.2 ? 0.2 : std::nan("");
+  });
+  const common::GridLayers truth = Truth(ground, box);
+  const RestingSurface surface{kWorld, ground, kWorld, box};
+  // every cell at every heading: the second half of the headings is looked up as the first half's
+  // mirror (ComputePhysicalTruth), the pose here directly
+  int known = 0;
   for (int k = 0; k < 16; ++k) {
-    for (const auto& [mx, my] : {std::pair{10, 12}, std::pair{18, 15}, std::pair{20, 9}}) {
-      const PoseAssessment pose =
-          AssessPose(surface, kMap.CellCenter(mx, my), 2.0 * M_PI * k / 16.0, RestingBody{},
-                     GroundTruthConfig{});
-      EXPECT_FLOAT_EQ(truth.Layer(HeadingLayer(k))(mx, my), static_cast<float>(pose.cost))
-          << "heading " << k << " cell " << mx << "," << my;
+    for (int mx = 0; mx < kMap.num_x; ++mx) {
+      for (int my = 0; my < kMap.num_y; ++my) {
+        const PoseAssessment pose =
+            AssessPose(surface, kMap.CellCenter(mx, my), 2.0 * M_PI * k / 16.0, RestingBody{},
+                       GroundTruthConfig{});
+        const float cost = truth.Layer(HeadingLayer(k))(mx, my);
+        if (!pose.known) {
+          EXPECT_TRUE(std::isnan(cost)) << "heading " << k << " cell " << mx << "," << my;
+          continue;
+        }
+        ++known;
+        EXPECT_FLOAT_EQ(cost, static_cast<float>(pose.cost))
+            << "heading " << k << " cell " << mx << "," << my;
+      }
     }
   }
+  EXPECT_EQ(known, 16 * 25 * 25);  // of 30 x 30 cells: the wheels reach 0.42 m from the centre
 }
 
 }  // namespace
