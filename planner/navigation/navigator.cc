@@ -30,22 +30,24 @@ constexpr double kStallSpeed_m_s = 0.3;
 constexpr double kStallTime_s = 1.0;
 constexpr double kStallDistance_m = 0.1 * kStallSpeed_m_s * kStallTime_s;
 // A stalled robot backs off straight along its heading by the longest of these distances [m] that
-// keeps the footprint clear, at the give-way speed, before it replans: a run-up for the next
+// keeps the footprint clear, at this speed [m/s], before it replans: a run-up for the next
 // attempt (a 0.12 m curb stalls the robot at 1 m/s, the planner's 1.5 m/s^2 needs 0.4 m to reach
 // the 1.1 m/s that climbs it, and at the stall the front wheels are about 0.36 m past the face:
 // the 0.451 m wheelbase less the rear wheel's 0.0875 m radius).
 constexpr double kBackOffDistances_m[] = {1.2, 0.8, 0.4};
+constexpr double kBackOffSpeed_m_s = 0.6;
 // Spacing of the samples of the safety and lethal-cell checks along the plan [s].
 constexpr double kCheckStep_s = 0.05;
 // Giving way: movers predicted this far ahead [s] that would come within this gap of the stopped
 // robot's disc [m] make it move; the drives are straight lines of these lengths [m] at this speed
 // [m/s], forward or backward, after a turn in place at this yaw rate [rad/s] by one of these
 // angles off the heading [rad] (a step aside), and one is taken only if it keeps at least this
-// much more room [m] than standing still.
+// much more room [m] than standing still. The speed is the MPC's default reverse limit and a
+// walker's pace: backing away at it, the robot is not caught by a walker walking at it.
 constexpr double kGiveWayHorizon_s = 2.0;
 constexpr double kGiveWayGap_m = 0.3;
-constexpr double kGiveWayDistances_m[] = {0.4, 0.8, 1.2};
-constexpr double kGiveWaySpeed_m_s = 0.6;
+constexpr double kGiveWayDistances_m[] = {0.4, 0.8, 1.2, 1.6};
+constexpr double kGiveWaySpeed_m_s = 1.0;
 constexpr double kGiveWayYawRate_rad_s = 1.5;
 constexpr double kGiveWayTurns_rad[] = {0.0, -M_PI / 4.0, M_PI / 4.0, -M_PI / 2.0, M_PI / 2.0};
 constexpr double kGiveWayGain_m = 0.1;
@@ -188,9 +190,9 @@ void Navigator::StartFreeDrive(common::Trajectory drive, double now_s) {
   force_replan_ = true;  // replan once the drive ends
 }
 
-FallbackConfig Navigator::FreeDriveConfig() const {
+FallbackConfig Navigator::FreeDriveConfig(double speed_m_s) const {
   FallbackConfig drive = planner_.config().fallback;
-  drive.creep_speed_m_s = kGiveWaySpeed_m_s;
+  drive.creep_speed_m_s = speed_m_s;
   drive.creep_yaw_rate_rad_s = kGiveWayYawRate_rad_s;
   return drive;
 }
@@ -199,7 +201,7 @@ std::optional<common::Trajectory> Navigator::BackOff(const common::RobotState& s
                                                      const common::GridLayers& map) {
   const common::TrajectoryPoint start = FreeDriveStart(state);
   const Eigen::Vector2d forward_W(std::cos(start.yaw), std::sin(start.yaw));
-  const FallbackConfig drive = FreeDriveConfig();
+  const FallbackConfig drive = FreeDriveConfig(kBackOffSpeed_m_s);
   const CostMap& costs = CostMapOf(map);
   const NavigationPlannerConfig& config = planner_.config();
   const std::vector<Eigen::Vector2d> body_B = BodyPointsOn(costs);
@@ -242,7 +244,7 @@ std::optional<common::Trajectory> Navigator::GiveWay(const common::RobotState& s
     return std::nullopt;
   }
   const common::TrajectoryPoint start = FreeDriveStart(state);
-  const FallbackConfig drive = FreeDriveConfig();
+  const FallbackConfig drive = FreeDriveConfig(kGiveWaySpeed_m_s);
   const NavigationPlannerConfig& config = planner_.config();
   const CostMap& costs = CostMapOf(map);
   const std::vector<Eigen::Vector2d> body_B = BodyPointsOn(costs);

@@ -184,8 +184,9 @@ class Navigator {
   // Starts following the freeing drive `drive` (give way, back off) at now_s: to its end, then
   // replan.
   void StartFreeDrive(common::Trajectory drive, double now_s);
-  // The manoeuvre settings of the freeing drives: the planner's, at the give-way speed and rate.
-  FallbackConfig FreeDriveConfig() const;
+  // The manoeuvre settings of the freeing drives: the planner's, at `speed_m_s` and the give-way
+  // yaw rate.
+  FallbackConfig FreeDriveConfig(double speed_m_s) const;
   // True if the footprint keeps min(optimizer.clearance, its gap at from_s) on `costs` along the
   // trajectory being followed from from_s to to_s (KeepsClear).
   bool WayKeepsClear(double from_s, double to_s, const CostMap& costs) const;

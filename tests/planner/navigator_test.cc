@@ -124,9 +124,16 @@ TEST(NavigatorTest, AStoppedRobotBacksAwayFromAMoverComingAtIt) {
   EXPECT_TRUE(tick.safety_stop);
   EXPECT_EQ(dut.statistics().give_ways, 1);
   EXPECT_LT(tick.command.v, 0.0);
-  // the drive is straight back, and followed to its end without replanning
-  EXPECT_LT(dut.trajectory().points().back().position_W.x(), -0.3);
-  EXPECT_NEAR(dut.trajectory().points().back().position_W.y(), 0.0, 1e-9);
+  // the drive is straight back, its longest (1.6 m), at the walker's pace: the walker does not
+  // close in while it lasts (at the 0.6 m/s of before, it closed 0.4 m every second)
+  const common::Trajectory& drive = dut.trajectory();
+  EXPECT_NEAR(drive.points().back().position_W.x(), -1.6, 1e-9);
+  EXPECT_NEAR(drive.points().back().position_W.y(), 0.0, 1e-9);
+  EXPECT_NEAR(drive.Sample(0.5).v, -1.0, 1e-12);
+  for (const common::TrajectoryPoint& p : drive.points()) {
+    EXPECT_GE((kWalkerAhead.PositionAt(p.t_s) - p.position_W).norm(), 1.5 - 1e-9) << p.t_s;
+  }
+  // followed to its end without replanning
   EXPECT_EQ(dut.Update(At(0.5, -0.2), &map, false, {kWalkerAhead}).replan,
             planner::ReplanReason::kNone);
   EXPECT_EQ(dut.statistics().plans, 1);
@@ -337,7 +344,7 @@ TEST(NavigatorTest, AStalledRobotBacksOffStraightForARunUpThenReplans) {
   const common::Trajectory drive = dut.trajectory();
   EXPECT_NEAR(drive.points().back().position_W.x(), stall.x_m - 1.2, 1e-9);
   EXPECT_NEAR(drive.points().back().position_W.y(), 0.0, 1e-9);
-  EXPECT_NEAR(drive.end_time() - *stall.back_off_s, 1.2 / 0.6, 0.02);  // at the give-way speed
+  EXPECT_NEAR(drive.end_time() - *stall.back_off_s, 1.2 / 0.6, 0.02);  // at the back-off speed
   // followed backward to its end without replanning (the command brakes from the stalled
   // forward one, then reverses), then the robot replans from where it is
   double slowest_command = 0.0;

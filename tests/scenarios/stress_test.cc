@@ -26,15 +26,14 @@ TEST(StressTest, LowDensityTrafficOnOpenGround) {
   const nlohmann::json results = nlohmann::json::parse(ReadFile(out / "results.json"));
   ASSERT_EQ(results.size(), 4u);
   // the outcome of each fixed seed, exactly: a change in navigation or traffic shows here first.
-  // With seed 1 a random walker walks at 1 m/s straight at the robot near the route's end, and
-  // the robot, backing away from it at 0.5 to 1 m/s, is hit at 29.7 s with two walkers and 29.9 s
-  // with four (`caused_by: mover`). Which seeds a walker reaches moves with any change to the
-  // trajectory: seed 1 passed before the MPC's Jacobian went closed form, and was hit before
-  // that (docs/stress.md).
+  // With seed 1 a random walker walks at 1 m/s straight at the robot near the route's end; the
+  // robot that gave way to it backing off at 0.6 m/s was hit (`caused_by: mover`), at the
+  // walker's pace it gets away and reaches the goal with two walkers and with four. Which seeds a
+  // walker reaches moves with any change to the trajectory (docs/stress.md).
   const std::map<std::string, std::string> expected = {
-      {"stress_open_mover_count-2_traffic.seed-1", "collision"},
+      {"stress_open_mover_count-2_traffic.seed-1", "success"},
       {"stress_open_mover_count-2_traffic.seed-2", "success"},
-      {"stress_open_mover_count-4_traffic.seed-1", "collision"},
+      {"stress_open_mover_count-4_traffic.seed-1", "success"},
       {"stress_open_mover_count-4_traffic.seed-2", "success"}};
   for (const nlohmann::json& row : results) {
     const std::string id = row.at("id").get<std::string>();
