@@ -43,7 +43,8 @@ constexpr double kCheckStep_s = 0.05;
 // [m/s], forward or backward, after a turn in place at this yaw rate [rad/s] by one of these
 // angles off the heading [rad] (a step aside), and one is taken only if it keeps at least this
 // much more room [m] than standing still. The speed is the MPC's default reverse limit and a
-// walker's pace: backing away at it, the robot is not caught by a walker walking at it.
+// walker's pace: backing away at it, the robot keeps pace with a walker walking at it (at 0.6 m/s
+// such a walker caught it: docs/stress.md).
 constexpr double kGiveWayHorizon_s = 2.0;
 constexpr double kGiveWayGap_m = 0.3;
 constexpr double kGiveWayDistances_m[] = {0.4, 0.8, 1.2, 1.6};
