@@ -262,16 +262,19 @@ common::GridLayers ComputePhysicalTruth(const common::GridGeometry& map_geometry
   const BodySamples samples(body);
   Eigen::MatrixXf& best = truth.Layer(layers::kTraversability);
   Eigen::MatrixXf& count = truth.Layer(kTraversableHeadings);
+  Eigen::MatrixXf& elevation = truth.Layer(layers::kElevation);
   // with an even number of headings, heading k + headings / 2 is heading k turned half a turn:
   // its samples are heading k's mirrored (BodySamples), so one set of lookups serves both, which
   // halves the truth's time (the lookups are most of it)
   const bool mirrored = config.headings % 2 == 0;
   const int looked_up = mirrored ? config.headings / 2 : config.headings;
+  std::vector<Eigen::MatrixXf*> heading_layers;
+  for (int k = 0; k < config.headings; ++k) heading_layers.push_back(&truth.Layer(HeadingLayer(k)));
   SampleHeights heights(samples), turned(samples);
   for (int k = 0; k < looked_up; ++k) {
     const HeadingSamples heading(samples, 2.0 * M_PI * k / config.headings);
-    Eigen::MatrixXf& layer = truth.Layer(HeadingLayer(k));
-    Eigen::MatrixXf* turned_layer = mirrored ? &truth.Layer(HeadingLayer(k + looked_up)) : nullptr;
+    Eigen::MatrixXf& layer = *heading_layers[k];
+    Eigen::MatrixXf* turned_layer = mirrored ? heading_layers[k + looked_up] : nullptr;
     for (int mx = 0; mx < map_geometry.num_x; ++mx) {
       for (int my = 0; my < map_geometry.num_y; ++my) {
         const Eigen::Vector2d p_W = map_geometry.CellCenter(mx, my);
@@ -286,19 +289,18 @@ common::GridLayers ComputePhysicalTruth(const common::GridGeometry& map_geometry
   }
   for (int mx = 0; mx < map_geometry.num_x; ++mx) {
     for (int my = 0; my < map_geometry.num_y; ++my) {
-      const float first = truth.Layer(HeadingLayer(0))(mx, my);
+      const float first = (*heading_layers[0])(mx, my);
       if (std::isnan(first)) continue;
       float lowest = 1.0f;
       int traversable = 0;
-      for (int k = 0; k < config.headings; ++k) {
-        const float cost = truth.Layer(HeadingLayer(k))(mx, my);
+      for (const Eigen::MatrixXf* heading_layer : heading_layers) {
+        const float cost = (*heading_layer)(mx, my);
         lowest = std::min(lowest, cost);
         if (cost < 1.0f) ++traversable;
       }
       best(mx, my) = lowest;
       count(mx, my) = static_cast<float>(traversable);
-      truth.Layer(layers::kElevation)(mx, my) =
-          static_cast<float>(surface.HeightAt(map_geometry.CellCenter(mx, my)));
+      elevation(mx, my) = static_cast<float>(surface.HeightAt(map_geometry.CellCenter(mx, my)));
     }
   }
   return truth;
