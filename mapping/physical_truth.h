@@ -106,11 +106,13 @@ PoseAssessment AssessPose(const RestingSurface& surface, const Eigen::Vector2d& 
 std::string HeadingLayer(int k);
 
 /// The physical, method-independent ground truth (docs/ground-truth.md) on `map_geometry`: per map
-/// cell and each of `config.headings` headings, AssessPose on `surface` at the cell's centre.
-/// Layers: `traversability` (the cost at the best heading; 1: no heading is traversable), one
-/// HeadingLayer per heading, `elevation` (the surface at the centre) and `traversable_headings`
-/// (how many headings are traversable). Cells where the robot at some heading would reach off the
-/// world are NaN. No mapper's terms or weights enter it.
+/// cell and each of `config.headings` headings, AssessPose on `surface` at the cell's centre
+/// (with an even number of headings, the second half rests the robot on the first half's surface
+/// lookups mirrored: the body's samples are symmetric about its centre, so the same poses up to
+/// the rotation's rounding, and half the lookups). Layers: `traversability` (the cost at the best
+/// heading; 1: no heading is traversable), one HeadingLayer per heading, `elevation` (the surface
+/// at the centre) and `traversable_headings` (how many headings are traversable). Cells where the
+/// robot at some heading would reach off the world are NaN. No mapper's terms or weights enter it.
 common::GridLayers ComputePhysicalTruth(const common::GridGeometry& map_geometry,
                                         const RestingSurface& surface, const RestingBody& body,
                                         const GroundTruthConfig& config);
