@@ -113,14 +113,15 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
   gp_.Predict(test, f, gradient);
   variance_.Compute(gp_, cells, test, low, high, config_.variance_stride, variance);
   Eigen::MatrixXf& elevation = map_.Layer(layers::kElevation);
+  Eigen::MatrixXf& elevation_variance = map_.Layer(layers::kElevationVariance);
+  Eigen::MatrixXf& slope_rad = map_.Layer(layers::kSlope);
+  Eigen::MatrixXf& last_observed_s = map_.Layer(layers::kLastObserved);
   for (std::size_t k = 0; k < cells.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
     elevation(cells[k].x(), cells[k].y()) = static_cast<float>(f[i]);
-    map_.Layer(layers::kElevationVariance)(cells[k].x(), cells[k].y()) =
-        static_cast<float>(variance[i]);
-    map_.Layer(layers::kSlope)(cells[k].x(), cells[k].y()) =
-        static_cast<float>(std::atan(gradient.row(i).norm()));
-    map_.Layer(layers::kLastObserved)(cells[k].x(), cells[k].y()) = static_cast<float>(t_s);
+    elevation_variance(cells[k].x(), cells[k].y()) = static_cast<float>(variance[i]);
+    slope_rad(cells[k].x(), cells[k].y()) = static_cast<float>(std::atan(gradient.row(i).norm()));
+    last_observed_s(cells[k].x(), cells[k].y()) = static_cast<float>(t_s);
   }
   result.times.predict = stage.ElapsedMilliseconds();
 
@@ -138,6 +139,9 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
 void SgpMapper::ScoreCells(const std::vector<Eigen::Vector2i>& cells) {
   const common::GridGeometry& g = map_.geometry();
   const Eigen::MatrixXf& elevation = map_.Layer(layers::kElevation);
+  const Eigen::MatrixXf& slope_rad = map_.Layer(layers::kSlope);
+  Eigen::MatrixXf& gradient_m = map_.Layer(layers::kGradient);
+  Eigen::MatrixXf& traversability = map_.Layer(layers::kTraversability);
   const int r = config_.score_window_cells / 2;
   for (const Eigen::Vector2i& c : cells) {
     double lowest = 1e9, highest = -1e9;
@@ -162,14 +166,13 @@ void SgpMapper::ScoreCells(const std::vector<Eigen::Vector2i>& cells) {
       }
       flatness = std::atan(design.colPivHouseholderQr().solve(z).head<2>().norm());
     }
-    const double slope = map_.Layer(layers::kSlope)(c.x(), c.y());
+    const double slope = slope_rad(c.x(), c.y());
     const double cost =
         config_.weight_step * std::min(1.0, (highest - lowest) / config_.step_critical_m) +
         config_.weight_flatness * std::min(1.0, flatness / config_.flatness_critical_rad) +
         config_.weight_slope * std::min(1.0, slope / config_.slope_critical_rad);
-    map_.Layer(layers::kGradient)(c.x(), c.y()) = static_cast<float>(highest - lowest);
-    map_.Layer(layers::kTraversability)(c.x(), c.y()) =
-        static_cast<float>(std::clamp(cost, 0.0, 1.0));
+    gradient_m(c.x(), c.y()) = static_cast<float>(highest - lowest);
+    traversability(c.x(), c.y()) = static_cast<float>(std::clamp(cost, 0.0, 1.0));
   }
 }
 
@@ -217,6 +220,10 @@ MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
   const int r =
       static_cast<int>(std::floor(config_.neighbourhood_radius_m / g.resolution_m + 1e-9));
   std::vector<Eigen::Vector3d> around;
+  Eigen::MatrixXf& slope_rad = map_.Layer(layers::kSlope);
+  Eigen::MatrixXf& curvature_layer = map_.Layer(layers::kCurvature);
+  Eigen::MatrixXf& gradient_m = map_.Layer(layers::kGradient);
+  Eigen::MatrixXf& traversability = map_.Layer(layers::kTraversability);
   for (int ix = low.x(); ix <= high.x(); ++ix) {
     for (int iy = low.y(); iy <= high.y(); ++iy) {
       if (std::isnan(h(ix, iy))) continue;
@@ -253,10 +260,10 @@ MapUpdateResult ElevationMapper::Update(const common::PointCloud& points_W,
       const double curvature = std::max(0.0, eigenvalues[0]) / (eigenvalues.sum() + 1e-6);
       const double slope = std::atan(design.colPivHouseholderQr().solve(z).head<2>().norm());
       gradient /= n;
-      map_.Layer(layers::kSlope)(ix, iy) = static_cast<float>(slope);
-      map_.Layer(layers::kCurvature)(ix, iy) = static_cast<float>(curvature);
-      map_.Layer(layers::kGradient)(ix, iy) = static_cast<float>(gradient);
-      map_.Layer(layers::kTraversability)(ix, iy) =
+      slope_rad(ix, iy) = static_cast<float>(slope);
+      curvature_layer(ix, iy) = static_cast<float>(curvature);
+      gradient_m(ix, iy) = static_cast<float>(gradient);
+      traversability(ix, iy) =
           static_cast<float>(PreliminaryScore(score_, curvature, gradient, slope));
       ++result.observed_cells;
     }

@@ -276,6 +276,11 @@ double FsgpBgkMapper::Fuse(double t_s) {
   Eigen::MatrixXf& fused = fused_.Layer(kFused);
   Eigen::MatrixXf& fused_variance = map_.Layer(layers::kTraversabilityVariance);
   Eigen::MatrixXf& last = map_.Layer(layers::kLastObserved);
+  Eigen::MatrixXf& elevation_m = map_.Layer(layers::kElevation);
+  Eigen::MatrixXf& elevation_variance = map_.Layer(layers::kElevationVariance);
+  Eigen::MatrixXf& slope_rad = map_.Layer(layers::kSlope);
+  Eigen::MatrixXf& curvature = map_.Layer(layers::kCurvature);
+  Eigen::MatrixXf& gradient_m = map_.Layer(layers::kGradient);
   // the uncertainty weight's reference for every cell of the frame (the prediction's: per cell)
   std::optional<double> frame_reference;
   if (config_.variance_reference == VarianceReference::kFrameMean && variances.size() > 0) {
@@ -288,11 +293,11 @@ double FsgpBgkMapper::Fuse(double t_s) {
     const double variance = variances[s];
     const double slope = std::atan(std::hypot(df_dx[s], df_dy[s]));
     const double score = PreliminaryScore(config_, raw_test(s, 2), raw_test(s, 3), slope);
-    map_.Layer(layers::kElevation)(cell.x(), cell.y()) = static_cast<float>(elevation[s]);
-    map_.Layer(layers::kElevationVariance)(cell.x(), cell.y()) = static_cast<float>(variance);
-    map_.Layer(layers::kSlope)(cell.x(), cell.y()) = static_cast<float>(slope);
-    map_.Layer(layers::kCurvature)(cell.x(), cell.y()) = static_cast<float>(raw_test(s, 2));
-    map_.Layer(layers::kGradient)(cell.x(), cell.y()) = static_cast<float>(raw_test(s, 3));
+    elevation_m(cell.x(), cell.y()) = static_cast<float>(elevation[s]);
+    elevation_variance(cell.x(), cell.y()) = static_cast<float>(variance);
+    slope_rad(cell.x(), cell.y()) = static_cast<float>(slope);
+    curvature(cell.x(), cell.y()) = static_cast<float>(raw_test(s, 2));
+    gradient_m(cell.x(), cell.y()) = static_cast<float>(raw_test(s, 3));
     float& m_cell = fused(cell.x(), cell.y());
     float& v_cell = fused_variance(cell.x(), cell.y());
     float& t_cell = last(cell.x(), cell.y());

@@ -29,6 +29,11 @@ common::GridLayers ComputeGroundTruth(const common::GridGeometry& map_geometry,
   Eigen::MatrixXd design;
   Eigen::VectorXd z;
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> plane_fit;
+  Eigen::MatrixXf& slope_rad = truth.Layer(layers::kSlope);
+  Eigen::MatrixXf& curvature_layer = truth.Layer(layers::kCurvature);
+  Eigen::MatrixXf& gradient_m = truth.Layer(layers::kGradient);
+  Eigen::MatrixXf& elevation_m = truth.Layer(layers::kElevation);
+  Eigen::MatrixXf& traversability = truth.Layer(layers::kTraversability);
   for (int mx = 0; mx < map_geometry.num_x; ++mx) {
     for (int my = 0; my < map_geometry.num_y; ++my) {
       const Eigen::Vector2d centre = map_geometry.CellCenter(mx, my);
@@ -79,11 +84,11 @@ common::GridLayers ComputeGroundTruth(const common::GridGeometry& map_geometry,
       const Eigen::Vector3d plane = plane_fit.compute(design).solve(z);
       const double slope = std::atan(plane.head<2>().norm());
 
-      truth.Layer(layers::kSlope)(mx, my) = static_cast<float>(slope);
-      truth.Layer(layers::kCurvature)(mx, my) = static_cast<float>(curvature);
-      truth.Layer(layers::kGradient)(mx, my) = static_cast<float>(gradient);
-      truth.Layer(layers::kElevation)(mx, my) = static_cast<float>(centre_z);
-      truth.Layer(layers::kTraversability)(mx, my) =
+      slope_rad(mx, my) = static_cast<float>(slope);
+      curvature_layer(mx, my) = static_cast<float>(curvature);
+      gradient_m(mx, my) = static_cast<float>(gradient);
+      elevation_m(mx, my) = static_cast<float>(centre_z);
+      traversability(mx, my) =
           blocked ? 1.0f : static_cast<float>(PreliminaryScore(score, curvature, gradient, slope));
     }
   }
