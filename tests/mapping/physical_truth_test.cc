@@ -196,5 +196,30 @@ TEST(PhysicalTruthTest, EachHeadingsLayerIsItsPose) {
   EXPECT_EQ(known, 16 * 25 * 25);  // of 30 x 30 cells: the wheels reach 0.42 m from the centre
 }
 
+TEST(PhysicalTruthTest, AnOddNumberOfHeadingsIsLookedUpHeadingByHeading) {
+  // 3 headings have no pairs half a turn apart: each is its own pose (no mirror)
+  const Eigen::MatrixXf ground = Sampled([](double x, double y) {
+    return 0.1 * std::sin(3.0 * x) * std::cos(2.0 * y) + (x > 1.0 ? 0.12 : 0.0);
+  });
+  GroundTruthConfig config;
+  config.headings = 3;
+  const RestingSurface surface{kWorld, ground, kWorld, kNoObstacles};
+  const common::GridLayers truth = ComputePhysicalTruth(kMap, surface, RestingBody{}, config);
+  int known = 0;
+  for (int k = 0; k < 3; ++k) {
+    for (int mx = 0; mx < kMap.num_x; ++mx) {
+      for (int my = 0; my < kMap.num_y; ++my) {
+        const PoseAssessment pose = AssessPose(surface, kMap.CellCenter(mx, my),
+                                               2.0 * M_PI * k / 3.0, RestingBody{}, config);
+        if (!pose.known) continue;
+        ++known;
+        EXPECT_EQ(truth.Layer(HeadingLayer(k))(mx, my), static_cast<float>(pose.cost))
+            << "heading " << k << " cell " << mx << "," << my;
+      }
+    }
+  }
+  EXPECT_EQ(known, 3 * 25 * 25);
+}
+
 }  // namespace
 }  // namespace trav::mapping
