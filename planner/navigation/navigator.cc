@@ -30,7 +30,8 @@ constexpr double kStallSpeed_m_s = 0.3;
 constexpr double kStallTime_s = 1.0;
 constexpr double kStallDistance_m = 0.1 * kStallSpeed_m_s * kStallTime_s;
 // A stalled robot backs off straight along its heading by the longest of these distances [m] that
-// keeps the footprint clear, at this speed [m/s], before it replans: a run-up for the next
+// keeps the footprint clear, at this speed [m/s] (or the tracker's reverse limit if lower; none
+// if the tracker may not reverse), before it replans: a run-up for the next
 // attempt (a 0.12 m curb stalls the robot at 1 m/s, the planner's 1.5 m/s^2 needs 0.4 m to reach
 // the 1.1 m/s that climbs it, and at the stall the front wheels are about 0.36 m past the face:
 // the 0.451 m wheelbase less the rear wheel's 0.0875 m radius).
@@ -42,9 +43,10 @@ constexpr double kCheckStep_s = 0.05;
 // robot's disc [m] make it move; the drives are straight lines of these lengths [m] at this speed
 // [m/s], forward or backward, after a turn in place at this yaw rate [rad/s] by one of these
 // angles off the heading [rad] (a step aside), and one is taken only if it keeps at least this
-// much more room [m] than standing still. The speed is the MPC's default reverse limit and a
-// walker's pace: backing away at it, the robot keeps pace with a walker walking at it (at 0.6 m/s
-// such a walker caught it: docs/stress.md).
+// much more room [m] than standing still. The speed is a walker's pace: backing away at it, the
+// robot keeps pace with a walker walking at it (at 0.6 m/s such a walker caught it:
+// docs/stress.md). Each direction drives at the smaller of it and the tracker's limit that way
+// (FreeDriveSpeeds); a tracker that may not reverse gives way forward only.
 constexpr double kGiveWayHorizon_s = 2.0;
 constexpr double kGiveWayGap_m = 0.3;
 constexpr double kGiveWayDistances_m[] = {0.4, 0.8, 1.2, 1.6};
@@ -88,8 +90,6 @@ void ValidateNavigationSettings(const NavigationSettings& s) {
                "must be > 0");
 }
 
-namespace {}  // namespace
-
 controller::MpcConfig PlanTrackingConfig(controller::MpcConfig mpc,
                                          const NavigationPlannerConfig& planner) {
   const DynamicLimits& limits = planner.optimizer.limits;
@@ -97,6 +97,14 @@ controller::MpcConfig PlanTrackingConfig(controller::MpcConfig mpc,
   mpc.min_speed_m_s = std::max(mpc.min_speed_m_s, -limits.max_speed_m_s);
   mpc.max_yaw_rate_rad_s = std::min(mpc.max_yaw_rate_rad_s, 1.2 * limits.max_yaw_rate_rad_s);
   return mpc;
+}
+
+FreeDriveSpeeds FreeDriveSpeedsFor(const controller::MpcConfig& tracking) {
+  FreeDriveSpeeds speeds;
+  speeds.give_way_forward_m_s = std::min(kGiveWaySpeed_m_s, tracking.max_speed_m_s);
+  speeds.give_way_backward_m_s = std::min(kGiveWaySpeed_m_s, -tracking.min_speed_m_s);
+  speeds.back_off_m_s = std::min(kBackOffSpeed_m_s, -tracking.min_speed_m_s);
+  return speeds;
 }
 
 Navigator::Navigator(const NavigationSettings& settings, const NavigationPlannerConfig& planner,
@@ -107,6 +115,7 @@ Navigator::Navigator(const NavigationSettings& settings, const NavigationPlanner
       tracker_(tracker
                    ? std::move(tracker)
                    : std::make_unique<controller::MpcTracker>(PlanTrackingConfig(mpc, planner))),
+      free_drive_speeds_(FreeDriveSpeedsFor(PlanTrackingConfig(mpc, planner))),
       goal_W_(goal_W) {
   ValidateNavigationSettings(settings_);
 }
@@ -202,7 +211,8 @@ std::optional<common::Trajectory> Navigator::BackOff(const common::RobotState& s
                                                      const common::GridLayers& map) {
   const common::TrajectoryPoint start = FreeDriveStart(state);
   const Eigen::Vector2d forward_W(std::cos(start.yaw), std::sin(start.yaw));
-  const FallbackConfig drive = FreeDriveConfig(kBackOffSpeed_m_s);
+  if (free_drive_speeds_.back_off_m_s <= 0.0) return std::nullopt;
+  const FallbackConfig drive = FreeDriveConfig(free_drive_speeds_.back_off_m_s);
   const CostMap& costs = CostMapOf(map);
   const NavigationPlannerConfig& config = planner_.config();
   const std::vector<Eigen::Vector2d> body_B = BodyPointsOn(costs);
@@ -245,13 +255,16 @@ std::optional<common::Trajectory> Navigator::GiveWay(const common::RobotState& s
     return std::nullopt;
   }
   const common::TrajectoryPoint start = FreeDriveStart(state);
-  const FallbackConfig drive = FreeDriveConfig(kGiveWaySpeed_m_s);
   const NavigationPlannerConfig& config = planner_.config();
   const CostMap& costs = CostMapOf(map);
   const std::vector<Eigen::Vector2d> body_B = BodyPointsOn(costs);
   std::optional<common::Trajectory> best;
   double best_gap = standing + kGiveWayGain_m;
   for (const double sign : {-1.0, 1.0}) {
+    const double speed_m_s = sign < 0.0 ? free_drive_speeds_.give_way_backward_m_s
+                                        : free_drive_speeds_.give_way_forward_m_s;
+    if (speed_m_s <= 0.0) continue;
+    const FallbackConfig drive = FreeDriveConfig(speed_m_s);
     for (const double turn : kGiveWayTurns_rad) {
       const double yaw = start.yaw + turn;
       const Eigen::Vector2d forward_W(std::cos(yaw), std::sin(yaw));

@@ -92,6 +92,18 @@ constexpr const auto& EnumNames(ReplanReason) { return kReplanReasonNames; }
 controller::MpcConfig PlanTrackingConfig(controller::MpcConfig mpc,
                                          const NavigationPlannerConfig& planner);
 
+/// The speeds [m/s] of the drives that free a stopped or stalled robot, within the tracker's limits
+/// (`tracking`, as PlanTrackingConfig gives them): giving way at a walker's pace (1 m/s) or the
+/// tracker's limit that way if lower, backing off a stall at 0.6 m/s or the reverse limit if lower.
+/// A speed of 0 means no such drive: a tracker that may not reverse (min_speed 0) gives way forward
+/// only and never backs off.
+struct FreeDriveSpeeds {
+  double give_way_forward_m_s{0.0};   ///< giving way forward, >= 0
+  double give_way_backward_m_s{0.0};  ///< giving way backward, >= 0
+  double back_off_m_s{0.0};           ///< backing off a stall, >= 0
+};
+FreeDriveSpeeds FreeDriveSpeedsFor(const controller::MpcConfig& tracking);
+
 /// What the navigator did in one control tick.
 struct NavigatorTick {
   common::Twist2 command;                    ///< the body twist to apply
@@ -199,6 +211,7 @@ class Navigator {
   NavigationSettings settings_;
   NavigationPlanner planner_;
   std::unique_ptr<controller::TrajectoryTracker> tracker_;
+  FreeDriveSpeeds free_drive_speeds_;
   Eigen::Vector2d goal_W_;
   common::Trajectory trajectory_;
   std::vector<Eigen::Vector2d> waypoints_W_;

@@ -38,9 +38,16 @@ common::RobotState At(double t_s, double x) {
   return state;
 }
 
-planner::Navigator MakeNavigator() {
-  return planner::Navigator(planner::NavigationSettings{}, planner::NavigationPlannerConfig{},
-                            controller::MpcConfig{}, Eigen::Vector2d(8, 0));
+planner::Navigator MakeNavigator(const controller::MpcConfig& mpc = {}) {
+  return planner::Navigator(planner::NavigationSettings{}, planner::NavigationPlannerConfig{}, mpc,
+                            Eigen::Vector2d(8, 0));
+}
+
+// The default MPC with reverse limit `min_speed_m_s` [m/s].
+controller::MpcConfig ReversingAtMost(double min_speed_m_s) {
+  controller::MpcConfig mpc;
+  mpc.min_speed_m_s = min_speed_m_s;
+  return mpc;
 }
 
 TEST(NavigatorTest, WaitsForAMapThenPlansAndDrives) {
@@ -137,6 +144,48 @@ TEST(NavigatorTest, AStoppedRobotBacksAwayFromAMoverComingAtIt) {
   EXPECT_EQ(dut.Update(At(0.5, -0.2), &map, false, {kWalkerAhead}).replan,
             planner::ReplanReason::kNone);
   EXPECT_EQ(dut.statistics().plans, 1);
+}
+
+TEST(FreeDriveSpeedsTest, AreAWalkersPaceAndTheBackOffsWithinTheTrackersLimits) {
+  const auto speeds = [](const controller::MpcConfig& mpc, double planner_max_speed_m_s) {
+    planner::NavigationPlannerConfig planner;
+    planner.optimizer.limits.max_speed_m_s = planner_max_speed_m_s;
+    const planner::FreeDriveSpeeds s =
+        planner::FreeDriveSpeedsFor(planner::PlanTrackingConfig(mpc, planner));
+    return std::vector<double>{s.give_way_forward_m_s, s.give_way_backward_m_s, s.back_off_m_s};
+  };
+  // the defaults (MPC -1..1.5 m/s, planner 1.5 m/s): a walker's pace both ways, backing off slower
+  EXPECT_EQ(speeds({}, 1.5), (std::vector<double>{1.0, 1.0, 0.6}));
+  // a slower reverse limit caps the backward drives
+  EXPECT_EQ(speeds(ReversingAtMost(-0.5), 1.5), (std::vector<double>{1.0, 0.5, 0.5}));
+  // no reverse: no backward drive
+  EXPECT_EQ(speeds(ReversingAtMost(0.0), 1.5), (std::vector<double>{1.0, 0.0, 0.0}));
+  // the planner's speed limit caps the tracker both ways
+  EXPECT_EQ(speeds({}, 0.8), (std::vector<double>{0.8, 0.8, 0.6}));
+}
+
+TEST(NavigatorTest, AStoppedRobotBacksAwayNoFasterThanTheTrackerMayReverse) {
+  planner::Navigator dut = MakeNavigator(ReversingAtMost(-0.5));
+  const common::GridLayers map = OpenMap();
+  MeetTheWalkerAhead(&dut, map);
+  ASSERT_EQ(dut.statistics().give_ways, 1);
+  // straight back, at the reverse limit
+  const common::Trajectory& drive = dut.trajectory();
+  EXPECT_LT(drive.points().back().position_W.x(), -0.3);
+  EXPECT_NEAR(drive.points().back().position_W.y(), 0.0, 1e-9);
+  EXPECT_NEAR(drive.Sample(0.5).v, -0.5, 1e-12);
+  for (const common::TrajectoryPoint& p : drive.points()) EXPECT_GE(p.v, -0.5 - 1e-12) << p.t_s;
+}
+
+TEST(NavigatorTest, AStoppedRobotThatMayNotReverseGivesWayForward) {
+  planner::Navigator dut = MakeNavigator(ReversingAtMost(0.0));
+  const common::GridLayers map = OpenMap();
+  MeetTheWalkerAhead(&dut, map);
+  ASSERT_EQ(dut.statistics().give_ways, 1);
+  // a step aside, driven forward after a turn in place
+  const common::Trajectory& drive = dut.trajectory();
+  for (const common::TrajectoryPoint& p : drive.points()) EXPECT_GE(p.v, 0.0) << p.t_s;
+  EXPECT_GT(std::abs(drive.points().back().position_W.y()), 0.3);
 }
 
 // The robot where `drive` puts it at t_s, facing along +x.
@@ -380,6 +429,14 @@ TEST(NavigatorTest, AStalledRobotWithNoRoomBehindReplansWhereItIs) {
   EXPECT_FALSE(stall.back_off_s.has_value());
   EXPECT_EQ(dut.statistics().back_offs, 0);
   // stalled after about 1.2 s, then again a second after each stall replan
+  EXPECT_EQ(std::count(stall.replans.begin(), stall.replans.end(), planner::ReplanReason::kStalled),
+            2);
+}
+
+TEST(NavigatorTest, AStalledRobotThatMayNotReverseReplansWhereItIs) {
+  planner::Navigator dut = MakeNavigator(ReversingAtMost(0.0));
+  const Stall stall = StallAtTheOrigin(&dut, OpenMap());
+  EXPECT_FALSE(stall.back_off_s.has_value());
   EXPECT_EQ(std::count(stall.replans.begin(), stall.replans.end(), planner::ReplanReason::kStalled),
             2);
 }
