@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -95,6 +96,40 @@ std::optional<float> GridLayers::At(const std::string& layer, const Eigen::Vecto
   return value;
 }
 
+namespace {
+
+// Shifts `layer` in place so that cell (ix, iy) takes the value of cell (ix + dx, iy + dy), NaN
+// where that cell is outside it. Columns (cells of one iy, contiguous) are written in the order
+// that reads each source column before it is overwritten: a copy of the layer would cost a second
+// pass over all its cells (filling the copy, then swapping), which was 5 % of an eval scene.
+void ShiftInPlace(Eigen::MatrixXf* layer, int dx, int dy) {
+  const auto nx = static_cast<int>(layer->rows());
+  const auto ny = static_cast<int>(layer->cols());
+  constexpr float kUnknown = std::numeric_limits<float>::quiet_NaN();
+  // the cells of a column that have a source: x0 <= ix < x1
+  const int x0 = std::clamp(-dx, 0, nx), x1 = std::clamp(nx - dx, x0, nx);
+  auto shift_column = [&](int iy) {
+    float* to = layer->col(iy).data();
+    const int from_y = iy + dy;
+    if (from_y < 0 || from_y >= ny || x1 == x0) {
+      std::fill(to, to + nx, kUnknown);
+      return;
+    }
+    const float* from = layer->col(from_y).data();
+    // memmove: the same column when dy == 0
+    std::memmove(to + x0, from + x0 + dx, static_cast<std::size_t>(x1 - x0) * sizeof(float));
+    std::fill(to, to + x0, kUnknown);
+    std::fill(to + x1, to + nx, kUnknown);
+  };
+  if (dy >= 0) {
+    for (int iy = 0; iy < ny; ++iy) shift_column(iy);
+  } else {
+    for (int iy = ny - 1; iy >= 0; --iy) shift_column(iy);
+  }
+}
+
+}  // namespace
+
 void GridLayers::Recenter(const Eigen::Vector2d& center_W) {
   // the shift in whole cells that brings the grid's centre nearest to center_W
   const Eigen::Vector2d offset = (center_W - geometry_.Center()) / geometry_.resolution_m;
@@ -102,18 +137,8 @@ void GridLayers::Recenter(const Eigen::Vector2d& center_W) {
   const int dy = static_cast<int>(std::lround(offset.y()));
   if (dx == 0 && dy == 0) return;
   geometry_.origin_W += geometry_.resolution_m * Eigen::Vector2d(dx, dy);
-  for (auto& entry : layers_) {
-    Eigen::MatrixXf& layer = entry.second;
-    scratch_.resize(layer.rows(), layer.cols());
-    scratch_.setConstant(std::numeric_limits<float>::quiet_NaN());
-    // new cell (ix, iy) was old cell (ix + dx, iy + dy)
-    const int x0 = std::max(0, -dx), x1 = std::min(geometry_.num_x, geometry_.num_x - dx);
-    const int y0 = std::max(0, -dy), y1 = std::min(geometry_.num_y, geometry_.num_y - dy);
-    if (x1 > x0 && y1 > y0) {
-      scratch_.block(x0, y0, x1 - x0, y1 - y0) = layer.block(x0 + dx, y0 + dy, x1 - x0, y1 - y0);
-    }
-    layer.swap(scratch_);
-  }
+  // new cell (ix, iy) was old cell (ix + dx, iy + dy)
+  for (auto& entry : layers_) ShiftInPlace(&entry.second, dx, dy);
 }
 
 }  // namespace trav::common

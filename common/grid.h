@@ -112,7 +112,6 @@ class GridLayers {
  private:
   GridGeometry geometry_{};
   std::map<std::string, Eigen::MatrixXf> layers_;
-  Eigen::MatrixXf scratch_;
 };
 
 }  // namespace trav::common

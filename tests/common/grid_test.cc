@@ -122,6 +122,38 @@ TEST(GridLayersTest, RecenteringKeepsCellsAnchoredInTheWorld) {
   EXPECT_TRUE(dut.Layer("v").array().isNaN().all());
 }
 
+TEST(GridLayersTest, RecenteringShiftsEveryCellByTheWholeCellsMovedInEveryDirection) {
+  // shifts along x and y of either sign, along one axis only, and beyond the grid
+  for (const int dx : {-9, -3, -1, 0, 2, 7}) {
+    for (const int dy : {-8, -2, 0, 1, 4, 9}) {
+      if (dx == 0 && dy == 0) continue;
+      GridLayers dut(GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(3, 4), 0.5),
+                     {"a", "b"});
+      const int nx = dut.geometry().num_x, ny = dut.geometry().num_y;  // 7 x 9
+      for (int ix = 0; ix < nx; ++ix) {
+        for (int iy = 0; iy < ny; ++iy) {
+          dut.Layer("a")(ix, iy) = static_cast<float>(100 * ix + iy);
+          dut.Layer("b")(ix, iy) = static_cast<float>(-100 * ix - iy);
+        }
+      }
+      dut.Recenter(Eigen::Vector2d(0.5 * dx, 0.5 * dy));
+      for (int ix = 0; ix < nx; ++ix) {
+        for (int iy = 0; iy < ny; ++iy) {
+          const int from_x = ix + dx, from_y = iy + dy;
+          if (from_x >= 0 && from_x < nx && from_y >= 0 && from_y < ny) {
+            EXPECT_EQ(dut.Layer("a")(ix, iy), static_cast<float>(100 * from_x + from_y))
+                << dx << " " << dy << " " << ix << " " << iy;
+            EXPECT_EQ(dut.Layer("b")(ix, iy), static_cast<float>(-100 * from_x - from_y));
+          } else {
+            EXPECT_TRUE(std::isnan(dut.Layer("a")(ix, iy))) << dx << " " << dy;
+            EXPECT_TRUE(std::isnan(dut.Layer("b")(ix, iy))) << dx << " " << dy;
+          }
+        }
+      }
+    }
+  }
+}
+
 TEST(RoughnessTest, IsZeroOnAPlaneAndHalfAStepAtItsEdge) {
   Eigen::MatrixXf heights(5, 5);
   for (int ix = 0; ix < 5; ++ix) {
