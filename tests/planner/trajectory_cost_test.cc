@@ -159,9 +159,8 @@ INSTANTIATE_TEST_SUITE_P(EveryTerm, TrajectoryCostGradientTest,
                            return param_info.param;
                          });
 
-TEST(TrajectoryCostTest, TiltIsPenalisedAlongTheHeadingThatExceedsItsLimit) {
-  // a 30 deg slope rising along x: climbing it pitches 30 deg (over a 25 deg pitch limit), crossing
-  // it rolls 30 deg (within a 35 deg roll limit)
+// A plane rising along x at `angle_deg`, free everywhere.
+common::GridLayers SlopeMap(double angle_deg) {
   common::GridLayers map(
       common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(20, 20), 0.1),
       {"traversability", "elevation"});
@@ -170,35 +169,66 @@ TEST(TrajectoryCostTest, TiltIsPenalisedAlongTheHeadingThatExceedsItsLimit) {
   for (int ix = 0; ix < g.num_x; ++ix) {
     for (int iy = 0; iy < g.num_y; ++iy) {
       map.Layer("elevation")(ix, iy) =
-          static_cast<float>(std::tan(30.0 * M_PI / 180.0) * g.CellCenter(ix, iy).x());
+          static_cast<float>(std::tan(angle_deg * M_PI / 180.0) * g.CellCenter(ix, iy).x());
     }
   }
+  return map;
+}
+
+// The limits term of a 3 m straight drive in 3 s from the origin along the heading `yaw` on
+// `field`, every other term off.
+double TiltCost(const CostField& field, double yaw) {
+  TrajectoryCostSetup s;
+  s.weights = Only("tilt");
+  s.limits = DynamicLimits{10.0, 10.0, 10.0, 10.0, 100.0};
+  s.head << yaw, 0.0, 0.0, 0.0, 0.0, 0.0;
+  s.goal_W = 3.0 * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
+  TrajectoryCost cost(field, s, 1);
+  Eigen::VectorXd z(3);
+  z << yaw, 3.0, TrajectoryCost::VirtualFromDuration(3.0);
+  CostTerms terms;
+  cost.Evaluate(z, nullptr, &terms);
+  return terms.limits;
+}
+
+TEST(TrajectoryCostTest, TiltIsPenalisedAlongTheHeadingThatExceedsItsLimit) {
+  // a 30 deg slope rising along x: climbing it pitches 30 deg (over a 25 deg pitch limit), crossing
+  // it rolls 30 deg (within a 35 deg roll limit)
+  const common::GridLayers map = SlopeMap(30.0);
   CostMapConfig config;
   config.slope.max_pitch_deg = 25.0;
   config.slope.max_roll_deg = 35.0;
   const CostField field(map, config);
   EXPECT_NEAR(field.Elevation({1.03, 0.2}).gradient_W.x(), std::tan(30.0 * M_PI / 180.0), 1e-6);
   EXPECT_NEAR(field.Elevation({1.03, 0.2}).cross_derivative, 0.0, 1e-6);
-  // a 3 m straight drive in 3 s along the heading `yaw`, every other term off
-  auto limits_cost = [&](double yaw) {
-    TrajectoryCostSetup s;
-    s.weights = Only("tilt");
-    s.limits = DynamicLimits{10.0, 10.0, 10.0, 10.0, 100.0};
-    s.head << yaw, 0.0, 0.0, 0.0, 0.0, 0.0;
-    s.goal_W = 3.0 * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
-    TrajectoryCost cost(field, s, 1);
-    Eigen::VectorXd z(3);
-    z << yaw, 3.0, TrajectoryCost::VirtualFromDuration(3.0);
-    CostTerms terms;
-    cost.Evaluate(z, nullptr, &terms);
-    return terms.limits;
-  };
   // (tan^2 30 - tan^2 25 - mu / 2) over 3 s, times the weight
   const double pitch_excess = std::pow(std::tan(30.0 * M_PI / 180.0), 2) -
                               std::pow(std::tan(25.0 * M_PI / 180.0), 2) - 0.5e-2;
-  EXPECT_NEAR(limits_cost(0.0), 1.0e3 * 3.0 * pitch_excess, 0.1);  // the elevation is float
-  EXPECT_NEAR(limits_cost(M_PI), 1.0e3 * 3.0 * pitch_excess, 0.1);
-  EXPECT_EQ(limits_cost(0.5 * M_PI), 0.0);
+  EXPECT_NEAR(TiltCost(field, 0.0), 1.0e3 * 3.0 * pitch_excess, 0.1);  // the elevation is float
+  EXPECT_NEAR(TiltCost(field, M_PI), 1.0e3 * 3.0 * pitch_excess, 0.1);
+  EXPECT_EQ(TiltCost(field, 0.5 * M_PI), 0.0);
+}
+
+TEST(TrajectoryCostTest, TheScoutMinisTiltLimitsChargeA45DegSlopeClimbedStraightNotDiagonally) {
+  // 40 deg of pitch and of roll, measured (docs/navigation.md): straight up, down or across a
+  // 45 deg slope is charged, diagonally (35.3 deg of pitch and of roll) it is not, nor straight up
+  // or across 35 deg
+  CostMapConfig config;
+  config.slope.max_pitch_deg = 40.0;
+  config.slope.max_roll_deg = 40.0;
+  const common::GridLayers steep = SlopeMap(45.0);
+  const CostField steep_field(steep, config);
+  EXPECT_GT(TiltCost(steep_field, 0.0), 0.0);
+  EXPECT_GT(TiltCost(steep_field, M_PI), 0.0);
+  EXPECT_EQ(TiltCost(steep_field, 0.25 * M_PI), 0.0);
+  EXPECT_GT(TiltCost(steep_field, 0.5 * M_PI), 0.0);
+  const common::GridLayers moderate = SlopeMap(35.0);
+  const CostField moderate_field(moderate, config);
+  EXPECT_EQ(TiltCost(moderate_field, 0.0), 0.0);
+  EXPECT_EQ(TiltCost(moderate_field, 0.5 * M_PI), 0.0);
+  // the defaults leave the term out
+  EXPECT_FALSE(CostMapConfig{}.slope.Active());
+  EXPECT_EQ(TiltCost(CostField(steep, CostMapConfig{}), 0.0), 0.0);
 }
 
 TEST(TrajectoryCostTest, IntegratesAStraightMotionToItsArcLength) {
