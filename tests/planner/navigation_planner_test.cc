@@ -180,6 +180,31 @@ TEST(NavigationPlannerTest, AFailedOptimisationFollowsTheSearchPathAtCreepSpeed)
   EXPECT_GE(FootprintGaps(map, config, t).first, config.optimizer.min_clearance_m);
 }
 
+TEST(NavigationPlannerTest, WithoutAPathToFollowAndThePoseSearchARobotTurnsTowardThePath) {
+  NavigationPlannerConfig config = OneIteration();
+  config.fallback.search_expansions = 0;
+  NavigationPlanner dut(config);
+  // a wall across the world with a 0.7 m gap: the search path goes through it, too close to the
+  // jambs to be followed without optimisation (0.065 m against optimizer.clearance)
+  common::GridLayers map = WallMap();
+  test_util::Paint(&map, 0.1f, [](const Eigen::Vector2d&) { return true; });
+  test_util::Paint(&map, 1.0f, [](const Eigen::Vector2d& p) {
+    return p.x() >= 4.0 && p.x() <= 4.6 && std::abs(p.y()) > 0.35;
+  });
+  common::TrajectoryPoint start = Start();
+  start.yaw = 0.5 * M_PI;  // facing across the way
+  const NavigationPlan plan = dut.Plan(map, start, {9.0, 0.0}, {});
+  ASSERT_EQ(plan.fallback, Fallback::kTurnInPlace) << common::NameOf(plan.status);
+  EXPECT_EQ(plan.status, NavigationStatus::kOptimizerFailed);  // it only frees the robot
+  const common::Trajectory& t = plan.optimized.trajectory;
+  const Eigen::Vector2d towards = plan.waypoints_W[1] - start.position_W;
+  EXPECT_NEAR(t.points().back().yaw, std::atan2(towards.y(), towards.x()), 1e-9);
+  for (const common::TrajectoryPoint& p : t.points()) {
+    EXPECT_EQ(p.position_W, start.position_W);
+    EXPECT_LE(std::abs(p.omega), config.fallback.creep_yaw_rate_rad_s + 1e-12);
+  }
+}
+
 // A dead end 0.8 m wide (cells of 0.1 m) closed at x = 1: too narrow to turn the 0.85 m
 // circumscribed disc in.
 common::GridLayers DeadEndMap() {
