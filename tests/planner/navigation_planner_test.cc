@@ -180,6 +180,35 @@ TEST(NavigationPlannerTest, AFailedOptimisationFollowsTheSearchPathAtCreepSpeed)
   EXPECT_GE(FootprintGaps(map, config, t).first, config.optimizer.min_clearance_m);
 }
 
+TEST(NavigationPlannerTest, AFailedOptimisationTakesAWiderWayOptimisedWhereThereIsOne) {
+  NavigationPlanner dut{NavigationPlannerConfig{}};
+  // the wall of WallMap with a 0.9 m gap on the straight way: A* takes the gap, too narrow for the
+  // wider margin's search (2 x (0.423 + 0.1) m); a walker stands in it, which the search does not
+  // see and the optimiser cannot pass; round the wall's end the way is open
+  common::GridLayers map = WallMap();
+  test_util::Paint(&map, 0.1f, [](const Eigen::Vector2d& p) {
+    return p.x() >= 4.0 && p.x() <= 4.6 && std::abs(p.y()) < 0.45;
+  });
+  const MovingObstacle walker{Eigen::Vector2d(4.3, 0.0), Eigen::Vector2d::Zero(), 0.3, Start().t_s};
+  const NavigationPlan plan = dut.Plan(map, Start(), {9.0, 0.0}, {walker});
+  bool through_gap = false;
+  for (const Eigen::Vector2d& p : plan.path.points_W) {
+    through_gap = through_gap || (std::abs(p.x() - 4.3) < 0.3 && std::abs(p.y()) < 0.45);
+  }
+  EXPECT_TRUE(through_gap);
+  ASSERT_EQ(plan.fallback, Fallback::kWiderMargin) << common::NameOf(plan.status);
+  EXPECT_NE(plan.optimized.status, OptimizationStatus::kInfeasible);
+  EXPECT_EQ(plan.status, NavigationStatus::kPlanned);
+  // optimised round the wall's end (y > 2) to the goal
+  double highest_y = -1.0;
+  for (const common::TrajectoryPoint& p : plan.optimized.trajectory.points()) {
+    highest_y = std::max(highest_y, p.position_W.y());
+  }
+  EXPECT_GT(highest_y, 2.0);
+  EXPECT_LE((plan.optimized.trajectory.points().back().position_W - Eigen::Vector2d(9, 0)).norm(),
+            0.1);
+}
+
 TEST(NavigationPlannerTest, WithoutAPathToFollowAndThePoseSearchARobotTurnsTowardThePath) {
   NavigationPlannerConfig config = OneIteration();
   config.fallback.search_expansions = 0;
