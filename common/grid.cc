@@ -88,12 +88,17 @@ std::vector<std::string> GridLayers::LayerNames() const {
   return names;
 }
 
-std::optional<float> GridLayers::At(const std::string& layer, const Eigen::Vector2d& p_W) const {
-  const std::optional<Eigen::Vector2i> cell = geometry_.CellIndex(p_W);
+std::optional<float> KnownValueAt(const GridGeometry& geometry, const Eigen::MatrixXf& layer,
+                                  const Eigen::Vector2d& p_W) {
+  const std::optional<Eigen::Vector2i> cell = geometry.CellIndex(p_W);
   if (!cell) return std::nullopt;
-  const float value = Layer(layer)(cell->x(), cell->y());
+  const float value = layer(cell->x(), cell->y());
   if (std::isnan(value)) return std::nullopt;
   return value;
+}
+
+std::optional<float> GridLayers::At(const std::string& layer, const Eigen::Vector2d& p_W) const {
+  return KnownValueAt(geometry_, Layer(layer), p_W);
 }
 
 namespace {

@@ -67,6 +67,11 @@ bool AnyCellWithin(const GridGeometry& geometry, const Eigen::Vector2d& p_W, dou
   return false;
 }
 
+/// The value of `layer` (on `geometry`) in the cell containing p_W, or nothing outside the grid or
+/// if unknown (NaN).
+std::optional<float> KnownValueAt(const GridGeometry& geometry, const Eigen::MatrixXf& layer,
+                                  const Eigen::Vector2d& p_W);
+
 /// Bilinear interpolation of `layer` (on `geometry`) at p_W, clamped to the grid's border.
 float InterpolateBilinear(const GridGeometry& geometry, const Eigen::MatrixXf& layer,
                           const Eigen::Vector2d& p_W);
@@ -101,7 +106,8 @@ class GridLayers {
   /// Names of the layers, sorted.
   std::vector<std::string> LayerNames() const;
 
-  /// The value of `layer` in the cell containing p_W, or nothing outside the grid or if unknown.
+  /// The value of `layer` in the cell containing p_W, or nothing outside the grid or if unknown
+  /// (KnownValueAt on the layer found by name: in a loop, find the layer once instead).
   std::optional<float> At(const std::string& layer, const Eigen::Vector2d& p_W) const;
 
   /// Moves the grid so that it is centred (to the nearest cell) on `center_W`, keeping every cell

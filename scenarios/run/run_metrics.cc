@@ -94,12 +94,13 @@ int ObservedCells::Add(const common::PointCloud& points_W, const Eigen::Vector3d
 LayerError CompareObserved(const common::GridLayers& map, const common::GridLayers& truth_W,
                            const ObservedCells& observed, const std::string& layer) {
   const Eigen::MatrixXf& truth = truth_W.Layer(layer);
+  const Eigen::MatrixXf& map_layer = map.Layer(layer);
   ErrorAccumulator error;
   for (const Eigen::Vector2i& cell : observed.cells()) {
     const float expected = truth(cell.x(), cell.y());
     if (std::isnan(expected)) continue;
-    const std::optional<float> predicted =
-        map.At(layer, observed.geometry().CellCenter(cell.x(), cell.y()));
+    const std::optional<float> predicted = common::KnownValueAt(
+        map.geometry(), map_layer, observed.geometry().CellCenter(cell.x(), cell.y()));
     if (predicted) error.Add(std::abs(static_cast<double>(*predicted) - expected));
   }
   return error.Result();
@@ -150,7 +151,10 @@ HazardScores ScoreHazards(const common::GridLayers& map, const common::GridLayer
   const std::string& cost_layer = mapping::layers::kTraversability;
   const std::string& elevation_layer = mapping::layers::kElevation;
   const Eigen::MatrixXf& truth_cost = truth_W.Layer(cost_layer);
+  const Eigen::MatrixXf& map_cost = map.Layer(cost_layer);
   const bool elevations = map.Has(elevation_layer) && truth_W.Has(elevation_layer);
+  const Eigen::MatrixXf* truth_elevation = elevations ? &truth_W.Layer(elevation_layer) : nullptr;
+  const Eigen::MatrixXf* map_elevation = elevations ? &map.Layer(elevation_layer) : nullptr;
   std::vector<double> cost, truth;
   std::vector<bool> hazard;
   std::map<std::pair<int, int>, int> histogram;
@@ -159,7 +163,7 @@ HazardScores ScoreHazards(const common::GridLayers& map, const common::GridLayer
   for (const Eigen::Vector2i& cell : observed.cells()) {
     const Eigen::Vector2d centre_W = observed.geometry().CellCenter(cell.x(), cell.y());
     const float expected = truth_cost(cell.x(), cell.y());
-    const std::optional<float> predicted = map.At(cost_layer, centre_W);
+    const std::optional<float> predicted = common::KnownValueAt(map.geometry(), map_cost, centre_W);
     if (!std::isnan(expected) && predicted) {
       cost.push_back(*predicted);
       truth.push_back(expected);
@@ -167,8 +171,9 @@ HazardScores ScoreHazards(const common::GridLayers& map, const common::GridLayer
       ++histogram[{CostBin(*predicted), CostBin(expected)}];
     }
     if (!elevations) continue;
-    const float ground = truth_W.Layer(elevation_layer)(cell.x(), cell.y());
-    const std::optional<float> height = map.At(elevation_layer, centre_W);
+    const float ground = (*truth_elevation)(cell.x(), cell.y());
+    const std::optional<float> height =
+        common::KnownValueAt(map.geometry(), *map_elevation, centre_W);
     if (std::isnan(ground) || !height) continue;
     squared_height_error += (*height - ground) * (*height - ground);
     ++heights;
