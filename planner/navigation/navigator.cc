@@ -209,9 +209,9 @@ FallbackConfig Navigator::FreeDriveConfig(double speed_m_s) const {
 
 std::optional<common::Trajectory> Navigator::BackOff(const common::RobotState& state,
                                                      const common::GridLayers& map) {
+  if (free_drive_speeds_.back_off_m_s <= 0.0) return std::nullopt;  // the tracker may not reverse
   const common::TrajectoryPoint start = FreeDriveStart(state);
   const Eigen::Vector2d forward_W(std::cos(start.yaw), std::sin(start.yaw));
-  if (free_drive_speeds_.back_off_m_s <= 0.0) return std::nullopt;
   const FallbackConfig drive = FreeDriveConfig(free_drive_speeds_.back_off_m_s);
   const CostMap& costs = CostMapOf(map);
   const NavigationPlannerConfig& config = planner_.config();
