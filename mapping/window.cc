@@ -27,6 +27,12 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 // LiDAR seed 16, whose robot then touched it).
 constexpr float kFacePoint_m = 0.05f;
 
+// The ground plane's rise across a cell's diagonal where its gradient is `gradient` (dz/dx, dz/dy):
+// how far apart in height two points of one cell of bare ground can lie [m].
+float RiseAcrossCell(double resolution_m, const Eigen::Vector2f& gradient) {
+  return static_cast<float>(std::sqrt(2.0) * resolution_m) * gradient.norm();
+}
+
 // True if `highest`(ix, iy) stands more than `max_bump_m` above the highest points of both cells
 // k = 1 or 2 away on either side of it along x, y or a diagonal, each raised by `rise` (the ground
 // plane's rise from that cell to this one): a bump the robot would straddle. (Their highest
@@ -208,7 +214,6 @@ void WindowCrop::KeepNearFloor(const common::GridLayers& map, double max_above_f
   if (!std::isfinite(max_above_floor_m)) return;
   const common::GridGeometry& g = map.geometry();
   const Eigen::MatrixXf& floor = map.Layer(layers::kFloor);
-  const auto diagonal = static_cast<float>(std::sqrt(2.0) * g.resolution_m);
   const auto above = static_cast<float>(max_above_floor_m);
   auto window = window_.view();
   Eigen::Index kept = 0;
@@ -217,7 +222,8 @@ void WindowCrop::KeepNearFloor(const common::GridLayers& map, double max_above_f
     const Eigen::Vector2d p_W = p.head<2>().cast<double>();
     const std::optional<Eigen::Vector2i> cell = g.CellIndex(p_W);
     // (a cell without a floor, NaN, keeps its points)
-    if (cell && p.z() > floor(cell->x(), cell->y()) + above + diagonal * GroundGradient(p_W).norm())
+    if (cell && p.z() > floor(cell->x(), cell->y()) + above +
+                            RiseAcrossCell(g.resolution_m, GroundGradient(p_W)))
       continue;
     window.col(kept++) = p;
   }
@@ -276,7 +282,7 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
       }
       bool face = highest(ix, iy) - foot > min_span_m;
       // (the ground plane's rise across the cell)
-      const float within = std::sqrt(2.0f) * resolution * slope.norm();
+      const float within = RiseAcrossCell(g.resolution_m, slope);
       if (face) face_floor(ix, iy) = lowest(ix, iy) + kFacePoint_m + within;
       // a step above a side neighbour's top (a neighbour without points, at -infinity, is skipped),
       // or within a cell that holds its neighbourhood's lowest point (to kFootTolerance_m): a face
@@ -475,6 +481,16 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
       // (fmin: a cell's first points set its floor)
       if (!std::isinf(lowest(local.x(), local.y()))) {
         floor(ix, iy) = std::fmin(floor(ix, iy), lowest(local.x(), local.y()));
+      }
+      // a cell whose highest point stands more than the climbable step above the lowest point it
+      // ever showed (plus the ground plane's rise across the cell) is a step, though the frame
+      // shows no ground beside it: a low wall whose foot was seen from farther away and now lies
+      // in the blind zone, its face seen from close by only up from where the lowest beam meets it
+      const float above_floor = highest(local.x(), local.y()) - floor(ix, iy);
+      if (value == 0.0f && area.max_step_m > 0.0 &&
+          above_floor - RiseAcrossCell(g.resolution_m, crop.GroundGradient(g.CellCenter(ix, iy))) >
+              area.max_step_m) {
+        value = 1.0f;
       }
       // a cell whose lowest point stands more than half the crop height above the lowest point it
       // ever showed shows no ground (the side of a box next to the robot, seen above the sensor's

@@ -137,7 +137,9 @@ class ObstacleMarker {
   /// `area.obstacle_clear_s`; layer `free_since`), and a face cell stamps layer `obstacle_seen`
   /// with `t_s` (and `obstacle_since`, where it was no face before); layer
   /// `roughness` takes roughness() where a cell has points. Layer `floor` keeps the lowest point
-  /// each cell ever showed; a cell whose lowest point stands more than half the crop height above
+  /// each cell ever showed; a cell whose highest point stands more than `area.max_step_m` (> 0)
+  /// plus the ground plane's rise across it above its floor is a step (a low wall whose foot the
+  /// frame does not show); a cell whose lowest point stands more than half the crop height above
   /// it shows no ground and is no evidence of free space (its obstacle stays), or a face if its
   /// highest point stands more than the crop height above it. The Drops are marked as faces. Layers
   /// `face_x_low` to `face_y_high` keep the union of a face cell's extents() over the frames of its
