@@ -14,6 +14,29 @@ namespace {
 
 using Mask = Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>;
 
+// True if the obstacle of lethal cell (ix, iy) is the whole cell: `extents` are empty or unknown
+// (NaN) there.
+bool WholeCell(const CellExtents& extents, int ix, int iy) {
+  return extents.empty() || std::isnan(extents.x_low(ix, iy)) ||
+         std::isnan(extents.x_high(ix, iy)) || std::isnan(extents.y_low(ix, iy)) ||
+         std::isnan(extents.y_high(ix, iy));
+}
+
+// The obstacle within lethal cell (ix, iy) of `g`: the box `extents` gives (clamped to the cell),
+// or the whole cell.
+Eigen::AlignedBox2d ObstacleBox(const common::GridGeometry& g, const CellExtents& extents, int ix,
+                                int iy) {
+  const Eigen::Vector2d centre = g.CellCenter(ix, iy);
+  const double half = 0.5 * g.resolution_m;
+  if (WholeCell(extents, ix, iy)) {
+    return Eigen::AlignedBox2d(centre.array() - half, centre.array() + half);
+  }
+  auto offset = [&](float v) { return std::clamp(static_cast<double>(v), -half, half); };
+  return Eigen::AlignedBox2d(
+      centre + Eigen::Vector2d(offset(extents.x_low(ix, iy)), offset(extents.y_low(ix, iy))),
+      centre + Eigen::Vector2d(offset(extents.x_high(ix, iy)), offset(extents.y_high(ix, iy))));
+}
+
 // Squared-distance transform of one line: d(q) = min_p (q - p)^2 + f(p), by the lower envelope of
 // the parabolas rooted at each p. `f` uses a large finite value for "no site" so that the
 // intersection arithmetic stays finite.
@@ -210,19 +233,7 @@ Eigen::MatrixXd ObstacleDistance(const common::GridGeometry& g, const Mask& leth
     }
   }
   if (extents.empty()) return distance_m;
-  const double half = 0.5 * g.resolution_m;
-  auto whole = [&](int ix, int iy) {
-    return std::isnan(extents.x_low(ix, iy)) || std::isnan(extents.x_high(ix, iy)) ||
-           std::isnan(extents.y_low(ix, iy)) || std::isnan(extents.y_high(ix, iy));
-  };
-  auto obstacle = [&](int ix, int iy) {
-    const Eigen::Vector2d centre = g.CellCenter(ix, iy);
-    if (whole(ix, iy)) return Eigen::AlignedBox2d(centre.array() - half, centre.array() + half);
-    auto offset = [&](float v) { return std::clamp(static_cast<double>(v), -half, half); };
-    return Eigen::AlignedBox2d(
-        centre + Eigen::Vector2d(offset(extents.x_low(ix, iy)), offset(extents.y_low(ix, iy))),
-        centre + Eigen::Vector2d(offset(extents.x_high(ix, iy)), offset(extents.y_high(ix, iy))));
-  };
+  auto whole = [&](int ix, int iy) { return WholeCell(extents, ix, iy); };
   // a whole lethal cell whose four side neighbours are whole lethal cells is never the nearest
   // obstacle: its boundary is theirs
   auto hidden = [&](int ix, int iy) {
@@ -261,7 +272,7 @@ Eigen::MatrixXd ObstacleDistance(const common::GridGeometry& g, const Mask& leth
   for (int iy = 0; iy < ny; ++iy) {
     for (int ix = 0; ix < nx; ++ix) {
       if (!lethal(ix, iy) || hidden(ix, iy)) continue;
-      const Eigen::AlignedBox2d box = obstacle(ix, iy);
+      const Eigen::AlignedBox2d box = ObstacleBox(g, extents, ix, iy);
       const int x0 = std::max(0, ix - window), x1 = std::min(nx - 1, ix + window);
       const int y0 = std::max(0, iy - window), y1 = std::min(ny - 1, iy + window);
       for (int jx = x0; jx <= x1; ++jx) {
@@ -310,11 +321,12 @@ CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf
                      const CostMapConfig& config, const Eigen::MatrixXf* roughness_m,
                      const Eigen::MatrixXf* elevation_m, const CellExtents& extents)
     : CostField(geometry, layer, config, roughness_m, elevation_m,
-                LethalDistance(geometry, layer, config, extents, /*known_only=*/false)) {}
+                LethalDistance(geometry, layer, config, extents, /*known_only=*/false), extents) {}
 
 CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
                      const CostMapConfig& config, const Eigen::MatrixXf* roughness_m,
-                     const Eigen::MatrixXf* elevation_m, const Eigen::MatrixXd& outside_m)
+                     const Eigen::MatrixXf* elevation_m, const Eigen::MatrixXd& outside_m,
+                     const CellExtents& extents)
     : geometry_(geometry),
       max_pitch_roll_tangents_(config.slope.Tangents()),
       open_speed_m_s_(config.speed.open_m_s) {
@@ -347,6 +359,7 @@ CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf
       distance_(ix, iy) = d;
     }
   }
+  FindNearestObstacles(lethal, extents);
   speed_limit_ = SpeedLimits(layer, roughness_m, config.speed, geometry_.resolution_m);
   elevation_ = elevation_m != nullptr && config.slope.Active()
                    ? GroundElevation(*elevation_m, distance_, kGroundReach_m)
@@ -357,6 +370,86 @@ std::vector<Eigen::Vector2d> BodyPoints_B(const common::Footprint& footprint, do
                                           double clearance_m) {
   return footprint.BoundaryPoints_B(
       std::min(resolution_m, std::max(0.5 * clearance_m, 0.25 * resolution_m)));
+}
+
+void CostField::FindNearestObstacles(const Mask& lethal, const CellExtents& extents) {
+  const common::GridGeometry& g = geometry_;
+  nearest_obstacle_ = Eigen::MatrixXi::Constant(g.num_x, g.num_y, -1);
+  obstacles_.clear();
+  // each lethal cell's index in obstacles_, once it is some centre's candidate
+  Eigen::MatrixXi index = Eigen::MatrixXi::Constant(g.num_x, g.num_y, -1);
+  // the obstacle nearest to a centre within the band lies within the band of it, its cell's
+  // centre within half a diagonal more
+  const int window =
+      static_cast<int>(std::ceil((kExactBand_m + M_SQRT1_2 * g.resolution_m) / g.resolution_m));
+  auto obstacle_of = [&](int jx, int jy) {
+    if (index(jx, jy) < 0) {
+      index(jx, jy) = static_cast<int>(obstacles_.size());
+      obstacles_.push_back(ObstacleBox(g, extents, jx, jy));
+    }
+    return index(jx, jy);
+  };
+  for (int iy = 0; iy < g.num_y; ++iy) {
+    for (int ix = 0; ix < g.num_x; ++ix) {
+      if (!(distance_(ix, iy) <= kExactBand_m)) continue;
+      // a face's cell whose box holds its centre (a distance of 0 or less) is its own nearest
+      if (lethal(ix, iy) && distance_(ix, iy) <= 0.0) {
+        if (!WholeCell(extents, ix, iy)) nearest_obstacle_(ix, iy) = obstacle_of(ix, iy);
+        continue;
+      }
+      const Eigen::Vector2d centre = g.CellCenter(ix, iy);
+      double best = std::numeric_limits<double>::infinity();
+      for (int jy = std::max(0, iy - window); jy <= std::min(g.num_y - 1, iy + window); ++jy) {
+        for (int jx = std::max(0, ix - window); jx <= std::min(g.num_x - 1, ix + window); ++jx) {
+          if (!lethal(jx, jy) || WholeCell(extents, jx, jy)) continue;
+          const int k = obstacle_of(jx, jy);
+          const double squared =
+              obstacles_[static_cast<std::size_t>(k)].squaredExteriorDistance(centre);
+          if (squared < best) {
+            best = squared;
+            nearest_obstacle_(ix, iy) = k;
+          }
+        }
+      }
+    }
+  }
+}
+
+FieldSample CostField::Distance(const Eigen::Vector2d& p_W) const {
+  const FieldSample interpolated = Interpolate(distance_, p_W);
+  const common::GridGeometry& g = geometry_;
+  const Eigen::Vector2d cell = (p_W - g.origin_W) / g.resolution_m;
+  if (obstacles_.empty() ||
+      !(cell.x() >= 0.0 && cell.x() <= g.num_x - 1 && cell.y() >= 0.0 && cell.y() <= g.num_y - 1)) {
+    return interpolated;
+  }
+  // the obstacles nearest to the four centres around p_W, as Interpolate takes them
+  const int x0 = std::min(static_cast<int>(cell.x()), g.num_x - 2);
+  const int y0 = std::min(static_cast<int>(cell.y()), g.num_y - 2);
+  double best = std::numeric_limits<double>::infinity();
+  const Eigen::AlignedBox2d* nearest = nullptr;
+  for (const auto& [jx, jy] : {std::pair{x0, y0}, {x0 + 1, y0}, {x0, y0 + 1}, {x0 + 1, y0 + 1}}) {
+    const int k = nearest_obstacle_(std::max(jx, 0), std::max(jy, 0));
+    // a centre off the band: the interpolation alone
+    if (k < 0) return interpolated;
+    const double squared = obstacles_[static_cast<std::size_t>(k)].squaredExteriorDistance(p_W);
+    if (squared < best) {
+      best = squared;
+      nearest = &obstacles_[static_cast<std::size_t>(k)];
+    }
+  }
+  // inside an obstacle: no farther than its boundary
+  if (best == 0.0) {
+    FieldSample inside = interpolated;
+    inside.value = std::min(inside.value, 0.0);
+    return inside;
+  }
+  const double exact = std::sqrt(best);
+  if (exact >= interpolated.value) return interpolated;
+  FieldSample sample;
+  sample.value = exact;
+  sample.gradient_W = (p_W - p_W.cwiseMax(nearest->min()).cwiseMin(nearest->max())) / exact;
+  return sample;
 }
 
 double FootprintDistance(const CostField& field, const Eigen::Vector2d& position_W, double yaw,

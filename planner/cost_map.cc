@@ -190,10 +190,11 @@ const CostField& CostMap::field() const {
     // the field's lethal cells are the searches' unless unknown cells are lethal
     const bool unknown_lethal =
         config_.unknown_policy == UnknownPolicy::kBlocked && layer_.array().isNaN().any();
-    field_ = unknown_lethal ? std::make_unique<CostField>(geometry_, layer_, config_, roughness_m,
-                                                          elevation_m, extents_)
-                            : std::make_unique<CostField>(geometry_, layer_, config_, roughness_m,
-                                                          elevation_m, known_obstacle_m());
+    field_ = unknown_lethal
+                 ? std::make_unique<CostField>(geometry_, layer_, config_, roughness_m, elevation_m,
+                                               extents_)
+                 : std::make_unique<CostField>(geometry_, layer_, config_, roughness_m, elevation_m,
+                                               known_obstacle_m(), extents_);
   }
   return *field_;
 }

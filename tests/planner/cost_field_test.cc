@@ -152,9 +152,9 @@ TEST(ObstacleDistanceTest, EqualsTheBruteForceDistanceToTheObstaclesWithinTheRea
 }
 
 // A 1.3 m door in a 0.1 m wall along y = 0.6 on a 0.2 m map: the jambs end at x = -0.65 and
-// 0.65, the last 5 cm of the cells centred at x = -0.6 and 0.6. Whole cells leave the door 1 m
-// wide; the jambs' boxes leave it its 1.3 m.
-TEST(CostFieldTest, AJambsBoxLeavesTheDoorItsWidthAndTheSearchPassesWhereWholeCellsBlock) {
+// 0.65, the last 5 cm of the cells centred at x = -0.6 and 0.6 (their boxes), the wall between
+// y = 0.55 and 0.65.
+common::GridLayers DoorMap() {
   common::GridLayers map = MapWithBoxes(Eigen::Vector2d::Zero());
   const common::GridGeometry& g = map.geometry();
   for (int ix = 0; ix < g.num_x; ++ix) {
@@ -170,6 +170,13 @@ TEST(CostFieldTest, AJambsBoxLeavesTheDoorItsWidthAndTheSearchPassesWhereWholeCe
       map.Layer("face_y_high")(ix, iy) = 0.05f;
     }
   }
+  return map;
+}
+
+// Whole cells leave the door of DoorMap 1 m wide; the jambs' boxes leave it its 1.3 m.
+TEST(CostFieldTest, AJambsBoxLeavesTheDoorItsWidthAndTheSearchPassesWhereWholeCellsBlock) {
+  const common::GridLayers map = DoorMap();
+  const common::GridGeometry& g = map.geometry();
   CostMapConfig config;
   config.obstacle_extents = true;
   const CostField dut(map, config);
@@ -196,6 +203,41 @@ TEST(CostFieldTest, AJambsBoxLeavesTheDoorItsWidthAndTheSearchPassesWhereWholeCe
   const CostMap off(map, config);
   EXPECT_NEAR(off.field().Distance({0.6, 0.6}).value, -0.1, 1e-12);
   EXPECT_EQ(off.search().CostAt({0.0, 0.6}), std::numeric_limits<double>::infinity());
+}
+
+// Beside the end of DoorMap's right jamb (its corner at (0.65, 0.55)) the distance is the
+// Euclidean distance to the jamb's box, with its gradient: interpolated between the cell centres
+// it read up to 3.4 cm farther here (0.1455 m at (0.55, 0.5) against 0.1118 m), and the
+// optimiser, keeping 1 cm, drove a robot's side into a door's jamb (an indoor world of the fourth
+// round of probes, docs/navigation.md).
+TEST(CostFieldTest, BesideAJambsEndTheDistanceIsToItsBoxAndItsGradientIsTheDistances) {
+  CostMapConfig config;
+  config.obstacle_extents = true;
+  const CostField dut(DoorMap(), config);
+  const Eigen::AlignedBox2d jamb(Eigen::Vector2d(0.65, 0.55), Eigen::Vector2d(0.7, 0.65));
+  int checked = 0;
+  for (double x = 0.41; x <= 0.64; x += 0.023) {
+    for (double y = 0.31; y <= 0.54; y += 0.023) {
+      const Eigen::Vector2d p(x, y);
+      const FieldSample s = dut.Distance(p);
+      // (the extents are floats)
+      EXPECT_NEAR(s.value, jamb.exteriorDistance(p), 1e-7) << p.transpose();
+      // central differences of the value
+      constexpr double h = 1e-7;
+      const Eigen::Vector2d numeric((dut.Distance(p + Eigen::Vector2d(h, 0)).value -
+                                     dut.Distance(p - Eigen::Vector2d(h, 0)).value) /
+                                        (2 * h),
+                                    (dut.Distance(p + Eigen::Vector2d(0, h)).value -
+                                     dut.Distance(p - Eigen::Vector2d(0, h)).value) /
+                                        (2 * h));
+      EXPECT_NEAR((s.gradient_W - numeric).norm(), 0.0, 1e-6) << p.transpose();
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 100);
+  EXPECT_NEAR(dut.Distance({0.55, 0.5}).value, std::hypot(0.1, 0.05), 1e-7);
+  // inside the jamb's box, beyond its cell's centre line: not outside
+  EXPECT_LE(dut.Distance({0.67, 0.6}).value, 0.0);
 }
 
 TEST(CostFieldTest, CostIsBilinearWithItsGradient) {
@@ -338,7 +380,7 @@ TEST(BodyPointsTest, KeepNeighboursWithinACellAndHalfTheClearanceButAQuarterCell
 }
 
 // A post whose box (2 x 2 cm, in a 0.2 m cell) ends 1.5 cm from the robot's side, half way between
-// two of the points a cell apart: those read it over 6 cm farther than it is; the body points for
+// two of the points a cell apart: those read it over 5 cm farther than it is; the body points for
 // the 0.15 m clearance within a quarter of the clearance.
 TEST(BodyPointsTest, SeeABoxsCornerBetweenPointsACellApart) {
   common::GridLayers map = MapWithBoxes(Eigen::Vector2d(0.1, 0.1));
@@ -356,7 +398,7 @@ TEST(BodyPointsTest, SeeABoxsCornerBetweenPointsACellApart) {
   const common::Footprint footprint;  // the left side at y = 0.285, from x = -0.313 to 0.313
   const double coarse = FootprintDistance(field, {0, 0}, 0.0, footprint.BoundaryPoints_B(0.2));
   const double fine = FootprintDistance(field, {0, 0}, 0.0, BodyPoints_B(footprint, 0.2, 0.15));
-  EXPECT_GT(coarse, 0.015 + 0.06);
+  EXPECT_GT(coarse, 0.015 + 0.05);
   EXPECT_LT(fine, 0.015 + 0.15 / 4);
 }
 
