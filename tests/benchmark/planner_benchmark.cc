@@ -274,4 +274,48 @@ void BM_ObstacleDistance(benchmark::State& state, bool with_extents) {
 BENCHMARK_CAPTURE(BM_ObstacleDistance, whole_cells, false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_ObstacleDistance, boxes, true)->Unit(benchmark::kMillisecond);
 
+// The same map's cost field (`build`: its construction, with the nearest box of every centre
+// within CostField::kExactBand_m when the lethal cells hold boxes) or 10,000 of its distance
+// queries at points within 0.5 m of the discs' edges (`query`: bilinear only without boxes, the
+// Euclidean distance to the nearest box with them).
+void BM_CostFieldDistance(benchmark::State& state, bool with_extents, bool query) {
+  const trav::common::GridLayers map = CostMap(0.2);
+  const trav::common::GridGeometry& g = map.geometry();
+  const Eigen::MatrixXf& cost = map.Layer("traversability");
+  trav::planner::CellExtents extents;
+  if (with_extents) {
+    extents.x_low = Eigen::MatrixXf::Constant(g.num_x, g.num_y, -0.05f);
+    extents.x_high = Eigen::MatrixXf::Constant(g.num_x, g.num_y, 0.05f);
+    extents.y_low = extents.x_low;
+    extents.y_high = extents.x_high;
+  }
+  const trav::planner::CostMapConfig config;
+  if (!query) {
+    for (auto _ : state) {
+      const trav::planner::CostField field(g, cost, config, nullptr, nullptr, extents);
+      benchmark::DoNotOptimize(&field);
+    }
+    return;
+  }
+  const trav::planner::CostField field(g, cost, config, nullptr, nullptr, extents);
+  trav::common::Random random(3);
+  std::vector<Eigen::Vector2d> points;
+  while (points.size() < 10000) {
+    const Eigen::Vector2d p(random.Uniform(-24.0, 24.0), random.Uniform(-24.0, 24.0));
+    const double d = field.Distance(p).value;
+    if (d > 0.0 && d < 0.5) points.push_back(p);
+  }
+  for (auto _ : state) {
+    double sum = 0.0;
+    for (const Eigen::Vector2d& p : points) sum += field.Distance(p).value;
+    benchmark::DoNotOptimize(sum);
+  }
+}
+BENCHMARK_CAPTURE(BM_CostFieldDistance, build_whole_cells, false, false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CostFieldDistance, build_boxes, true, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CostFieldDistance, query_whole_cells, false, true)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CostFieldDistance, query_boxes, true, true)->Unit(benchmark::kMillisecond);
+
 BENCHMARK_MAIN();
