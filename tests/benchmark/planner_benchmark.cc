@@ -249,6 +249,16 @@ void BM_PoseSearch(benchmark::State& state, bool closed) {
 BENCHMARK_CAPTURE(BM_PoseSearch, through_a_door, false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_PoseSearch, no_way, true)->Unit(benchmark::kMillisecond);
 
+// Extents on `g` that put a box of half a 0.2 m cell's side in the middle of every cell.
+trav::planner::CellExtents HalfCellBoxes(const trav::common::GridGeometry& g) {
+  trav::planner::CellExtents extents;
+  extents.x_low = Eigen::MatrixXf::Constant(g.num_x, g.num_y, -0.05f);
+  extents.x_high = Eigen::MatrixXf::Constant(g.num_x, g.num_y, 0.05f);
+  extents.y_low = extents.x_low;
+  extents.y_high = extents.x_high;
+  return extents;
+}
+
 }  // namespace
 
 // ObstacleDistance on the 50 x 50 m map at the closed loop's 0.2 m (150 lethal discs), every
@@ -260,13 +270,8 @@ void BM_ObstacleDistance(benchmark::State& state, bool with_extents) {
   const Eigen::MatrixXf& cost = map.Layer("traversability");
   const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> lethal =
       (cost.array() >= 0.8f).matrix();
-  trav::planner::CellExtents extents;
-  if (with_extents) {
-    extents.x_low = Eigen::MatrixXf::Constant(g.num_x, g.num_y, -0.05f);
-    extents.x_high = Eigen::MatrixXf::Constant(g.num_x, g.num_y, 0.05f);
-    extents.y_low = extents.x_low;
-    extents.y_high = extents.x_high;
-  }
+  const trav::planner::CellExtents extents =
+      with_extents ? HalfCellBoxes(g) : trav::planner::CellExtents{};
   for (auto _ : state) {
     benchmark::DoNotOptimize(trav::planner::ObstacleDistance(g, lethal, extents));
   }
@@ -282,13 +287,8 @@ void BM_CostFieldDistance(benchmark::State& state, bool with_extents, bool query
   const trav::common::GridLayers map = CostMap(0.2);
   const trav::common::GridGeometry& g = map.geometry();
   const Eigen::MatrixXf& cost = map.Layer("traversability");
-  trav::planner::CellExtents extents;
-  if (with_extents) {
-    extents.x_low = Eigen::MatrixXf::Constant(g.num_x, g.num_y, -0.05f);
-    extents.x_high = Eigen::MatrixXf::Constant(g.num_x, g.num_y, 0.05f);
-    extents.y_low = extents.x_low;
-    extents.y_high = extents.x_high;
-  }
+  const trav::planner::CellExtents extents =
+      with_extents ? HalfCellBoxes(g) : trav::planner::CellExtents{};
   const trav::planner::CostMapConfig config;
   if (!query) {
     for (auto _ : state) {
