@@ -33,6 +33,31 @@ float RiseAcrossCell(double resolution_m, const Eigen::Vector2f& gradient) {
   return static_cast<float>(std::sqrt(2.0) * resolution_m) * gradient.norm();
 }
 
+// True if cell (ix, iy), whose highest point in the frame is `top`, is a step against the lowest
+// points the cells ever showed (`floor`, NaN where none), on ground of gradient `gradient`: its top
+// stands more than `max_step_m` above its own floor, or its floor more than that above a side
+// neighbour's, besides the ground plane's rise across a cell (and between the two cells). The
+// first is a low wall whose foot was seen from farther away and now lies in the blind zone, its
+// face seen from close by only up from where the lowest beam meets it; the second a face whose
+// foot its cell never showed (a box leaning over it) beside ground seen before.
+bool StepAboveFloors(const Eigen::MatrixXf& floor, int ix, int iy, float top,
+                     const Eigen::Vector2f& gradient, double resolution_m, double max_step_m) {
+  const float own = floor(ix, iy);
+  const float within = RiseAcrossCell(resolution_m, gradient);
+  if (top - own - within > max_step_m) return true;
+  const auto resolution = static_cast<float>(resolution_m);
+  const std::array<Eigen::Vector2i, 4> sides{{{-1, 0}, {1, 0}, {0, -1}, {0, 1}}};
+  for (const Eigen::Vector2i& d : sides) {
+    const int jx = ix + d.x(), jy = iy + d.y();
+    if (jx < 0 || jy < 0 || jx >= floor.rows() || jy >= floor.cols()) continue;
+    // (NaN, a neighbour without a floor, compares false)
+    const float rise = -resolution * (gradient.x() * static_cast<float>(d.x()) +
+                                      gradient.y() * static_cast<float>(d.y()));
+    if (own - (floor(jx, jy) + rise) - within > max_step_m) return true;
+  }
+  return false;
+}
+
 // True if `highest`(ix, iy) stands more than `max_bump_m` above the highest points of both cells
 // k = 1 or 2 away on either side of it along x, y or a diagonal, each raised by `rise` (the ground
 // plane's rise from that cell to this one): a bump the robot would straddle. (Their highest
@@ -482,14 +507,12 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
       if (!std::isinf(lowest(local.x(), local.y()))) {
         floor(ix, iy) = std::fmin(floor(ix, iy), lowest(local.x(), local.y()));
       }
-      // a cell whose highest point stands more than the climbable step above the lowest point it
-      // ever showed (plus the ground plane's rise across the cell) is a step, though the frame
-      // shows no ground beside it: a low wall whose foot was seen from farther away and now lies
-      // in the blind zone, its face seen from close by only up from where the lowest beam meets it
-      const float above_floor = highest(local.x(), local.y()) - floor(ix, iy);
+      // a step against the ground the cells showed before, though the frame shows none beside
+      // the cell (StepAboveFloors)
       if (value == 0.0f && area.max_step_m > 0.0 &&
-          above_floor - RiseAcrossCell(g.resolution_m, crop.GroundGradient(g.CellCenter(ix, iy))) >
-              area.max_step_m) {
+          StepAboveFloors(floor, ix, iy, highest(local.x(), local.y()),
+                          crop.GroundGradient(g.CellCenter(ix, iy)), g.resolution_m,
+                          area.max_step_m)) {
         value = 1.0f;
       }
       // a cell whose lowest point stands more than half the crop height above the lowest point it
