@@ -82,9 +82,10 @@ struct MapArea {
   /// this in height are marked untraversable (layer `obstacle`).
   double max_height_above_ground_m{0.3};
   /// A cell whose highest point stands more than this above the highest point of a side
-  /// neighbour, or above the lowest point it ever showed, is a step the robot cannot climb, marked
-  /// untraversable with the faces [m] (0: no step test). The Scout Mini climbs 0.16 m at 1 m/s and
-  /// not 0.17 m (docs/navigation.md).
+  /// neighbour, or above the lowest point it ever showed (its floor), or whose floor stands more
+  /// than this above a side neighbour's, is a step the robot cannot climb, marked untraversable
+  /// with the faces [m] (0: no step test). The Scout Mini climbs 0.16 m at 1 m/s and not 0.17 m
+  /// (docs/navigation.md).
   double max_step_m{0.15};
   /// A cell whose highest point stands more than this above the ground on both sides of it, one or
   /// two cells away along x, y or a diagonal, is a bump the robot would straddle with its chassis

@@ -138,13 +138,14 @@ class ObstacleMarker {
   /// with `t_s` (and `obstacle_since`, where it was no face before); layer
   /// `roughness` takes roughness() where a cell has points. Layer `floor` keeps the lowest point
   /// each cell ever showed; a cell whose highest point stands more than `area.max_step_m` (> 0)
-  /// plus the ground plane's rise across it above its floor is a step (a low wall whose foot the
-  /// frame does not show); a cell whose lowest point stands more than half the crop height above
-  /// it shows no ground and is no evidence of free space (its obstacle stays), or a face if its
-  /// highest point stands more than the crop height above it. The Drops are marked as faces. Layers
-  /// `face_x_low` to `face_y_high` keep the union of a face cell's extents() over the frames of its
-  /// unbroken run as a face that have one (NaN, the whole cell, until one has: a step's, a drop's);
-  /// a cell seen free has none, a forgotten face keeps its extent. A face
+  /// plus the ground plane's rise across it above its floor, or whose floor stands that much above
+  /// a side neighbour's, is a step (a low wall whose foot the frame does not show, a face whose
+  /// foot its cell never showed); a cell whose lowest point stands more than half the crop
+  /// height above it shows no ground and is no evidence of free space (its obstacle stays), or a
+  /// face if its highest point stands more than the crop height above it. The Drops are marked as
+  /// faces. Layers `face_x_low` to `face_y_high` keep the union of a face cell's extents() over
+  /// the frames of its unbroken run as a face that have one (NaN, the whole cell, until one has: a
+  /// step's, a drop's); a cell seen free has none, a forgotten face keeps its extent. A face
   /// cell within `area.blind_radius_m` of the base at p_WB that points showed for less than
   /// `area.obstacle_memory_s` (> 0), and that no point has shown for longer than that since, is
   /// forgotten: its obstacle becomes unknown, and its cost too if the mapper has never scored it.
