@@ -119,6 +119,11 @@ struct MapArea {
   /// the wall shows that half alone (0, or `obstacle_memory_s` 0: the first free points clear any
   /// face).
   double obstacle_clear_s{0.5};
+  /// The step test compares with each cell's floor too (StepAboveFloors in ObstacleMarker::Mark):
+  /// heights seen seconds apart must agree to a few centimetres, which holds on the true pose; a
+  /// run on an estimated pose (sim::PoseNoiseConfig::active) turns it off (MakeMapper), as the
+  /// estimate's height drifts by more than the climbable step over a few metres.
+  bool floor_steps{true};
   bool ground_crop{true};     ///< crop at max_height_above_ground_m (false: keep every height)
   bool obstacle_layer{true};  ///< mark the faces the crop removes as untraversable
 
@@ -189,6 +194,7 @@ struct FsgpConfig {
     a->Field("blind_radius", &area.blind_radius_m, {0, 100});
     a->Field("obstacle_memory", &area.obstacle_memory_s, {0, 100000});
     a->Field("obstacle_clear", &area.obstacle_clear_s, {0, 100000});
+    a->Field("floor_steps", &area.floor_steps);
     a->Field("ground_crop", &area.ground_crop);
     a->Field("obstacle_layer", &area.obstacle_layer);
     a->Field("pre_voxel", &pre_voxel_m, {0, 1});

@@ -509,7 +509,7 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
       }
       // a step against the ground the cells showed before, though the frame shows none beside
       // the cell (StepAboveFloors)
-      if (value == 0.0f && area.max_step_m > 0.0 &&
+      if (value == 0.0f && area.max_step_m > 0.0 && area.floor_steps &&
           StepAboveFloors(floor, ix, iy, highest(local.x(), local.y()),
                           crop.GroundGradient(g.CellCenter(ix, iy)), g.resolution_m,
                           area.max_step_m)) {
