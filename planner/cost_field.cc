@@ -424,12 +424,13 @@ FieldSample CostField::Distance(const Eigen::Vector2d& p_W) const {
     return interpolated;
   }
   // the obstacles nearest to the four centres around p_W, as Interpolate takes them
-  const int x0 = std::min(static_cast<int>(cell.x()), g.num_x - 2);
-  const int y0 = std::min(static_cast<int>(cell.y()), g.num_y - 2);
+  const int x0 = std::max(0, std::min(static_cast<int>(cell.x()), g.num_x - 2));
+  const int y0 = std::max(0, std::min(static_cast<int>(cell.y()), g.num_y - 2));
+  const int x1 = std::min(x0 + 1, g.num_x - 1), y1 = std::min(y0 + 1, g.num_y - 1);
   double best = std::numeric_limits<double>::infinity();
   const Eigen::AlignedBox2d* nearest = nullptr;
-  for (const auto& [jx, jy] : {std::pair{x0, y0}, {x0 + 1, y0}, {x0, y0 + 1}, {x0 + 1, y0 + 1}}) {
-    const int k = nearest_obstacle_(std::max(jx, 0), std::max(jy, 0));
+  for (const auto& [jx, jy] : {std::pair{x0, y0}, {x1, y0}, {x0, y1}, {x1, y1}}) {
+    const int k = nearest_obstacle_(jx, jy);
     // a centre off the band: the interpolation alone
     if (k < 0) return interpolated;
     const double squared = obstacles_[static_cast<std::size_t>(k)].squaredExteriorDistance(p_W);
