@@ -166,6 +166,9 @@ std::unique_ptr<mapping::TraversabilityMapper> MakeEvalMapper(const std::string&
   Scenario configured = scene;
   if (const std::optional<PoseSourceMethod> on_source = ParsePoseSourceMethod(method)) {
     configured.mapper = common::NameOf(*StandardMethod(on_source->base));
+    // its frames come on an estimated pose: no steps against the cells' floors, as a run on one
+    // (MakeMapper)
+    configured.mapping.area.floor_steps = false;
   } else if (method == kNoFeatures || method == kFixedGain) {
     configured.mapper = common::NameOf(MapperMethod::kFsgpBgk);
     if (method == kNoFeatures) {
