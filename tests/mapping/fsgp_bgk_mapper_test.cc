@@ -501,6 +501,26 @@ TEST(ObstacleCellsTest, ALowWallWhoseTopAloneIsSeenStaysAnObstacle) {
   EXPECT_EQ(map.At(layers::kObstacle, top_W), 0.0f);
 }
 
+// A 12 x 12 m map at 0.2 m after ObstacleMarker::Mark of each (time, points) in turn, cropped as
+// the default area crops them, the robot at p_WB.
+common::GridLayers MarkedMap(const Eigen::Vector3d& p_WB,
+                             const std::vector<std::pair<double, common::PointCloud>>& frames) {
+  const MapArea area = FsgpConfig{}.area;
+  common::GridLayers map(
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(12, 12), 0.2),
+      layers::All());
+  const auto [low, high] = WindowCells(map.geometry(), p_WB, area.window_m);
+  WindowCrop crop;
+  ObstacleMarker marker;
+  MapUpdateResult result;
+  for (const auto& [t_s, points] : frames) {
+    crop.Crop(points, p_WB, area.window_m, area.max_height_above_robot_m, area.GroundCropHeight(),
+              &result);
+    marker.Mark(crop, low, high, area, p_WB, t_s, 2, &map);
+  }
+  return map;
+}
+
 // A low wall 0.25 m high (above the 0.15 m step the robot climbs, below the 0.3 m face test), seen
 // first from afar with the ground before it, then from close by, when that ground lies in the blind
 // zone and the lowest beam meets its face 0.12 m up: the close frames show 0.13 m of face and no
@@ -509,7 +529,6 @@ TEST(ObstacleCellsTest, ALowWallWhoseTopAloneIsSeenStaysAnObstacle) {
 // the ground it showed before, keeps it a step, and the top's cells are a step above it; a 0.12 m
 // curb seen so stays free.
 TEST(ObstacleCellsTest, ALowWallWhoseFootWasSeenBeforeStaysAStepSeenFromCloseBy) {
-  const MapArea area = FsgpConfig{}.area;
   const Eigen::Vector3d p_WB(0.0, 0.0, 0.3);
   const common::PointCloud ground = Surface([](double, double) { return 0.0; }, {0, 0});
   // the wall's face at x = 2.01 from `foot_m` up to its top, its top 0.26 m deep behind it, and
@@ -534,20 +553,10 @@ TEST(ObstacleCellsTest, ALowWallWhoseFootWasSeenBeforeStaysAStepSeenFromCloseBy)
   // the cells centred at x = 1.8 (ground), 2.0 (the face and the top's first 5 cm), 2.2 (the top)
   const Eigen::Vector2d before_W(1.8, 0.0), face_W(2.0, 0.0), top_W(2.2, 0.0);
   const auto obstacle_after = [&](double height_m) {
-    common::GridLayers map(
-        common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(12, 12), 0.2),
-        layers::All());
-    const auto [low, high] = WindowCells(map.geometry(), p_WB, area.window_m);
-    WindowCrop crop;
-    ObstacleMarker marker;
-    MapUpdateResult result;
     // from afar: the face down to the ground before it; then from close by, twice
-    for (const auto& [t_s, foot_m, before_m] :
-         {std::tuple{0.0, 0.0, 2.0}, std::tuple{0.1, 0.12, 0.0}, std::tuple{0.7, 0.12, 0.0}}) {
-      crop.Crop(frame(height_m, foot_m, before_m), p_WB, area.window_m,
-                area.max_height_above_robot_m, area.GroundCropHeight(), &result);
-      marker.Mark(crop, low, high, area, p_WB, t_s, 2, &map);
-    }
+    const common::GridLayers map = MarkedMap(p_WB, {{0.0, frame(height_m, 0.0, 2.0)},
+                                                    {0.1, frame(height_m, 0.12, 0.0)},
+                                                    {0.7, frame(height_m, 0.12, 0.0)}});
     EXPECT_NEAR(map.At(layers::kFloor, before_W).value_or(1.0f), 0.0, 0.01) << height_m;
     return std::pair{map.At(layers::kObstacle, face_W).value_or(-1.0f),
                      map.At(layers::kObstacle, top_W).value_or(-1.0f)};
@@ -564,7 +573,6 @@ TEST(ObstacleCellsTest, ALowWallWhoseFootWasSeenBeforeStaysAStepSeenFromCloseBy)
 // stands above a side neighbour's by more than the climbable step is a step; a box top 0.12 m up
 // is not.
 TEST(ObstacleCellsTest, ACellThatNeverShowedItsGroundIsAStepAboveTheGroundBesideIt) {
-  const MapArea area = FsgpConfig{}.area;
   const Eigen::Vector3d p_WB(0.0, 0.0, 0.3);
   const common::PointCloud ground = Surface([](double, double) { return 0.0; }, {0, 0});
   // the ground up to x = 2 (the whole frame's or behind the robot only), and the face's points
@@ -587,18 +595,8 @@ TEST(ObstacleCellsTest, ACellThatNeverShowedItsGroundIsAStepAboveTheGroundBeside
   };
   const Eigen::Vector2d before_W(1.8, 0.0), face_W(2.0, 0.0);
   const auto obstacle_after = [&](double low_m, double high_m) {
-    common::GridLayers map(
-        common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(12, 12), 0.2),
-        layers::All());
-    const auto [low, high] = WindowCells(map.geometry(), p_WB, area.window_m);
-    WindowCrop crop;
-    ObstacleMarker marker;
-    MapUpdateResult result;
-    for (const auto& [t_s, ground_before] : {std::pair{0.0, true}, std::pair{0.1, false}}) {
-      crop.Crop(frame(ground_before, low_m, high_m), p_WB, area.window_m,
-                area.max_height_above_robot_m, area.GroundCropHeight(), &result);
-      marker.Mark(crop, low, high, area, p_WB, t_s, 2, &map);
-    }
+    const common::GridLayers map =
+        MarkedMap(p_WB, {{0.0, frame(true, low_m, high_m)}, {0.1, frame(false, low_m, high_m)}});
     EXPECT_NEAR(map.At(layers::kFloor, before_W).value_or(1.0f), 0.0, 0.01);
     EXPECT_NEAR(map.At(layers::kFloor, face_W).value_or(1.0f), low_m, 1e-6);
     return map.At(layers::kObstacle, face_W).value_or(-1.0f);
