@@ -164,11 +164,9 @@ std::unique_ptr<mapping::TraversabilityMapper> MakeEvalMapper(const std::string&
     return std::make_unique<PaintingMapper>(truth_W, scene.mapping.area, constant);
   }
   Scenario configured = scene;
-  if (const std::optional<PoseSourceMethod> on_source = ParsePoseSourceMethod(method)) {
+  const std::optional<PoseSourceMethod> on_source = ParsePoseSourceMethod(method);
+  if (on_source) {
     configured.mapper = common::NameOf(*StandardMethod(on_source->base));
-    // its frames come on an estimated pose: no steps against the cells' floors, as a run on one
-    // (MakeMapper)
-    configured.mapping.area.floor_steps = false;
   } else if (method == kNoFeatures || method == kFixedGain) {
     configured.mapper = common::NameOf(MapperMethod::kFsgpBgk);
     if (method == kNoFeatures) {
@@ -185,7 +183,7 @@ std::unique_ptr<mapping::TraversabilityMapper> MakeEvalMapper(const std::string&
   if (UsesGroundTruthMap(configured)) {
     return std::make_unique<PaintingMapper>(truth_W, scene.mapping.area, std::nullopt);
   }
-  return MakeMapper(configured);
+  return MakeMapper(configured, on_source ? MapperPose::kEstimated : MapperPose::kTrue);
 }
 
 // Heap in use by this process [bytes]: every arena's allocated chunks and mmapped blocks.

@@ -199,6 +199,33 @@ TEST(ScenarioTest, EveryGpMapperTakesItsInducingPointsFromMaxTrainingPoints) {
   }
 }
 
+// A pose estimate whose height drifts raises the whole ground between two frames: on the true
+// pose that rise is a step against the cells' floors, on an estimated one it is no obstacle.
+TEST(ScenarioTest, AMapperOnAnEstimatedPoseTakesNoStepsAgainstTheFloors) {
+  auto ground_at = [](float z) {
+    std::vector<Eigen::Vector3f> points;
+    for (int i = 0; i <= 100; ++i) {
+      for (int j = 0; j <= 100; ++j) {
+        points.emplace_back(-5.0f + 0.1f * static_cast<float>(i),
+                            -5.0f + 0.1f * static_cast<float>(j), z);
+      }
+    }
+    return common::MakePointCloud(points);
+  };
+  const double rise_m = 0.2;  // above mapping.max_step, 0.15
+  const Scenario scenario = Load("mapping: {method: fsgp-bgk}");
+  for (const MapperPose pose : {MapperPose::kTrue, MapperPose::kEstimated}) {
+    const std::unique_ptr<mapping::TraversabilityMapper> mapper = MakeMapper(scenario, pose);
+    mapper->Update(ground_at(0.0f), Eigen::Isometry3d(Eigen::Translation3d(0, 0, 0.3)), 0.0);
+    mapper->Update(ground_at(static_cast<float>(rise_m)),
+                   Eigen::Isometry3d(Eigen::Translation3d(0, 0, 0.3 + rise_m)), 0.1);
+    const std::optional<float> cost =
+        mapper->map().At(mapping::layers::kTraversability, Eigen::Vector2d(2.0, 1.0));
+    ASSERT_TRUE(cost.has_value());
+    EXPECT_EQ(*cost == 1.0f, pose == MapperPose::kTrue) << *cost;
+  }
+}
+
 TEST(ScenarioTest, DriveCommandFollowsTheScriptAndStopsAfterIt) {
   const std::vector<DriveSegment> drive = {{1.0, 0.0, 2.0}, {0.5, -0.3, 1.0}};
   EXPECT_EQ(DriveCommandAt(drive, 0.0).v, 1.0);
