@@ -26,6 +26,8 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 // the cell's upper half of points left out the foot of a box leaning 11 deg (`hard/low_wall` at
 // LiDAR seed 16, whose robot then touched it).
 constexpr float kFacePoint_m = 0.05f;
+// How far before a drop's edge the ground's fall toward it is measured [m].
+constexpr double kApproach_m = 1.0;
 
 // The ground plane's rise across a cell's diagonal where its gradient is `gradient` (dz/dx, dz/dy):
 // how far apart in height two points of one cell of bare ground can lie [m].
@@ -258,7 +260,7 @@ void WindowCrop::KeepNearFloor(const common::GridLayers& map, double max_above_f
 common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
     const Eigen::Ref<const Eigen::Matrix3Xf>& points_W, const common::GridGeometry& g,
     const Eigen::Vector2i& low, const Eigen::Vector2i& high, double min_span_m, double max_step_m,
-    double max_bump_m, const WindowCrop* ground) {
+    double max_bump_m, const WindowCrop* ground, const Eigen::MatrixXf* floor) {
   const Eigen::Vector2i size = high - low + Eigen::Vector2i::Ones();
   auto lowest = lowest_.Resize(size.x(), size.y());
   auto highest = highest_.Resize(size.x(), size.y());
@@ -305,10 +307,19 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
           foot = std::min(foot, lowest(jx, jy) + rise(jx, jy));
         }
       }
-      bool face = highest(ix, iy) - foot > min_span_m;
       // (the ground plane's rise across the cell)
       const float within = RiseAcrossCell(g.resolution_m, slope);
-      if (face) face_floor(ix, iy) = lowest(ix, iy) + kFacePoint_m + within;
+      // the lowest point the cell showed before (NaN: none, or no floor given; compares false)
+      const float floor_here = floor != nullptr ? (*floor)(low.x() + ix, low.y() + iy) : kNaN;
+      // a face that stands out of its neighbourhood, or out of the ground its cell showed before
+      // (a jamb's end, a few centimetres of which fill a cell whose ground lies in the blind zone)
+      bool face = highest(ix, iy) - foot > min_span_m || highest(ix, iy) - floor_here > min_span_m;
+      if (face) {
+        // a cell that shows no ground now: every point of it is the face's
+        face_floor(ix, iy) = lowest(ix, iy) - floor_here > kFacePoint_m + within
+                                 ? -std::numeric_limits<float>::infinity()
+                                 : lowest(ix, iy) + kFacePoint_m + within;
+      }
       // a step above a side neighbour's top (a neighbour without points, at -infinity, is skipped),
       // or within a cell that holds its neighbourhood's lowest point (to kFootTolerance_m): a face
       // whose foot the sensor does not see (a low wall just ahead, whose lowest points are where
@@ -332,9 +343,17 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
       roughness(ix, iy) = static_cast<float>(common::Roughness(highest, ix, iy));
     }
   }
+  BoxFaces(points_W, g, low);
+  return cells_.const_view();
+}
+
+void ObstacleMarker::BoxFaces(const Eigen::Ref<const Eigen::Matrix3Xf>& points_W,
+                              const common::GridGeometry& g, const Eigen::Vector2i& low) {
   // each tall face's box of its points; a lower step's points (its top seen at grazing angles, its
   // face in the blind zone once near) do not bound it: none
-  auto extents = extents_.Resize(4, size.x() * size.y());
+  const auto face_floor = face_floor_.const_view();
+  const auto nx = face_floor.rows();
+  auto extents = extents_.Resize(4, nx * face_floor.cols());
   extents.setConstant(kNaN);
   for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
     const Eigen::Vector2i& cell = point_cells_[static_cast<std::size_t>(i)];
@@ -342,13 +361,12 @@ common::ScratchMatrix<float>::ConstView ObstacleMarker::Cells(
     const Eigen::Vector2f offset =
         points_W.col(i).head<2>() -
         g.CellCenter(low.x() + cell.x(), low.y() + cell.y()).cast<float>();
-    auto box = extents.col(cell.x() + size.x() * cell.y());
+    auto box = extents.col(cell.x() + nx * cell.y());
     box(0) = std::fmin(box(0), offset.x());
     box(1) = std::fmax(box(1), offset.x());
     box(2) = std::fmin(box(2), offset.y());
     box(3) = std::fmax(box(3), offset.y());
   }
-  return cells_.const_view();
 }
 
 std::size_t WindowCrop::ColumnOf(double x_m, double y_m) const {
@@ -453,14 +471,26 @@ common::ScratchMatrix<std::uint8_t>::ConstView ObstacleMarker::Drops(const commo
           continue;
         }
         const double step_m = g.resolution_m * d.cast<double>().norm();
+        // the ground's fall along the line up to the edge, as far back as kApproach_m: a hillside
+        // the robot drives down falls on beyond the edge at that rate (up to the drop slope's)
+        double fall = 0.0;
+        for (int k = 1; k * step_m <= kApproach_m + 1e-9; ++k) {
+          const Eigen::Vector2i back(ix - k * d.x(), iy - k * d.y());
+          if (!inside(back)) break;
+          if (cells(back.x(), back.y()) == 0.0f) {
+            fall = (lowest(back.x(), back.y()) - lowest(ix, iy)) / (k * step_m);
+          }
+        }
+        fall = std::clamp(fall, 0.0, min_slope);
         gap_.clear();
         for (Eigen::Vector2i cell(ix + d.x(), iy + d.y()); inside(cell); cell += d) {
           if (!std::isinf(highest(cell.x(), cell.y()))) {
             // the ground beyond: a drop if its top lies far enough below the edge's foot (a
-            // stone's top at the edge is no edge), and steeply enough on average that the
-            // hidden stretch is no hillside the sensor looks over
-            const double drop_m = lowest(ix, iy) - highest(cell.x(), cell.y());
+            // stone's top at the edge is no edge), less the fall of the ground before the edge,
+            // and steeply enough on average that the hidden stretch is no hillside the sensor
+            // looks over
             const double run_m = static_cast<double>(gap_.size() + 1) * step_m;
+            const double drop_m = lowest(ix, iy) - highest(cell.x(), cell.y()) - fall * run_m;
             if (gap_.size() >= 2 && drop_m > area.max_drop_m && drop_m > min_slope * run_m) {
               for (const Eigen::Vector2i& hidden : gap_) drops(hidden.x(), hidden.y()) = 1;
             }
@@ -485,14 +515,15 @@ void ObstacleMarker::Mark(const WindowCrop& crop, const Eigen::Vector2i& low,
   // the faces the height regression cannot see (their points were cropped as not terrain): the
   // latest observation of each cell decides, so a cell seen free again clears
   const common::GridGeometry& g = map->geometry();
-  const auto seen = Cells(crop.below_robot(), g, low, high, area.max_height_above_ground_m,
-                          area.max_step_m, area.max_bump_m, &crop);
+  Eigen::MatrixXf& floor = map->Layer(layers::kFloor);
+  const auto seen =
+      Cells(crop.below_robot(), g, low, high, area.max_height_above_ground_m, area.max_step_m,
+            area.max_bump_m, &crop, area.floor_steps ? &floor : nullptr);
   FaceHistory faces(map);
   Eigen::MatrixXf& rough = map->Layer(layers::kRoughness);
   const auto roughness = roughness_.const_view();
   Eigen::MatrixXf& out = map->Layer(layers::kTraversability);
   const Eigen::MatrixXf& scored_s = map->Layer(layers::kLastObserved);
-  Eigen::MatrixXf& floor = map->Layer(layers::kFloor);
   const auto lowest = lowest_.const_view();
   const auto highest = highest_.const_view();
   const auto extents = extents_.const_view();

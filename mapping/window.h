@@ -85,7 +85,12 @@ class ObstacleMarker {
   /// `max_bump_m` (> 0; 0 disables the test) above the highest points of both cells one or two
   /// cells away on either side along x, y or a diagonal (a bump the robot would straddle: rubble
   /// between its wheels; a curb has ground as high on one side), 0 where none holds, NaN where
-  /// the cell has no point. With `ground` (the crop of these points), every
+  /// the cell has no point. With `floor` (the map's layer `floor`, indexed by the cells of `g`:
+  /// the lowest point each cell showed before), a cell whose highest point stands more than
+  /// `min_span_m` above its floor is a face too (a jamb's end, a few centimetres of which fill a
+  /// cell whose ground now lies in the sensor's blind zone, beside cells without points), and a
+  /// face cell whose lowest point stands above its floor shows no ground: all its points are the
+  /// face's (extents()). With `ground` (the crop of these points), every
   /// comparison is made above the crop's ground plane at the cell (WindowCrop::GroundGradient): a
   /// neighbour's point counts as risen by the plane's rise between the two cells' centres, and a
   /// cell's own span less the plane's rise across its diagonal. Without it, ground of slope a rises
@@ -98,7 +103,8 @@ class ObstacleMarker {
                                                 const Eigen::Vector2i& low,
                                                 const Eigen::Vector2i& high, double min_span_m,
                                                 double max_step_m, double max_bump_m,
-                                                const WindowCrop* ground = nullptr);
+                                                const WindowCrop* ground = nullptr,
+                                                const Eigen::MatrixXf* floor = nullptr);
 
   /// Per cell of the last Cells call: common::Roughness of the highest points (NaN where the cell
   /// has no point; a neighbour without points is left out) [m].
@@ -117,7 +123,10 @@ class ObstacleMarker {
   /// line of cells (along x, y or a diagonal) from an edge to the first cell with points beyond,
   /// which lies no farther than `area.drop_gap_m` from the edge, its highest point more than
   /// `area.max_drop_m` below the edge's lowest and lower on average more steeply than
-  /// `area.drop_slope_deg`, with at least one more cell without points between. The edge is a
+  /// `area.drop_slope_deg`, with at least one more cell without points between; both measured
+  /// below the ground falling on beyond the edge as it falls toward it (from the farthest cell of
+  /// ground on the line up to 1 m before the edge; at most at the drop slope's rate): a hillside
+  /// the robot drives down is no drop where the gaps between its points open. The edge is a
   /// cell with points that is no face (Cells 0), its lowest point no more than `area.max_step_m`
   /// above the base at p_WB (ground the robot may stand on, not the top of a box), and so is the
   /// cell behind it on the line, its lowest point within `area.max_step_m` of the edge's (seen
@@ -159,6 +168,9 @@ class ObstacleMarker {
  private:
   // The closing (dilation, then erosion) of mask_ by the 3 x 3 cell square, into closed_.
   void CloseMask();
+  // Cells' extents_: per cell (from `low`), the box of its points above face_floor_.
+  void BoxFaces(const Eigen::Ref<const Eigen::Matrix3Xf>& points_W, const common::GridGeometry& g,
+                const Eigen::Vector2i& low);
 
   common::ScratchMatrix<float> lowest_, highest_, cells_, roughness_, face_floor_;
   common::ScratchMatrix<float, 4> extents_;

@@ -605,6 +605,42 @@ TEST(ObstacleCellsTest, ACellThatNeverShowedItsGroundIsAStepAboveTheGroundBeside
   EXPECT_EQ(obstacle_after(0.09, 0.12), 0.0f);
 }
 
+// A doorway's jamb, 2 m high, ends at x = 2.11, a centimetre into the cells centred at x = 2.2;
+// the robot in the doorway sees the ground before it no more (the blind zone), and range noise puts
+// a few of the jamb's points 2 cm into the cell centred at 2.0, whose floor was seen before at 0
+// (`probes/indoor_across` at seed 1: that cell became a whole cell of jamb, the 1 m door read
+// 0.67 m wide and the robot stopped in it for good). Those points stand more than the crop height
+// above the cell's floor: a tall face, bounded by its points, not the whole cell.
+TEST(ObstacleCellsTest, AJambsEndSeenInACellWhoseGroundWasSeenBeforeIsBoundedByItsPoints) {
+  const Eigen::Vector3d p_WB(0.0, 0.0, 0.3);
+  const common::PointCloud ground = Surface([](double, double) { return 0.0; }, {0, 0});
+  // the ground before the jamb (or behind the robot only), the jamb's end face from 0.3 m up at
+  // x = 2.11 and `spill` points of it at x = 2.09
+  const auto frame = [&](bool ground_before, bool spill) {
+    std::vector<Eigen::Vector3f> points;
+    for (Eigen::Index i = 0; i < ground.size(); ++i) {
+      const float x = ground.points(0, i);
+      if (x < -2.5f || (ground_before && x < 2.1f)) points.emplace_back(ground.points.col(i));
+    }
+    for (double y = -1.0; y <= 1.0; y += 0.05) {
+      for (double z = 0.3; z <= 2.0; z += 0.05) {
+        points.emplace_back(2.11f, static_cast<float>(y), static_cast<float>(z));
+      }
+      if (!spill) continue;
+      for (double z = 0.3; z <= 0.45; z += 0.05) {
+        points.emplace_back(2.09f, static_cast<float>(y), static_cast<float>(z));
+      }
+    }
+    return common::MakePointCloud(points);
+  };
+  const common::GridLayers map =
+      MarkedMap(p_WB, {{0.0, frame(true, false)}, {0.1, frame(false, true)}});
+  const Eigen::Vector2i spilled = *map.geometry().CellIndex({2.0, 0.0});
+  EXPECT_EQ(map.At(layers::kObstacle, {2.0, 0.0}), 1.0f);
+  EXPECT_NEAR(map.Layer(layers::kFaceXLow)(spilled.x(), spilled.y()), 0.09f, 1e-5f);
+  EXPECT_NEAR(map.Layer(layers::kFaceXHigh)(spilled.x(), spilled.y()), 0.09f, 1e-5f);
+}
+
 // The end of a 4 cm thick wall 0.45 m high, at x = 2.03 to 2.07 and y = -0.27 to 0.03, fills a
 // few centimetres of its 0.2 m cells: the cell centred at (2, 0) holds x = 0.03 to 0.07 and
 // y = -0.07 to 0.03 of it. Each face cell keeps the box of its points over its run as a face; the
@@ -672,16 +708,17 @@ TEST(ObstacleCellsTest, AFaceCellKeepsTheBoxOfItsFacesPointsWhileItIsAFace) {
 }
 
 // A plateau 1 m high up to x = 2 and ground seen `drop_m` lower from x = 4 on, nothing between
-// (every 5 cm for |y| <= 1).
+// (every 5 cm for |y| <= 1); both falling along x at `slope_deg`, a hillside.
 struct DropWorld {
-  explicit DropWorld(double drop_m) {
+  explicit DropWorld(double drop_m, double slope_deg = 0.0) {
     std::vector<Eigen::Vector3f> points;
+    const double fall = std::tan(slope_deg * M_PI / 180.0);
     for (int iy = -20; iy <= 20; ++iy) {
       for (int ix = 10; ix < 120; ++ix) {
         const double x = 0.05 * ix + (ix >= 40 ? 0.02 : 0.0);
         if (x >= 2.0 && x < 4.0) continue;
         points.emplace_back(static_cast<float>(x), static_cast<float>(0.05 * iy),
-                            static_cast<float>(x < 2.0 ? 1.0 : 1.0 - drop_m));
+                            static_cast<float>((x < 2.0 ? 1.0 : 1.0 - drop_m) - fall * x));
       }
     }
     cloud = common::MakePointCloud(points).points;
@@ -752,6 +789,24 @@ TEST(ObstacleCellsTest, NoDropWhereTheGroundBeyondIsNotFarEnoughBelowOrTooFarAwa
   deep.p_WB.z() = 1.1;
   area.drop_gap_m = 0.0;  // no drop test
   EXPECT_EQ(deep.Drops(area).maxCoeff(), 0.0f);
+}
+
+// Down a 25 deg hillside the gaps between the points open: 2 m of it unseen falls 0.93 m, more
+// than the 0.27 m drop and steeper than the 20 deg drop slope, but no steeper than the ground
+// before it (`probes/slope_down`: the robot facing down such a slope marked drops ahead and never
+// left its start). A 1 m cliff in the same hillside is still a drop.
+TEST(ObstacleCellsTest, AHillsideFallingOnAsBeforeItsGapIsNoDrop) {
+  const MapArea area;
+  DropWorld hillside(0.0, 25.0);
+  EXPECT_EQ(hillside.Drops(area).maxCoeff(), 0.0f);
+  DropWorld cliff(1.0, 25.0);
+  const Eigen::MatrixXf drops = cliff.Drops(area);
+  // the cells centred at x = 2.2 to 3.8, wholly in the gap
+  for (int k = 1; k <= 9; ++k) {
+    const double x = 2.0 + 0.2 * k;
+    const Eigen::Vector2i gap = *cliff.g.CellIndex({x, 0.0});
+    EXPECT_EQ(drops(gap.x(), gap.y()), 1.0f) << x;
+  }
 }
 
 TEST(FsgpBgkMapperTest, APedestrianWalkingAcrossTheViewLeavesNoLastingObstacle) {
