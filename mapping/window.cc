@@ -471,17 +471,19 @@ common::ScratchMatrix<std::uint8_t>::ConstView ObstacleMarker::Drops(const commo
           continue;
         }
         const double step_m = g.resolution_m * d.cast<double>().norm();
-        // the ground's fall along the line up to the edge, as far back as kApproach_m: a hillside
-        // the robot drives down falls on beyond the edge at that rate (up to the drop slope's)
-        double fall = 0.0;
-        for (int k = 1; k * step_m <= kApproach_m + 1e-9; ++k) {
-          const Eigen::Vector2i back(ix - k * d.x(), iy - k * d.y());
-          if (!inside(back)) break;
-          if (cells(back.x(), back.y()) == 0.0f) {
-            fall = (lowest(back.x(), back.y()) - lowest(ix, iy)) / (k * step_m);
+        // the ground's fall along the line up to the edge, from the farthest cell of ground as far
+        // back as kApproach_m: a hillside the robot drives down falls on beyond the edge at that
+        // rate (up to the drop slope's); measured only for a gap that ends at ground
+        auto fall = [&] {
+          for (int k = static_cast<int>(kApproach_m / step_m + 1e-9); k >= 1; --k) {
+            const Eigen::Vector2i back(ix - k * d.x(), iy - k * d.y());
+            if (inside(back) && cells(back.x(), back.y()) == 0.0f) {
+              const double rate = (lowest(back.x(), back.y()) - lowest(ix, iy)) / (k * step_m);
+              return std::clamp(rate, 0.0, min_slope);
+            }
           }
-        }
-        fall = std::clamp(fall, 0.0, min_slope);
+          return 0.0;
+        };
         gap_.clear();
         for (Eigen::Vector2i cell(ix + d.x(), iy + d.y()); inside(cell); cell += d) {
           if (!std::isinf(highest(cell.x(), cell.y()))) {
@@ -489,9 +491,10 @@ common::ScratchMatrix<std::uint8_t>::ConstView ObstacleMarker::Drops(const commo
             // stone's top at the edge is no edge), less the fall of the ground before the edge,
             // and steeply enough on average that the hidden stretch is no hillside the sensor
             // looks over
+            if (gap_.size() < 2) break;
             const double run_m = static_cast<double>(gap_.size() + 1) * step_m;
-            const double drop_m = lowest(ix, iy) - highest(cell.x(), cell.y()) - fall * run_m;
-            if (gap_.size() >= 2 && drop_m > area.max_drop_m && drop_m > min_slope * run_m) {
+            const double drop_m = lowest(ix, iy) - highest(cell.x(), cell.y()) - fall() * run_m;
+            if (drop_m > area.max_drop_m && drop_m > min_slope * run_m) {
               for (const Eigen::Vector2i& hidden : gap_) drops(hidden.x(), hidden.y()) = 1;
             }
             break;
