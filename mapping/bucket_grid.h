@@ -55,8 +55,10 @@ class BucketGrid {
   /// j: rings of buckets are searched outwards until no point beyond the ring can be nearer than
   /// the k-th found. The search also stops once the ring reaches past `support_radius` with nothing
   /// found within it: then `found` may hold fewer or farther points, and its first is beyond the
-  /// radius (or it is empty).
-  template <typename Distance>
+  /// radius (or it is empty). With `kSquared`, `distance(j)` gives the squared distance and so
+  /// does `found`: the same neighbours in the same order, without a square root per candidate
+  /// (a caller that needs the distances takes the roots of the k found).
+  template <bool kSquared = false, typename Distance>
   void KNearest(const Eigen::Vector2d& p, int k, double support_radius, Distance distance,
                 std::vector<Neighbour>* found) const;
 
@@ -75,7 +77,7 @@ class BucketGrid {
   std::vector<int> bucket_of_;  // the bucket of each point (scratch of Rebuild)
 };
 
-template <typename Distance>
+template <bool kSquared, typename Distance>
 void BucketGrid::KNearest(const Eigen::Vector2d& p, int k, double support_radius, Distance distance,
                           std::vector<Neighbour>* found) const {
   found->clear();
@@ -112,10 +114,12 @@ void BucketGrid::KNearest(const Eigen::Vector2d& p, int k, double support_radius
     }
     // every point beyond this ring is at least `reach` away
     const double reach = inside + ring * bucket_size_;
+    const double reach_key = kSquared ? reach * reach : reach;
+    const double support_key = kSquared ? support_radius * support_radius : support_radius;
     const bool covered = ring >= max_ring;
-    const bool complete = static_cast<int>(found->size()) == k && found->back().first <= reach;
+    const bool complete = static_cast<int>(found->size()) == k && found->back().first <= reach_key;
     const bool unsupported =
-        reach > support_radius && (found->empty() || found->front().first > support_radius);
+        reach > support_radius && (found->empty() || found->front().first > support_key);
     if (covered || complete || unsupported) return;
   }
 }

@@ -56,10 +56,11 @@ void TrainingSetExtractor::ComputeFeatures(int neighbours) {
   const int k = static_cast<int>(std::min<Eigen::Index>(neighbours, n));
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Vector3d p = points.col(i);
-    // k nearest in 3-D (the point itself included): never nearer than in the plane
-    buckets_.KNearest(
+    // k nearest in 3-D (the point itself included): never nearer than in the plane; by squared
+    // distance, as only the neighbours are used
+    buckets_.KNearest<true>(
         p.head<2>(), k, std::numeric_limits<double>::infinity(),
-        [&](int j) { return (points.col(j) - p).norm(); }, &neighbours_);
+        [&](int j) { return (points.col(j) - p).squaredNorm(); }, &neighbours_);
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     double height_differences = 0.0;
     for (const BucketGrid::Neighbour& neighbour : neighbours_) {
@@ -165,17 +166,21 @@ void InverseDistanceWeighting::Compute(const Eigen::Ref<const Eigen::Matrix3Xd>&
   buckets_.Rebuild(training_xy, BucketGrid::SideFor(training_xy, 2.0));
   for (Eigen::Index q = 0; q < queries_W.cols(); ++q) {
     const Eigen::Vector2d p = queries_W.col(q);
-    buckets_.KNearest(
-        p, kk, support_radius_m, [&](int j) { return (training_xy.col(j) - p).norm(); }, &found_);
-    if (found_.empty() || found_.front().first > support_radius_m) continue;
+    // by squared distance, the square root taken of the k found only (the same values: Eigen's
+    // norm is the square root of squaredNorm)
+    buckets_.KNearest<true>(
+        p, kk, support_radius_m, [&](int j) { return (training_xy.col(j) - p).squaredNorm(); },
+        &found_);
+    if (found_.empty() || std::sqrt(found_.front().first) > support_radius_m) continue;
     double total = 0.0;
     for (int j = 0; j < kk; ++j) {
+      const double distance_m = std::sqrt(found_[static_cast<std::size_t>(j)].first);
       indices(j, q) = found_[static_cast<std::size_t>(j)].second;
-      weights(j, q) = 1.0 / (found_[static_cast<std::size_t>(j)].first + 1e-6);
+      weights(j, q) = 1.0 / (distance_m + 1e-6);
       total += weights(j, q);
     }
     weights.col(q) /= total;
-    nearest_m[q] = found_[0].first;
+    nearest_m[q] = std::sqrt(found_[0].first);
   }
 }
 

@@ -1,6 +1,7 @@
 #include "mapping/bucket_grid.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -94,6 +95,37 @@ TEST(BucketGridTest, KNearestInThreeDimensionsMatchesABruteForceSearch) {
       Eigen::Vector2d(7.0, 0.0), 20, 0.1,
       [&](int j) { return (points.col(j).head<2>() - Eigen::Vector2d(7.0, 0.0)).norm(); }, &found);
   EXPECT_TRUE(found.empty() || found.front().first > 0.1);
+}
+
+// By squared distance (kSquared): the same neighbours in the same order as by distance, with the
+// squares of their distances; the support radius stops the search where it does by distance.
+TEST(BucketGridTest, KNearestBySquaredDistanceFindsTheSameNeighboursInTheSameOrder) {
+  common::Random random(5);
+  Eigen::Matrix3Xd points(3, 500);
+  for (int j = 0; j < 500; ++j) {
+    points.col(j) << random.Uniform(-3, 3), random.Uniform(-3, 3), random.Uniform(0, 0.5);
+  }
+  BucketGrid dut;
+  dut.Rebuild(points.topRows<2>(), BucketGrid::SideFor(points.topRows<2>(), 2.0));
+  std::vector<BucketGrid::Neighbour> by_distance, by_square;
+  int stopped_early = 0;
+  for (int q = 0; q < 60; ++q) {
+    const Eigen::Vector3d p(random.Uniform(-4, 4), random.Uniform(-4, 4), random.Uniform(0, 0.5));
+    const double support_m = q % 2 == 0 ? std::numeric_limits<double>::infinity() : 0.15;
+    dut.KNearest(
+        p.head<2>(), 8, support_m, [&](int j) { return (points.col(j) - p).norm(); }, &by_distance);
+    dut.KNearest<true>(
+        p.head<2>(), 8, support_m, [&](int j) { return (points.col(j) - p).squaredNorm(); },
+        &by_square);
+    ASSERT_EQ(by_square.size(), by_distance.size()) << "query " << q;
+    for (std::size_t i = 0; i < by_square.size(); ++i) {
+      EXPECT_EQ(by_square[i].second, by_distance[i].second) << "query " << q << ", place " << i;
+      EXPECT_EQ(std::sqrt(by_square[i].first), by_distance[i].first) << "query " << q;
+    }
+    if (by_distance.size() < 8) ++stopped_early;
+  }
+  // the radius cut some searches short: the stop was compared too
+  EXPECT_GT(stopped_early, 0);
 }
 
 // On a lattice many points lie at the same distance from a query: the k-th place goes to the lower
