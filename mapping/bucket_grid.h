@@ -56,8 +56,9 @@ class BucketGrid {
   /// the k-th found. The search also stops once the ring reaches past `support_radius` with nothing
   /// found within it: then `found` may hold fewer or farther points, and its first is beyond the
   /// radius (or it is empty). With `kSquared`, `distance(j)` gives the squared distance and so
-  /// does `found`: the same neighbours in the same order, without a square root per candidate
-  /// (a caller that needs the distances takes the roots of the k found).
+  /// does `found`: the same neighbours in the same order (but for two whose squares differ and
+  /// whose roots round to one value, ordered then by square, not index), without a square root
+  /// per candidate (a caller that needs the distances takes the roots of the k found).
   template <bool kSquared = false, typename Distance>
   void KNearest(const Eigen::Vector2d& p, int k, double support_radius, Distance distance,
                 std::vector<Neighbour>* found) const;
