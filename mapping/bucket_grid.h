@@ -100,6 +100,7 @@ void BucketGrid::KNearest(const Eigen::Vector2d& p, int k, double support_radius
                                    origin_.y() + (qy + 1) * bucket_size_ - p.y());
   const double inside = std::max(0.0, std::min(inside_x, inside_y));
   const int max_ring = count_.sum();  // rings beyond this hold nothing
+  const double support_key = kSquared ? support_radius * support_radius : support_radius;
   for (int ring = 0;; ++ring) {
     if (ring == 0) {
       visit_bucket(qx, qy);
@@ -116,7 +117,6 @@ void BucketGrid::KNearest(const Eigen::Vector2d& p, int k, double support_radius
     // every point beyond this ring is at least `reach` away
     const double reach = inside + ring * bucket_size_;
     const double reach_key = kSquared ? reach * reach : reach;
-    const double support_key = kSquared ? support_radius * support_radius : support_radius;
     const bool covered = ring >= max_ring;
     const bool complete = static_cast<int>(found->size()) == k && found->back().first <= reach_key;
     const bool unsupported =

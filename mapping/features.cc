@@ -171,16 +171,18 @@ void InverseDistanceWeighting::Compute(const Eigen::Ref<const Eigen::Matrix3Xd>&
     buckets_.KNearest<true>(
         p, kk, support_radius_m, [&](int j) { return (training_xy.col(j) - p).squaredNorm(); },
         &found_);
-    if (found_.empty() || std::sqrt(found_.front().first) > support_radius_m) continue;
+    if (found_.empty()) continue;
+    const double first_m = std::sqrt(found_.front().first);
+    if (first_m > support_radius_m) continue;
     double total = 0.0;
     for (int j = 0; j < kk; ++j) {
-      const double distance_m = std::sqrt(found_[static_cast<std::size_t>(j)].first);
-      indices(j, q) = found_[static_cast<std::size_t>(j)].second;
-      weights(j, q) = 1.0 / (distance_m + 1e-6);
+      const auto& [squared_m2, index] = found_[static_cast<std::size_t>(j)];
+      indices(j, q) = index;
+      weights(j, q) = 1.0 / (std::sqrt(squared_m2) + 1e-6);
       total += weights(j, q);
     }
     weights.col(q) /= total;
-    nearest_m[q] = std::sqrt(found_[0].first);
+    nearest_m[q] = first_m;
   }
 }
 
