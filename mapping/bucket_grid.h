@@ -86,9 +86,17 @@ void BucketGrid::KNearest(const Eigen::Vector2d& p, int k, double support_radius
   auto visit_bucket = [&](int bx, int by) {
     ForPointsIn(Eigen::Vector2i(bx, by), [&](int j) {
       const Neighbour candidate(distance(j), j);
-      if (static_cast<int>(found->size()) == k && !(candidate < found->back())) return;
-      found->insert(std::upper_bound(found->begin(), found->end(), candidate), candidate);
-      if (static_cast<int>(found->size()) > k) found->pop_back();
+      // an insertion from the back (k is a few dozen at most): the k-th falls out when full
+      auto slot = static_cast<std::ptrdiff_t>(found->size());
+      if (slot == k) {
+        if (!(candidate < found->back())) return;
+        --slot;
+      } else {
+        found->emplace_back();
+      }
+      Neighbour* sorted = found->data();
+      for (; slot > 0 && candidate < sorted[slot - 1]; --slot) sorted[slot] = sorted[slot - 1];
+      sorted[slot] = candidate;
     });
   };
   const Eigen::Vector2i centre = BucketOf(p);

@@ -69,11 +69,21 @@ void TrainingSetExtractor::ComputeFeatures(int neighbours) {
       height_differences += std::abs(q.z() - p.z());
     }
     mean /= k;
-    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    // the six distinct sums of the outer products d d^T, each the same products and additions
+    // as Eigen's `covariance += d * d.transpose()` (whose 3 x 3 temporary went through the stack
+    // on every neighbour: the features' hottest loop)
+    double xx = 0.0, xy = 0.0, xz = 0.0, yy = 0.0, yz = 0.0, zz = 0.0;
     for (const BucketGrid::Neighbour& neighbour : neighbours_) {
       const Eigen::Vector3d d = points.col(neighbour.second) - mean;
-      covariance += d * d.transpose();
+      xx += d.x() * d.x();
+      xy += d.x() * d.y();
+      xz += d.x() * d.z();
+      yy += d.y() * d.y();
+      yz += d.y() * d.z();
+      zz += d.z() * d.z();
     }
+    Eigen::Matrix3d covariance;
+    covariance << xx, xy, xz, xy, yy, yz, xz, yz, zz;
     covariance /= std::max(1, k - 1);
     // closed form (Eigen's computeDirect): a 3 x 3 needs no QR iterations
     const Eigen::Vector3d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>()
