@@ -607,6 +607,31 @@ TEST(SimulationContactTest, ATiltedSlabIsAsHighAsItIsWhereTheRobotTouchesIt) {
   ADD_FAILURE() << "the robot never touched the slab";
 }
 
+// The model's constraint rows (`<size njmax>`) are allocated as njmax^2 doubles and cleared on
+// every load: they are sized to the worst contact this test makes (150 rows), with room to spare.
+// The robot driven across a 45 deg slope rolls over and tumbles down it, chassis and wheels on the
+// ground.
+TEST(SimulationContactTest, ARobotTumblingDownASlopeStaysWithinTheModelsConstraintRows) {
+  TerrainConfig config;
+  config.type = TerrainType::kSlope;
+  config.size_m = {30, 10};
+  config.slope.angle_deg = 45.0;
+  config.slope.start_x_m = -10.0;
+  common::Pose2 start;
+  start.position = Eigen::Vector2d(-5.0, -3.0);
+  start.yaw = 0.5 * M_PI;
+  Simulation dut(GenerateTerrain(config), start, Options());
+  Drive(&dut, {1.0, 0.0});
+  double max_roll = 0.0;
+  for (int i = 0; i < static_cast<int>(6.0 / dut.timestep()); ++i) {
+    ASSERT_EQ(dut.Step(), StepStatus::kOk);
+    max_roll = std::max(max_roll, std::abs(common::ToRollPitchYaw(dut.State().X_WB.linear()).roll));
+  }
+  EXPECT_GT(max_roll, 0.5 * M_PI);  // over on its side at least
+  EXPECT_EQ(dut.warning_count(), 0) << (dut.warnings().empty() ? "" : dut.warnings().front());
+  EXPECT_LE(4 * dut.data()->maxuse_efc, dut.model()->njmax);
+}
+
 TEST(SimulationMoverTest, AMoverIsWhereItWasPut) {
   const MovingObstacle crate = Crate({2.0, 1.0}, {0.0, 1.0});
   const TerrainWorld world = SmallFlatWorld();
