@@ -166,15 +166,20 @@ TEST(SimulationTest, TurnsInPlaceAtTheCommandedRateWithTheCalibratedMapping) {
   EXPECT_NEAR(turned / 3.0, 1.0, 0.1);
 }
 
-TEST(SimulationTest, ClimbsATwentyDegreeSlope) {
+// A 30 x 10 m world that rises at `angle_deg` along x from x = -10 m.
+TerrainWorld SlopeWorld(double angle_deg) {
   TerrainConfig config;
   config.type = TerrainType::kSlope;
   config.size_m = {30, 10};
-  config.slope.angle_deg = 20.0;
+  config.slope.angle_deg = angle_deg;
   config.slope.start_x_m = -10.0;
+  return GenerateTerrain(config);
+}
+
+TEST(SimulationTest, ClimbsATwentyDegreeSlope) {
   common::Pose2 start;
   start.position = Eigen::Vector2d(-13.0, 0.0);
-  Simulation dut(GenerateTerrain(config), start, Options());
+  Simulation dut(SlopeWorld(20.0), start, Options());
   Drive(&dut, {1.0, 0.0});
   StepFor(&dut, 10.0);
   const Eigen::Vector3d p = dut.State().X_WB.translation();
@@ -612,15 +617,10 @@ TEST(SimulationContactTest, ATiltedSlabIsAsHighAsItIsWhereTheRobotTouchesIt) {
 // The robot driven across a 45 deg slope rolls over and tumbles down it, chassis and wheels on the
 // ground.
 TEST(SimulationContactTest, ARobotTumblingDownASlopeStaysWithinTheModelsConstraintRows) {
-  TerrainConfig config;
-  config.type = TerrainType::kSlope;
-  config.size_m = {30, 10};
-  config.slope.angle_deg = 45.0;
-  config.slope.start_x_m = -10.0;
   common::Pose2 start;
   start.position = Eigen::Vector2d(-5.0, -3.0);
   start.yaw = 0.5 * M_PI;
-  Simulation dut(GenerateTerrain(config), start, Options());
+  Simulation dut(SlopeWorld(45.0), start, Options());
   Drive(&dut, {1.0, 0.0});
   double max_roll = 0.0;
   for (int i = 0; i < static_cast<int>(6.0 / dut.timestep()); ++i) {
