@@ -256,6 +256,18 @@ std::string HeadingLayer(int k) { return fmt::format("traversability_h{:02d}", k
 common::GridLayers ComputePhysicalTruth(const common::GridGeometry& map_geometry,
                                         const RestingSurface& surface, const RestingBody& body,
                                         const GroundTruthConfig& config) {
+  std::vector<Eigen::Vector2i> cells;
+  cells.reserve(static_cast<std::size_t>(map_geometry.num_x) * map_geometry.num_y);
+  for (int mx = 0; mx < map_geometry.num_x; ++mx) {
+    for (int my = 0; my < map_geometry.num_y; ++my) cells.emplace_back(mx, my);
+  }
+  return ComputePhysicalTruth(map_geometry, cells, surface, body, config);
+}
+
+common::GridLayers ComputePhysicalTruth(const common::GridGeometry& map_geometry,
+                                        const std::vector<Eigen::Vector2i>& cells,
+                                        const RestingSurface& surface, const RestingBody& body,
+                                        const GroundTruthConfig& config) {
   std::vector<std::string> names{layers::kTraversability, layers::kElevation, kTraversableHeadings};
   for (int k = 0; k < config.headings; ++k) names.push_back(HeadingLayer(k));
   common::GridLayers truth(map_geometry, names);
@@ -275,33 +287,31 @@ common::GridLayers ComputePhysicalTruth(const common::GridGeometry& map_geometry
     const HeadingSamples heading(samples, 2.0 * M_PI * k / config.headings);
     Eigen::MatrixXf& layer = *heading_layers[k];
     Eigen::MatrixXf* turned_layer = mirrored ? heading_layers[k + looked_up] : nullptr;
-    for (int mx = 0; mx < map_geometry.num_x; ++mx) {
-      for (int my = 0; my < map_geometry.num_y; ++my) {
-        const Eigen::Vector2d p_W = map_geometry.CellCenter(mx, my);
-        if (!surface.Contains(p_W, samples.reach_m)) continue;
-        heights.Gather(surface, p_W, heading);
-        layer(mx, my) = static_cast<float>(Rest(heights, body, samples, config).cost);
-        if (!mirrored) continue;
-        turned.Mirror(heights);
-        (*turned_layer)(mx, my) = static_cast<float>(Rest(turned, body, samples, config).cost);
-      }
+    for (const Eigen::Vector2i& cell : cells) {
+      const Eigen::Vector2d p_W = map_geometry.CellCenter(cell.x(), cell.y());
+      if (!surface.Contains(p_W, samples.reach_m)) continue;
+      heights.Gather(surface, p_W, heading);
+      layer(cell.x(), cell.y()) = static_cast<float>(Rest(heights, body, samples, config).cost);
+      if (!mirrored) continue;
+      turned.Mirror(heights);
+      (*turned_layer)(cell.x(), cell.y()) =
+          static_cast<float>(Rest(turned, body, samples, config).cost);
     }
   }
-  for (int mx = 0; mx < map_geometry.num_x; ++mx) {
-    for (int my = 0; my < map_geometry.num_y; ++my) {
-      const float first = (*heading_layers[0])(mx, my);
-      if (std::isnan(first)) continue;
-      float lowest = 1.0f;
-      int traversable = 0;
-      for (const Eigen::MatrixXf* heading_layer : heading_layers) {
-        const float cost = (*heading_layer)(mx, my);
-        lowest = std::min(lowest, cost);
-        if (cost < 1.0f) ++traversable;
-      }
-      best(mx, my) = lowest;
-      count(mx, my) = static_cast<float>(traversable);
-      elevation(mx, my) = static_cast<float>(surface.HeightAt(map_geometry.CellCenter(mx, my)));
+  for (const Eigen::Vector2i& cell : cells) {
+    const float first = (*heading_layers[0])(cell.x(), cell.y());
+    if (std::isnan(first)) continue;
+    float lowest = 1.0f;
+    int traversable = 0;
+    for (const Eigen::MatrixXf* heading_layer : heading_layers) {
+      const float cost = (*heading_layer)(cell.x(), cell.y());
+      lowest = std::min(lowest, cost);
+      if (cost < 1.0f) ++traversable;
     }
+    best(cell.x(), cell.y()) = lowest;
+    count(cell.x(), cell.y()) = static_cast<float>(traversable);
+    elevation(cell.x(), cell.y()) =
+        static_cast<float>(surface.HeightAt(map_geometry.CellCenter(cell.x(), cell.y())));
   }
   return truth;
 }

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -114,6 +115,14 @@ std::string HeadingLayer(int k);
 /// at the centre) and `traversable_headings` (how many headings are traversable). Cells where the
 /// robot at some heading would reach off the world are NaN. No mapper's terms or weights enter it.
 common::GridLayers ComputePhysicalTruth(const common::GridGeometry& map_geometry,
+                                        const RestingSurface& surface, const RestingBody& body,
+                                        const GroundTruthConfig& config);
+
+/// ComputePhysicalTruth at the cells (ix, iy) of `map_geometry` in `cells` only (each cell's
+/// values are its own: the same as the whole grid's there), every other cell NaN: what a score
+/// over the cells a drive observed needs (`trav eval`), at a fraction of the whole grid's time.
+common::GridLayers ComputePhysicalTruth(const common::GridGeometry& map_geometry,
+                                        const std::vector<Eigen::Vector2i>& cells,
                                         const RestingSurface& surface, const RestingBody& body,
                                         const GroundTruthConfig& config);
 

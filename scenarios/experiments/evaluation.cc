@@ -368,6 +368,26 @@ EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene
   return record;
 }
 
+// The cells of `geometry` that any method's scores read (EvaluateMethod's ObservedCells over each
+// set of frames a method is fed): the only cells of the ground truth a scene's record depends on.
+std::vector<Eigen::Vector2i> ScoredCells(
+    const common::GridGeometry& geometry, const mapping::MapArea& area,
+    const std::vector<const std::vector<RecordedFrame>*>& frame_sets) {
+  std::vector<bool> scored(static_cast<std::size_t>(geometry.num_x) * geometry.num_y, false);
+  std::vector<Eigen::Vector2i> cells;
+  for (const std::vector<RecordedFrame>* frames : frame_sets) {
+    ObservedCells observed(geometry, area);
+    for (const RecordedFrame& frame : *frames) observed.Add(frame.cloud_M, frame.X_MB.translation());
+    for (const Eigen::Vector2i& cell : observed.cells()) {
+      const std::size_t index = static_cast<std::size_t>(cell.x() + cell.y() * geometry.num_x);
+      if (scored[index]) continue;
+      scored[index] = true;
+      cells.push_back(cell);
+    }
+  }
+  return cells;
+}
+
 // FSGP-BGK's mean uncertainty weight on the scene's frames (from its record when it ran already):
 // the gain of the fixed-gain ablation, so that both fuse with the same mean weight.
 double SceneMeanWeight(const EvalSceneRecord& record, const Scenario& scene,
@@ -765,14 +785,9 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   FrameRecorder recorder(&frames, scan_matching ? &scans : nullptr);
   ClosedLoop loop(drive_scenario, {robot_model_path, options.max_frames});
   const RunSummary drive = RunLoop(&loop, {&recorder});
-  const ScoringTruth truth =
-      options.truth == kPhysicalTruth
-          ? ScoringTruth{WorldPhysicalTruth(routable->geometry(), loop.world(),
-                                            scenario.ground_truth),
-                         1.0}
-          : ScoringTruth{*routable, scenario.planner.search.lethal_threshold};
 
   std::map<std::string, std::vector<RecordedFrame>> frames_on_source;
+  std::vector<const std::vector<RecordedFrame>*> frame_sets{&frames};
   for (const std::string& source : options.pose_sources) {
     sim::PoseNoiseConfig localization = scenario.pose_noise;
     localization.method = *common::EnumFromName<sim::LocalizationMethod>(source);
@@ -780,7 +795,17 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
         FramesOnPoses(frames, localization.method == sim::LocalizationMethod::kScanMatching
                                   ? ScanMatchingPoses(frames, scans, scenario)
                                   : DriftModelPoses(frames, localization));
+    frame_sets.push_back(&frames_on_source[source]);
   }
+  // the physical truth only where a score reads it: 12 to 16 % of the world on 24 m routes
+  const std::vector<Eigen::Vector2i> scored_cells =
+      ScoredCells(routable->geometry(), scenario.mapping.area, frame_sets);
+  const ScoringTruth truth =
+      options.truth == kPhysicalTruth
+          ? ScoringTruth{WorldPhysicalTruth(routable->geometry(), loop.world(),
+                                            scenario.ground_truth, &scored_cells),
+                         1.0}
+          : ScoringTruth{*routable, scenario.planner.search.lethal_threshold};
   for (const std::string& method : EvalMethods(options)) {
     const double fixed_gain =
         method == kFixedGain ? SceneMeanWeight(record, scenario, truth, frames) : 0.0;

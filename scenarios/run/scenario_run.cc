@@ -145,12 +145,15 @@ sim::ObstacleRaster RestingObstacles(const sim::TerrainWorld& world) {
 
 common::GridLayers WorldPhysicalTruth(const common::GridGeometry& map_geometry,
                                       const sim::TerrainWorld& world,
-                                      const mapping::GroundTruthConfig& config) {
+                                      const mapping::GroundTruthConfig& config,
+                                      const std::vector<Eigen::Vector2i>* cells) {
   const sim::ObstacleRaster obstacles = RestingObstacles(world);
-  return mapping::ComputePhysicalTruth(
-      map_geometry,
-      mapping::RestingSurface{world.geometry, world.height_m, obstacles.geometry, obstacles.top_m},
-      mapping::RestingBody{}, config);
+  const mapping::RestingSurface surface{world.geometry, world.height_m, obstacles.geometry,
+                                        obstacles.top_m};
+  return cells ? mapping::ComputePhysicalTruth(map_geometry, *cells, surface,
+                                               mapping::RestingBody{}, config)
+               : mapping::ComputePhysicalTruth(map_geometry, surface, mapping::RestingBody{},
+                                               config);
 }
 
 common::GridLayers ScenarioGroundTruth(const Scenario& scenario) {

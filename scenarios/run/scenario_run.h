@@ -199,10 +199,12 @@ common::GridLayers WorldGroundTruth(const Scenario& scenario, const sim::Terrain
 sim::ObstacleRaster RestingObstacles(const sim::TerrainWorld& world);
 
 /// The physical ground truth (mapping::ComputePhysicalTruth, docs/ground-truth.md) of `world` on
-/// `map_geometry`: the Scout Mini resting on its ground and RestingObstacles.
+/// `map_geometry`: the Scout Mini resting on its ground and RestingObstacles. With `cells` only at
+/// those cells (ix, iy), NaN elsewhere.
 common::GridLayers WorldPhysicalTruth(const common::GridGeometry& map_geometry,
                                       const sim::TerrainWorld& world,
-                                      const mapping::GroundTruthConfig& config);
+                                      const mapping::GroundTruthConfig& config,
+                                      const std::vector<Eigen::Vector2i>* cells = nullptr);
 
 /// The ground truth of the scenario's world, generated from its terrain for its start and goal.
 common::GridLayers ScenarioGroundTruth(const Scenario& scenario);

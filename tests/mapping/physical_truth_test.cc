@@ -221,5 +221,50 @@ TEST(PhysicalTruthTest, AnOddNumberOfHeadingsIsLookedUpHeadingByHeading) {
   EXPECT_EQ(known, 3 * 25 * 25);
 }
 
+TEST(PhysicalTruthTest, TheTruthAtListedCellsIsTheWholeGridsThereAndUnknownElsewhere) {
+  // rough ground with a step and a box: every layer's value at a listed cell is the whole grid's
+  const Eigen::MatrixXf ground = Sampled([](double x, double y) {
+    return 0.1 * std::sin(3.0 * x) * std::cos(2.0 * y) + (x > 1.0 ? 0.12 : 0.0);
+  });
+  const Eigen::MatrixXf obstacles = Sampled([](double x, double y) {
+    return std::abs(x + 1.0) < 0.3 && std::abs(y) < 0.3 ? 0.2 : std::nan("");
+  });
+  const common::GridLayers whole = Truth(ground, obstacles);
+  // a diagonal band, the border cells (unknown in both) and a cell twice
+  std::vector<Eigen::Vector2i> cells{{0, 0}, {29, 29}, {7, 9}, {7, 9}};
+  for (int i = 0; i < kMap.num_x; ++i) cells.emplace_back(i, (i + 3) % kMap.num_y);
+  const common::GridLayers listed =
+      ComputePhysicalTruth(kMap, cells, RestingSurface{kWorld, ground, kWorld, obstacles},
+                           RestingBody{}, GroundTruthConfig{});
+  std::vector<bool> is_listed(static_cast<std::size_t>(kMap.num_x * kMap.num_y), false);
+  for (const Eigen::Vector2i& cell : cells) is_listed[cell.x() + cell.y() * kMap.num_x] = true;
+  ASSERT_EQ(listed.LayerNames(), whole.LayerNames());
+  int known = 0;
+  for (const std::string& name : whole.LayerNames()) {
+    for (int mx = 0; mx < kMap.num_x; ++mx) {
+      for (int my = 0; my < kMap.num_y; ++my) {
+        const float value = listed.Layer(name)(mx, my);
+        if (!is_listed[mx + my * kMap.num_x]) {
+          EXPECT_TRUE(std::isnan(value)) << name << " " << mx << "," << my;
+          continue;
+        }
+        const float expected = whole.Layer(name)(mx, my);
+        if (std::isnan(expected)) {
+          EXPECT_TRUE(std::isnan(value)) << name << " " << mx << "," << my;
+        } else {
+          EXPECT_EQ(value, expected) << name << " " << mx << "," << my;
+          ++known;
+        }
+      }
+    }
+  }
+  // on each of the 19 layers: (7, 9) and the band's cells 3 to 24 (the robot fits on cells 3 to
+  // 27 along each axis)
+  EXPECT_EQ(known, 19 * 23);
+  // the band crosses the box: an untraversable cell among traversable ones
+  EXPECT_EQ(listed.Layer(layers::kTraversability)(11, 14), 1.0f);
+  EXPECT_LT(listed.Layer(layers::kTraversability)(15, 18), 1.0f);
+}
+
 }  // namespace
 }  // namespace trav::mapping

@@ -274,6 +274,13 @@ TEST_F(EvaluationTest, ThePoseSourcesRunEveryMapperOnTheEstimatesFrames) {
   // the drift moved the frames: the maps differ from those on the true pose
   EXPECT_NE(methods.at("em@drift-model").at("frames").at("mean_error"),
             methods.at("em").at("frames").at("mean_error"));
+  // the truth is known wherever a mapper is scored (it is computed on the cells any frame set
+  // observed): FSGP-BGK knows every cell its frames observed, on the true frames' cells and on
+  // those only the drifted frames observed
+  const nlohmann::json& drifted = methods.at("fsgp-bgk@drift-model").at("frames");
+  EXPECT_NE(drifted.at("observed_cells"),
+            methods.at("fsgp-bgk").at("frames").at("observed_cells"));
+  EXPECT_EQ(drifted.at("compared_cells"), drifted.at("observed_cells"));
   EXPECT_THAT(ReadFile(root_ / "eval" / "results.md"),
               HasSubstr("## The mappers on another pose source"));
   const std::string csv = ReadFile(root_ / "eval" / "pose_sources.csv");
