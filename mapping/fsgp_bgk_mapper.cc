@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <tuple>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -130,11 +132,27 @@ common::ScratchMatrix<float, 3>::ConstView FsgpBgkMapper::AccumulateFrames(
   return accumulated_.const_view();
 }
 
-MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
-                                      const Eigen::Isometry3d& X_WB, double t_s) {
-  MapUpdateResult result;
-  const Eigen::Vector3d p_WB = X_WB.translation();
+std::unique_ptr<FsgpBgkMapper> FsgpBgkMapper::UnfusedOf(const FsgpBgkMapper& source) {
+  FsgpConfig config = source.config_;
+  config.fuse = false;
+  auto unfused = std::make_unique<FsgpBgkMapper>(config);
+  unfused->source_ = &source;
+  return unfused;
+}
 
+void FsgpBgkMapper::Regress(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
+                            double t_s) {
+  const common::ThreadCpuStopwatch cpu;
+  regression_ = Regression{};
+  regression_.t_s = t_s;
+  regression_.p_WB = p_WB;
+  regression_.result.status = RegressionSteps(points_W, p_WB);
+  regression_.result.regression_cpu_ms = cpu.ElapsedMilliseconds();
+}
+
+MapUpdateStatus FsgpBgkMapper::RegressionSteps(const common::PointCloud& points_W,
+                                               const Eigen::Vector3d& p_WB) {
+  MapUpdateResult& result = regression_.result;
   // 1. crop to the window (and drop invalid points and overhangs such as tree crowns)
   common::Stopwatch stage;
   crop_.Crop(points_W, p_WB, config_.area.window_m, config_.area.max_height_above_robot_m,
@@ -146,8 +164,7 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   result.window_points = static_cast<int>(window.cols());
   result.times.crop = stage.ElapsedMilliseconds();
   if (window.cols() < kMinimumPoints) {
-    result.status = MapUpdateStatus::kTooFewPoints;
-    return result;
+    return MapUpdateStatus::kTooFewPoints;
   }
 
   // 2-3. features and the training set
@@ -156,8 +173,7 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   result.training_points = static_cast<int>(training.points_W.cols());
   result.times.features = stage.ElapsedMilliseconds();
   if (training.points_W.cols() < kMinimumPoints) {
-    result.status = MapUpdateStatus::kTooFewPoints;
-    return result;
+    return MapUpdateStatus::kTooFewPoints;
   }
 
   // 4-5. inputs and the sparse GP (optionally a few L-BFGS steps on the hyperparameters,
@@ -167,8 +183,7 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   SparseGp::OptimiseHyperparameters(inputs_.inputs.view(), inputs_.heights.view(),
                                     config_.lbfgs_iterations, &hyper_);
   if (!gp_.Fit(inputs_.inputs.view(), inputs_.heights.view(), hyper_)) {
-    result.status = MapUpdateStatus::kModelFailed;
-    return result;
+    return MapUpdateStatus::kModelFailed;
   }
   result.times.fit = stage.ElapsedMilliseconds();
 
@@ -176,23 +191,43 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   stage.Restart();
   map_.Recenter(p_WB.head<2>());
   fused_.Recenter(p_WB.head<2>());
-  const auto [low, high] = WindowCells(map_.geometry(), p_WB, config_.area.window_m);
-  PredictCells(training, low, high);
+  std::tie(regression_.low, regression_.high) =
+      WindowCells(map_.geometry(), p_WB, config_.area.window_m);
+  PredictCells(training, regression_.low, regression_.high);
   result.times.predict = stage.ElapsedMilliseconds();
+  return MapUpdateStatus::kUpdated;
+}
+
+MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
+                                      const Eigen::Isometry3d& X_WB, double t_s) {
+  const Eigen::Vector3d p_WB = X_WB.translation();
+  if (source_ == nullptr) {
+    Regress(points_W, p_WB, t_s);
+  } else if (source_->regression_.t_s != t_s || source_->regression_.p_WB != p_WB) {
+    throw std::logic_error("FsgpBgkMapper::UnfusedOf: the source did not update on this frame");
+  }
+  const FsgpBgkMapper& regressed = source_ != nullptr ? *source_ : *this;
+  const Regression& regression = regressed.regression_;
+  MapUpdateResult result = regression.result;
+  if (result.status != MapUpdateStatus::kUpdated) return result;
+  if (source_ != nullptr) {
+    map_.Recenter(p_WB.head<2>());
+    fused_.Recenter(p_WB.head<2>());
+  }
 
   // 7-8. preliminary score and fusion per world cell
-  stage.Restart();
-  result.mean_fusion_weight = Fuse(t_s);
-  result.observed_cells = static_cast<int>(prediction_.cells.size());
+  common::Stopwatch stage;
+  result.mean_fusion_weight = Fuse(regressed.prediction_, t_s);
+  result.observed_cells = static_cast<int>(regressed.prediction_.cells.size());
   result.times.fusion = stage.ElapsedMilliseconds();
 
   // 9. normalised Gaussian smoothing over the known cells of the window
   stage.Restart();
-  Smooth(low, high);
+  Smooth(regression.low, regression.high);
   if (config_.area.obstacle_layer) {
     // the smoothed cost changed in the window and its margin: the closing must be redone there
-    obstacles_.Mark(crop_, low, high, config_.area, p_WB, t_s, std::max(SmoothingRadiusCells(), 2),
-                    &map_);
+    obstacles_.Mark(regressed.crop_, regression.low, regression.high, config_.area, p_WB, t_s,
+                    std::max(SmoothingRadiusCells(), 2), &map_);
   }
   result.times.smoothing = stage.ElapsedMilliseconds();
   return result;
@@ -264,8 +299,7 @@ void FsgpBgkMapper::PredictCells(const TrainingSet& training, const Eigen::Vecto
   }
 }
 
-double FsgpBgkMapper::Fuse(double t_s) {
-  const CellPrediction& prediction = prediction_;
+double FsgpBgkMapper::Fuse(const CellPrediction& prediction, double t_s) {
   const auto raw_test = prediction.raw_inputs.view();
   const auto elevation = prediction.elevation.view();
   const auto variances = prediction.variance.view();

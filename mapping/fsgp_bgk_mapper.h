@@ -1,5 +1,6 @@
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -28,6 +29,16 @@ class FsgpBgkMapper final : public TraversabilityMapper {
  public:
   /// @throws common::InputError for an invalid config.
   explicit FsgpBgkMapper(const FsgpConfig& config);
+
+  /// The FSGP baseline on the regression of `source` (crop, training set, GP fit and prediction):
+  /// `source`'s config without fusion, its every frame's regression read from `source`, which
+  /// must have updated on the same frame (time and pose) just before. The same map, bit for bit,
+  /// as FsgpBgkMapper(config without fusion) on its own: the regression reads no layer the fusion
+  /// writes (the crop reads the floor that ObstacleMarker builds from the points alike in both).
+  /// What lets `trav eval` score FSGP beside FSGP-BGK at the cost of one regression per frame; each
+  /// update reports the regression's CPU time (MapUpdateResult::regression_cpu_ms) that it did
+  /// not spend. `source` must outlive it.
+  static std::unique_ptr<FsgpBgkMapper> UnfusedOf(const FsgpBgkMapper& source);
 
   MapUpdateResult Update(const common::PointCloud& points_W, const Eigen::Isometry3d& X_WB,
                          double t_s) override;
@@ -65,6 +76,19 @@ class FsgpBgkMapper final : public TraversabilityMapper {
     common::ScratchMatrix<double> test, df_du;
   };
 
+  // One frame's regression, kept until the next: what the fusion reads, and what a mapper made by
+  // UnfusedOf takes instead of its own.
+  struct Regression {
+    MapUpdateResult result;  // status, counts, the stages' times and the CPU time
+    double t_s{std::numeric_limits<double>::quiet_NaN()};
+    Eigen::Vector3d p_WB{Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())};
+    Eigen::Vector2i low{Eigen::Vector2i::Zero()}, high{Eigen::Vector2i::Zero()};  // window cells
+  };
+
+  // Steps 1 to 6 of Update into regression_, crop_ and prediction_ (the map recentred), timed.
+  void Regress(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB, double t_s);
+  // The steps themselves: kUpdated, or the status of the step that ended them.
+  MapUpdateStatus RegressionSteps(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB);
   // Fills inputs_ from the training set.
   void StandardiseInputs(const TrainingSet& training);
   // FSGP-Accumulation: the last accumulate_frames windows within the window around p_WB.
@@ -73,9 +97,9 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   // Fills prediction_ on the window's cells between low and high.
   void PredictCells(const TrainingSet& training, const Eigen::Vector2i& low,
                     const Eigen::Vector2i& high);
-  // The preliminary score of each predicted cell fused into the map (BGK, or replaced); returns
-  // the mean uncertainty weight w_sigma over the cells fused (NaN: none, or no fusion).
-  double Fuse(double t_s);
+  // The preliminary score of each cell of `prediction` fused into the map (BGK, or replaced);
+  // returns the mean uncertainty weight w_sigma over the cells fused (NaN: none, or no fusion).
+  double Fuse(const CellPrediction& prediction, double t_s);
   void Smooth(const Eigen::Vector2i& low, const Eigen::Vector2i& high);
   // The smoothing kernel's radius in cells (0: no smoothing).
   int SmoothingRadiusCells() const;
@@ -99,6 +123,8 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   CellPrediction prediction_;
   ObstacleMarker obstacles_;
   std::unique_ptr<common::HelperThread> helper_;  // null: one thread
+  Regression regression_;
+  const FsgpBgkMapper* source_{nullptr};  // UnfusedOf: the mapper whose regression is fused
 };
 
 /// The BGK update of one cell (the paper's equations): with w_t = exp(-lambda (t - t0)) and

@@ -102,6 +102,10 @@ struct MapUpdateResult {
   /// mapper without BGK fusion).
   double mean_fusion_weight{std::numeric_limits<double>::quiet_NaN()};
   StageTimes times{};
+  /// CPU time of the update's regression (FSGP-BGK's crop to prediction) [ms]; a mapper fusing
+  /// another's regression (FsgpBgkMapper::UnfusedOf) reports the time it did not spend. 0 for
+  /// mappers without one.
+  double regression_cpu_ms{0.0};
 };
 
 /// A traversability mapper: world-frame clouds, the robot pose and times in; a world-anchored

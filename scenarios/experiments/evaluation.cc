@@ -21,6 +21,7 @@
 #include "common/statistics.h"
 #include "common/stopwatch.h"
 #include "common/yaml_reader.h"
+#include "mapping/fsgp_bgk_mapper.h"
 #include "mapping/lidar_odometry.h"
 #include "mapping/traversability_mapper.h"
 #include "scenarios/experiments/eval_report.h"
@@ -298,74 +299,153 @@ std::optional<double> NumberOrNone(double value) {
   return std::isnan(value) ? std::nullopt : std::optional<double>(value);
 }
 
+// One method's mapper and its scores, accumulated frame by frame.
+class MethodEvaluation {
+ public:
+  // `regression_source`: the FSGP-BGK mapper whose regression this method's FSGP fuses
+  // (FsgpBgkMapper::UnfusedOf), which updates on each frame first; null: a mapper of its own.
+  MethodEvaluation(const std::string& method, const Scenario& scene, const ScoringTruth& truth,
+                   double fixed_gain, const MethodEvaluation* regression_source)
+      : truth_(truth),
+        observed_(truth.layers.geometry(), scene.mapping.area),
+        regression_source_(regression_source) {
+    const double heap_before = HeapInUseBytes();
+    const auto* source =
+        regression_source != nullptr
+            ? dynamic_cast<const mapping::FsgpBgkMapper*>(regression_source->mapper_.get())
+            : nullptr;
+    mapper_ = source != nullptr ? mapping::FsgpBgkMapper::UnfusedOf(*source)
+                                : MakeEvalMapper(method, scene, truth.layers, fixed_gain);
+    heap_bytes_ = HeapInUseBytes() - heap_before;
+  }
+
+  // Feeds one frame to the mapper and scores its map.
+  void Update(const RecordedFrame& frame) {
+    const double heap_before = HeapInUseBytes();
+    const common::Stopwatch start;
+    const common::ThreadCpuStopwatch cpu;
+    const mapping::MapUpdateResult update = mapper_->Update(frame.cloud_M, frame.X_MB, frame.t_s);
+    double runtime_ms = cpu.ElapsedMilliseconds();
+    double wall_ms = start.ElapsedMilliseconds();
+    if (regression_source_ != nullptr) {
+      // the regression it shares, as if it had made it
+      const mapping::StageTimes& times = update.times;
+      runtime_ms += update.regression_cpu_ms;
+      wall_ms += times.crop + times.features + times.fit + times.predict;
+    }
+    runtime_.push_back(runtime_ms);
+    wall_.push_back(wall_ms);
+    if (!std::isnan(update.mean_fusion_weight)) {
+      weight_sum_ += update.mean_fusion_weight;
+      ++weighted_frames_;
+    }
+    observed_.Add(frame.cloud_M, frame.X_MB.translation());
+    const LayerError error =
+        CompareObserved(mapper_->map(), truth_.layers, observed_, mapping::layers::kTraversability);
+    t_.push_back(frame.t_s);
+    mean_.push_back(error.known_cells > 0 ? error.mean : std::nan(""));
+    variance_.push_back(error.known_cells > 0 ? error.variance : std::nan(""));
+    compared_.push_back(error.known_cells);
+    observed_count_.push_back(static_cast<int>(observed_.cells().size()));
+    if (error.known_cells > 0) {
+      mean_sum_ += error.mean;
+      variance_sum_ += error.variance;
+      ++scored_;
+    }
+    heap_bytes_ += HeapInUseBytes() - heap_before;
+    // a method sharing a regression counts the storage of the mapper that makes it
+    const double heap = heap_bytes_ + (regression_source_ ? regression_source_->heap_bytes_ : 0.0);
+    peak_heap_ = std::max(peak_heap_, heap);
+    heap_mb_.push_back(heap / kBytesPerMiB);
+  }
+
+  EvalMethodRecord Record() const {
+    EvalMethodRecord record;
+    // unscored frames have no error
+    record.mean_error = NumberOrNone(scored_ > 0 ? mean_sum_ / scored_ : std::nan(""));
+    record.error_variance = NumberOrNone(scored_ > 0 ? variance_sum_ / scored_ : std::nan(""));
+    record.scored_frames = scored_;
+    record.runtime_ms_median = common::Quantile(runtime_, 0.5);
+    record.wall_ms_median = common::Quantile(wall_, 0.5);
+    if (weighted_frames_ > 0) record.mean_fusion_weight = weight_sum_ / weighted_frames_;
+    record.hazards =
+        ScoreHazards(mapper_->map(), truth_.layers, observed_, truth_.untraversable_cost);
+    record.runtime_ms_max =
+        runtime_.empty() ? 0.0 : *std::max_element(runtime_.begin(), runtime_.end());
+    record.peak_memory_mb = peak_heap_ / kBytesPerMiB;
+    const double last_observed = observed_count_.empty() ? 0.0 : observed_count_.back();
+    record.coverage = last_observed > 0 ? compared_.back() / last_observed : 0.0;
+    EvalFrames& f = record.frames;
+    for (std::size_t i = 0; i < mean_.size(); ++i) {
+      f.mean_error.push_back(NumberOrNone(mean_[i]));
+      f.error_variance.push_back(NumberOrNone(variance_[i]));
+    }
+    f.t_s = t_;
+    f.compared_cells = compared_;
+    f.observed_cells = observed_count_;
+    f.runtime_ms = runtime_;
+    f.wall_ms = wall_;
+    f.heap_mb = heap_mb_;
+    return record;
+  }
+
+ private:
+  const ScoringTruth& truth_;
+  ObservedCells observed_;
+  const MethodEvaluation* regression_source_;
+  std::unique_ptr<mapping::TraversabilityMapper> mapper_;
+  double heap_bytes_{0.0}, peak_heap_{0.0};  // the heap this method's mapper and scores grew by
+  double weight_sum_{0.0};
+  int weighted_frames_{0};
+  std::vector<double> t_, mean_, variance_, runtime_, wall_, heap_mb_;
+  std::vector<int> compared_, observed_count_;
+  double mean_sum_{0.0}, variance_sum_{0.0};
+  int scored_{0};
+};
+
+// The FSGP-BGK method whose regression `method` (FSGP: fsgp, fsgp-m125, fsgp@drift-model) fuses
+// without BGK: the same inducing points on the same frames (FsgpBgkMapper::UnfusedOf); nothing for
+// any other method.
+std::optional<std::string> RegressionSourceOf(const std::string& method) {
+  const std::string fsgp = common::NameOf(MapperMethod::kFsgp);
+  const std::string fsgp_bgk = common::NameOf(MapperMethod::kFsgpBgk);
+  if (method == fsgp) return fsgp_bgk;
+  if (const std::optional<AblationMethod> ablation = ParseAblationMethod(method)) {
+    if (ablation->base == fsgp) return AblationMethod{fsgp_bgk, ablation->inducing_points}.Name();
+  }
+  if (const std::optional<PoseSourceMethod> on_source = ParsePoseSourceMethod(method)) {
+    if (on_source->base == fsgp) return PoseSourceMethod{fsgp_bgk, on_source->source}.Name();
+  }
+  return std::nullopt;
+}
+
+// Feeds the frames to `methods` (one, or an FSGP-BGK and the FSGP fusing its regression, in that
+// order), scoring each map after every frame.
+std::map<std::string, EvalMethodRecord> EvaluateMethods(const std::vector<std::string>& methods,
+                                                        const Scenario& scene,
+                                                        const ScoringTruth& truth,
+                                                        const std::vector<RecordedFrame>& frames,
+                                                        double fixed_gain) {
+  std::vector<std::unique_ptr<MethodEvaluation>> evaluations;
+  for (const std::string& method : methods) {
+    const MethodEvaluation* source = evaluations.empty() ? nullptr : evaluations.front().get();
+    evaluations.push_back(
+        std::make_unique<MethodEvaluation>(method, scene, truth, fixed_gain, source));
+  }
+  for (const RecordedFrame& frame : frames) {
+    for (const std::unique_ptr<MethodEvaluation>& evaluation : evaluations)
+      evaluation->Update(frame);
+  }
+  std::map<std::string, EvalMethodRecord> records;
+  for (std::size_t i = 0; i < methods.size(); ++i) records[methods[i]] = evaluations[i]->Record();
+  return records;
+}
+
 // Feeds the frames to one method, scoring its map after every frame.
 EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene,
                                 const ScoringTruth& truth, const std::vector<RecordedFrame>& frames,
                                 double fixed_gain) {
-  const common::GridLayers& truth_W = truth.layers;
-  const double heap_before = HeapInUseBytes();
-  double peak_heap = 0.0;
-  std::unique_ptr<mapping::TraversabilityMapper> mapper =
-      MakeEvalMapper(method, scene, truth_W, fixed_gain);
-  double weight_sum = 0.0;
-  int weighted_frames = 0;
-  ObservedCells observed(truth_W.geometry(), scene.mapping.area);
-  std::vector<double> t, mean, variance, runtime, wall, heap_mb;
-  std::vector<int> compared, observed_count;
-  double mean_sum = 0.0, variance_sum = 0.0;
-  int scored = 0;
-  for (const RecordedFrame& frame : frames) {
-    const common::Stopwatch start;
-    const common::ThreadCpuStopwatch cpu;
-    const mapping::MapUpdateResult update = mapper->Update(frame.cloud_M, frame.X_MB, frame.t_s);
-    runtime.push_back(cpu.ElapsedMilliseconds());
-    wall.push_back(start.ElapsedMilliseconds());
-    if (!std::isnan(update.mean_fusion_weight)) {
-      weight_sum += update.mean_fusion_weight;
-      ++weighted_frames;
-    }
-    const double heap = HeapInUseBytes() - heap_before;
-    peak_heap = std::max(peak_heap, heap);
-    heap_mb.push_back(heap / kBytesPerMiB);
-    observed.Add(frame.cloud_M, frame.X_MB.translation());
-    const LayerError error =
-        CompareObserved(mapper->map(), truth_W, observed, mapping::layers::kTraversability);
-    t.push_back(frame.t_s);
-    mean.push_back(error.known_cells > 0 ? error.mean : std::nan(""));
-    variance.push_back(error.known_cells > 0 ? error.variance : std::nan(""));
-    compared.push_back(error.known_cells);
-    observed_count.push_back(static_cast<int>(observed.cells().size()));
-    if (error.known_cells > 0) {
-      mean_sum += error.mean;
-      variance_sum += error.variance;
-      ++scored;
-    }
-  }
-  // unscored frames have no error
-  EvalMethodRecord record;
-  record.mean_error = NumberOrNone(scored > 0 ? mean_sum / scored : std::nan(""));
-  record.error_variance = NumberOrNone(scored > 0 ? variance_sum / scored : std::nan(""));
-  record.scored_frames = scored;
-  record.runtime_ms_median = common::Quantile(runtime, 0.5);
-  record.wall_ms_median = common::Quantile(wall, 0.5);
-  if (weighted_frames > 0) record.mean_fusion_weight = weight_sum / weighted_frames;
-  record.hazards = ScoreHazards(mapper->map(), truth_W, observed, truth.untraversable_cost);
-  record.runtime_ms_max = runtime.empty() ? 0.0 : *std::max_element(runtime.begin(), runtime.end());
-  record.peak_memory_mb = peak_heap / kBytesPerMiB;
-  const double last_observed = observed_count.empty() ? 0.0 : observed_count.back();
-  record.coverage = last_observed > 0 ? compared.back() / last_observed : 0.0;
-  EvalFrames& f = record.frames;
-  for (std::size_t i = 0; i < mean.size(); ++i) {
-    f.mean_error.push_back(NumberOrNone(mean[i]));
-    f.error_variance.push_back(NumberOrNone(variance[i]));
-  }
-  f.t_s = std::move(t);
-  f.compared_cells = std::move(compared);
-  f.observed_cells = std::move(observed_count);
-  f.runtime_ms = std::move(runtime);
-  f.wall_ms = std::move(wall);
-  f.heap_mb = std::move(heap_mb);
-  return record;
+  return EvaluateMethods({method}, scene, truth, frames, fixed_gain).at(method);
 }
 
 // The cells of `geometry` that any method's scores read (EvaluateMethod's ObservedCells over each
@@ -377,7 +457,8 @@ std::vector<Eigen::Vector2i> ScoredCells(
   std::vector<Eigen::Vector2i> cells;
   for (const std::vector<RecordedFrame>* frames : frame_sets) {
     ObservedCells observed(geometry, area);
-    for (const RecordedFrame& frame : *frames) observed.Add(frame.cloud_M, frame.X_MB.translation());
+    for (const RecordedFrame& frame : *frames)
+      observed.Add(frame.cloud_M, frame.X_MB.translation());
     for (const Eigen::Vector2i& cell : observed.cells()) {
       const std::size_t index = static_cast<std::size_t>(cell.x() + cell.y() * geometry.num_x);
       if (scored[index]) continue;
@@ -806,13 +887,24 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
                                             scenario.ground_truth, &scored_cells),
                          1.0}
           : ScoringTruth{*routable, scenario.planner.search.lethal_threshold};
-  for (const std::string& method : EvalMethods(options)) {
+  // an FSGP beside its FSGP-BGK fuses that one's regression (the same map at a fraction of the
+  // time), the two fed frame by frame together
+  const std::vector<std::string> methods = EvalMethods(options);
+  for (const std::string& method : methods) {
+    if (record.methods.count(method) > 0) continue;
+    std::vector<std::string> group{method};
+    const std::optional<std::string> source = RegressionSourceOf(method);
+    if (source && record.methods.count(*source) == 0 &&
+        std::find(methods.begin(), methods.end(), *source) != methods.end()) {
+      group = {*source, method};
+    }
     const double fixed_gain =
         method == kFixedGain ? SceneMeanWeight(record, scenario, truth, frames) : 0.0;
     const std::optional<PoseSourceMethod> on_source = ParsePoseSourceMethod(method);
-    record.methods[method] =
-        EvaluateMethod(method, scenario, truth,
-                       on_source ? frames_on_source.at(on_source->source) : frames, fixed_gain);
+    for (auto& [name, scores] :
+         EvaluateMethods(group, scenario, truth,
+                         on_source ? frames_on_source.at(on_source->source) : frames, fixed_gain))
+      record.methods[name] = std::move(scores);
   }
   record.route.start = {scenario.start_W.position.x(), scenario.start_W.position.y(),
                         scenario.start_W.yaw};

@@ -150,10 +150,10 @@ common::GridLayers WorldPhysicalTruth(const common::GridGeometry& map_geometry,
   const sim::ObstacleRaster obstacles = RestingObstacles(world);
   const mapping::RestingSurface surface{world.geometry, world.height_m, obstacles.geometry,
                                         obstacles.top_m};
-  return cells ? mapping::ComputePhysicalTruth(map_geometry, *cells, surface,
-                                               mapping::RestingBody{}, config)
-               : mapping::ComputePhysicalTruth(map_geometry, surface, mapping::RestingBody{},
-                                               config);
+  return cells
+             ? mapping::ComputePhysicalTruth(map_geometry, *cells, surface, mapping::RestingBody{},
+                                             config)
+             : mapping::ComputePhysicalTruth(map_geometry, surface, mapping::RestingBody{}, config);
 }
 
 common::GridLayers ScenarioGroundTruth(const Scenario& scenario) {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <memory>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -1116,6 +1118,58 @@ TEST(FsgpBgkMapperTest, WithoutFusionTheLatestFrameDecides) {
   EXPECT_GT(*dut.map().At(layers::kTraversability, {2.0, 0.0}), 0.1);
   dut.Update(Surface([](double, double) { return 0.0; }, {0, 0}), RobotAt(0, 0), 1.0);
   EXPECT_LT(*dut.map().At(layers::kTraversability, {2.0, 0.0}), 0.02);
+}
+
+// Every layer of `a` equals `b`'s, cell for cell (NaN where the other is NaN); the count of known
+// cells of the traversability layer.
+int ExpectSameLayers(const common::GridLayers& a, const common::GridLayers& b) {
+  EXPECT_EQ(a.LayerNames(), b.LayerNames());
+  EXPECT_EQ(a.geometry().origin_W, b.geometry().origin_W);
+  for (const std::string& name : a.LayerNames()) {
+    const Eigen::MatrixXf& x = a.Layer(name);
+    const Eigen::MatrixXf& y = b.Layer(name);
+    const bool same = ((x.array() == y.array()) || (x.array().isNaN() && y.array().isNaN())).all();
+    EXPECT_TRUE(same) << name;
+  }
+  return static_cast<int>((!a.Layer(layers::kTraversability).array().isNaN()).count());
+}
+
+TEST(FsgpBgkMapperTest, AnUnfusedMapperOnAnotherMappersRegressionIsFsgpBitForBit) {
+  // a robot driving over bumps past a wall and a low step, one frame empty: FSGP on FSGP-BGK's
+  // regression against FSGP on its own, every layer after every frame
+  FsgpConfig config;
+  config.max_training_points = 150;
+  FsgpBgkMapper bgk(config);
+  const std::unique_ptr<FsgpBgkMapper> shared = FsgpBgkMapper::UnfusedOf(bgk);
+  config.fuse = false;
+  FsgpBgkMapper own(config);
+  EXPECT_FALSE(shared->config().fuse);
+  auto terrain = [](double x, double y) {
+    const double step = x > 4.0 && std::abs(y) < 1.0 ? 0.2 : 0.0;
+    const double wall = std::abs(y - 3.0) < 0.15 && x > 1.0 && x < 3.0 ? 1.0 : 0.0;
+    return 0.1 * std::sin(1.3 * x) * std::cos(0.9 * y) + step + wall;
+  };
+  for (int frame = 0; frame < 8; ++frame) {
+    const double x = 0.4 * frame;
+    const common::PointCloud cloud =
+        frame == 5 ? common::PointCloud{} : Surface(terrain, {x, 0.0}, 4.0, 0.01);
+    const double t = 0.1 * frame;
+    const MapUpdateResult reference = own.Update(cloud, RobotAt(x, 0.0), t);
+    const MapUpdateResult regressed = bgk.Update(cloud, RobotAt(x, 0.0), t);
+    const MapUpdateResult fused = shared->Update(cloud, RobotAt(x, 0.0), t);
+    ASSERT_EQ(fused.status, reference.status) << "frame " << frame;
+    EXPECT_EQ(fused.training_points, reference.training_points);
+    EXPECT_EQ(fused.observed_cells, reference.observed_cells);
+    // the regression's CPU time, which the shared mapper did not spend, is reported
+    EXPECT_EQ(fused.regression_cpu_ms, regressed.regression_cpu_ms);
+    const int known = ExpectSameLayers(shared->map(), own.map());
+    EXPECT_GT(known, 0) << "frame " << frame;
+  }
+  // the wall and the step are obstacles in both
+  EXPECT_EQ(*shared->map().At(layers::kTraversability, {2.0, 3.0}), 1.0f);
+  EXPECT_EQ(*shared->map().At(layers::kTraversability, {4.0, 0.0}), 1.0f);
+  // a frame the source has not seen is refused
+  EXPECT_THROW(shared->Update(Surface(terrain, {0, 0}), RobotAt(0, 0), 5.0), std::logic_error);
 }
 
 TEST(BgkUpdateTest, MatchesTheEquationsOnTwoFrames) {

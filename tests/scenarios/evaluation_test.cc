@@ -253,6 +253,39 @@ TEST_F(EvaluationTest, TheContributionAblationsRunBesideFsgpBgk) {
       2);
 }
 
+// FSGP beside FSGP-BGK fuses FSGP-BGK's regression (FsgpBgkMapper::UnfusedOf), in the ablation
+// too: its scores are those of FSGP evaluated alone, number for number.
+TEST_F(EvaluationTest, FsgpBesideFsgpBgkScoresAsFsgpAlone) {
+  auto eval = [&](const std::string& folder, const std::string& methods) {
+    const CommandResult run = RunTrav(
+        "eval --out " + (root_ / folder).string() +
+        " --terrains flat --scenes 1 --seed 5 --frames 6 --jobs 1 --route-length 6 --inducing "
+        "50,500 --methods " +
+        methods +
+        " --set 'terrain.boxes=[{name: crate, centre: [0, 0], half_extents: [0.4, 0.4], height: "
+        "1}]'");
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    return ReadJson(root_ / folder / "scenes" / "flat-5.json").at("methods");
+  };
+  const nlohmann::json together = eval("together", "fsgp,fsgp-bgk");
+  const nlohmann::json alone = eval("alone", "fsgp");
+  for (const std::string method : {"fsgp", "fsgp-m50"}) {
+    for (const std::string key : {"mean_error", "error_variance", "scored_frames", "coverage",
+                                  "auroc", "average_precision", "cost_truth_histogram"}) {
+      EXPECT_EQ(together.at(method).at(key), alone.at(method).at(key)) << method << " " << key;
+    }
+    for (const std::string key : {"mean_error", "compared_cells", "observed_cells"}) {
+      EXPECT_EQ(together.at(method).at("frames").at(key), alone.at(method).at("frames").at(key))
+          << method << " " << key;
+    }
+    EXPECT_EQ(together.at(method).at("frames").at("runtime_ms").size(), 6u);
+  }
+  // the crate is seen: the maps are scored against hazards
+  EXPECT_GT(alone.at("fsgp").at("hazard_cells").get<int>(), 0);
+  EXPECT_NE(together.at("fsgp").at("frames").at("mean_error"),
+            together.at("fsgp-bgk").at("frames").at("mean_error"));
+}
+
 // The mappers on the drift model's pose: the same drive's frames moved into the estimate's
 // odometry frame. With no drift the moved frames are the frames, so the maps are the same.
 TEST_F(EvaluationTest, ThePoseSourcesRunEveryMapperOnTheEstimatesFrames) {
@@ -278,8 +311,7 @@ TEST_F(EvaluationTest, ThePoseSourcesRunEveryMapperOnTheEstimatesFrames) {
   // observed): FSGP-BGK knows every cell its frames observed, on the true frames' cells and on
   // those only the drifted frames observed
   const nlohmann::json& drifted = methods.at("fsgp-bgk@drift-model").at("frames");
-  EXPECT_NE(drifted.at("observed_cells"),
-            methods.at("fsgp-bgk").at("frames").at("observed_cells"));
+  EXPECT_NE(drifted.at("observed_cells"), methods.at("fsgp-bgk").at("frames").at("observed_cells"));
   EXPECT_EQ(drifted.at("compared_cells"), drifted.at("observed_cells"));
   EXPECT_THAT(ReadFile(root_ / "eval" / "results.md"),
               HasSubstr("## The mappers on another pose source"));
