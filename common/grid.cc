@@ -135,15 +135,23 @@ void ShiftInPlace(Eigen::MatrixXf* layer, int dx, int dy) {
 
 }  // namespace
 
+Eigen::Vector2i GridGeometry::RecenterShift(const Eigen::Vector2d& center_W) const {
+  const Eigen::Vector2d offset = (center_W - Center()) / resolution_m;
+  return {static_cast<int>(std::lround(offset.x())), static_cast<int>(std::lround(offset.y()))};
+}
+
+GridGeometry GridGeometry::RecenteredOn(const Eigen::Vector2d& center_W) const {
+  GridGeometry moved = *this;
+  moved.origin_W += resolution_m * RecenterShift(center_W).cast<double>();
+  return moved;
+}
+
 void GridLayers::Recenter(const Eigen::Vector2d& center_W) {
-  // the shift in whole cells that brings the grid's centre nearest to center_W
-  const Eigen::Vector2d offset = (center_W - geometry_.Center()) / geometry_.resolution_m;
-  const int dx = static_cast<int>(std::lround(offset.x()));
-  const int dy = static_cast<int>(std::lround(offset.y()));
-  if (dx == 0 && dy == 0) return;
-  geometry_.origin_W += geometry_.resolution_m * Eigen::Vector2d(dx, dy);
+  const Eigen::Vector2i shift = geometry_.RecenterShift(center_W);
+  if (shift.isZero()) return;
+  geometry_ = geometry_.RecenteredOn(center_W);
   // new cell (ix, iy) was old cell (ix + dx, iy + dy)
-  for (auto& entry : layers_) ShiftInPlace(&entry.second, dx, dy);
+  for (auto& entry : layers_) ShiftInPlace(&entry.second, shift.x(), shift.y());
 }
 
 }  // namespace trav::common

@@ -46,6 +46,11 @@ struct GridGeometry {
 
   /// True if (ix, iy) is a cell of the grid.
   bool Contains(int ix, int iy) const { return ix >= 0 && iy >= 0 && ix < num_x && iy < num_y; }
+
+  /// The whole cells (dx, dy) that bring the grid's centre nearest to center_W.
+  Eigen::Vector2i RecenterShift(const Eigen::Vector2d& center_W) const;
+  /// The grid moved by RecenterShift(center_W): the geometry GridLayers::Recenter gives.
+  GridGeometry RecenteredOn(const Eigen::Vector2d& center_W) const;
 };
 
 /// True if `predicate(ix, iy)` holds for a cell of `geometry` whose centre lies within `radius_m`

@@ -187,13 +187,12 @@ MapUpdateStatus FsgpBgkMapper::RegressionSteps(const common::PointCloud& points_
   }
   result.times.fit = stage.ElapsedMilliseconds();
 
-  // 6. the window's cells with a training point within the support radius: their prediction
+  // 6. the window's cells with a training point within the support radius: their prediction, on
+  // the map as Update recentres it
   stage.Restart();
-  map_.Recenter(p_WB.head<2>());
-  fused_.Recenter(p_WB.head<2>());
-  std::tie(regression_.low, regression_.high) =
-      WindowCells(map_.geometry(), p_WB, config_.area.window_m);
-  PredictCells(training, regression_.low, regression_.high);
+  const common::GridGeometry geometry = map_.geometry().RecenteredOn(p_WB.head<2>());
+  std::tie(regression_.low, regression_.high) = WindowCells(geometry, p_WB, config_.area.window_m);
+  PredictCells(geometry, training, regression_.low, regression_.high);
   result.times.predict = stage.ElapsedMilliseconds();
   return MapUpdateStatus::kUpdated;
 }
@@ -210,13 +209,11 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   const Regression& regression = regressed.regression_;
   MapUpdateResult result = regression.result;
   if (result.status != MapUpdateStatus::kUpdated) return result;
-  if (source_ != nullptr) {
-    map_.Recenter(p_WB.head<2>());
-    fused_.Recenter(p_WB.head<2>());
-  }
 
   // 7-8. preliminary score and fusion per world cell
   common::Stopwatch stage;
+  map_.Recenter(p_WB.head<2>());
+  fused_.Recenter(p_WB.head<2>());
   result.mean_fusion_weight = Fuse(regressed.prediction_, t_s);
   result.observed_cells = static_cast<int>(regressed.prediction_.cells.size());
   result.times.fusion = stage.ElapsedMilliseconds();
@@ -237,10 +234,9 @@ void FsgpBgkMapper::UseHelperThread() {
   if (!helper_) helper_ = std::make_unique<common::HelperThread>();
 }
 
-void FsgpBgkMapper::PredictCells(const TrainingSet& training, const Eigen::Vector2i& low,
-                                 const Eigen::Vector2i& high) {
+void FsgpBgkMapper::PredictCells(const common::GridGeometry& g, const TrainingSet& training,
+                                 const Eigen::Vector2i& low, const Eigen::Vector2i& high) {
   // kappa*, g* by IDW on the cells with a training point within the support radius
-  const common::GridGeometry& g = map_.geometry();
   PredictionScratch& s = scratch_;
   auto centres = s.centres_W.Resize(2, (high - low + Eigen::Vector2i::Ones()).prod());
   s.window_cells.clear();

@@ -85,7 +85,8 @@ class FsgpBgkMapper final : public TraversabilityMapper {
     Eigen::Vector2i low{Eigen::Vector2i::Zero()}, high{Eigen::Vector2i::Zero()};  // window cells
   };
 
-  // Steps 1 to 6 of Update into regression_, crop_ and prediction_ (the map recentred), timed.
+  // Steps 1 to 6 of Update into regression_, crop_ and prediction_ (on the map's geometry as
+  // Update then recentres it), timed.
   void Regress(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB, double t_s);
   // The steps themselves: kUpdated, or the status of the step that ended them.
   MapUpdateStatus RegressionSteps(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB);
@@ -94,9 +95,9 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   // FSGP-Accumulation: the last accumulate_frames windows within the window around p_WB.
   Eigen::Map<const Eigen::Matrix3Xf, Eigen::Aligned16> AccumulateFrames(
       const Eigen::Ref<const Eigen::Matrix3Xf>& window, const Eigen::Vector3d& p_WB);
-  // Fills prediction_ on the window's cells between low and high.
-  void PredictCells(const TrainingSet& training, const Eigen::Vector2i& low,
-                    const Eigen::Vector2i& high);
+  // Fills prediction_ on the cells of `g` between low and high.
+  void PredictCells(const common::GridGeometry& g, const TrainingSet& training,
+                    const Eigen::Vector2i& low, const Eigen::Vector2i& high);
   // The preliminary score of each cell of `prediction` fused into the map (BGK, or replaced);
   // returns the mean uncertainty weight w_sigma over the cells fused (NaN: none, or no fusion).
   double Fuse(const CellPrediction& prediction, double t_s);

@@ -98,8 +98,15 @@ TEST(GridLayersTest, RecenteringKeepsCellsAnchoredInTheWorld) {
     for (int iy = 0; iy < dut.geometry().num_y; ++iy)
       dut.Layer("v")(ix, iy) = mark(dut.geometry().CellCenter(ix, iy));
   }
+  const GridGeometry before = dut.geometry();
+  EXPECT_EQ(before.RecenterShift(Eigen::Vector2d(3.1, -1.9)), Eigen::Vector2i(6, -4));
   dut.Recenter(Eigen::Vector2d(3.1, -1.9));
   EXPECT_TRUE(dut.geometry().Center().isApprox(Eigen::Vector2d(3.0, -2.0)));
+  // the geometry a recentring gives, known before it
+  const GridGeometry predicted = before.RecenteredOn(Eigen::Vector2d(3.1, -1.9));
+  EXPECT_EQ(predicted.origin_W, dut.geometry().origin_W);
+  EXPECT_EQ(predicted.num_x, dut.geometry().num_x);
+  EXPECT_EQ(predicted.resolution_m, dut.geometry().resolution_m);
   int kept = 0, unknown = 0;
   for (int ix = 0; ix < dut.geometry().num_x; ++ix) {
     for (int iy = 0; iy < dut.geometry().num_y; ++iy) {
