@@ -110,7 +110,8 @@ MapUpdateResult SgpMapper::Update(const common::PointCloud& points_W, const Eige
     test.row(static_cast<Eigen::Index>(k)) = g.CellCenter(cells[k].x(), cells[k].y()).transpose();
   Eigen::VectorXd f(test.rows()), variance(test.rows());
   Eigen::MatrixXd gradient(test.rows(), test.cols());
-  gp_.Predict(test, f, gradient);
+  // the cells' centres lie on the map's lattice
+  gp_.PredictOnLattice(test, f, gradient);
   variance_.Compute(gp_, cells, test, low, high, config_.variance_stride, variance);
   Eigen::MatrixXf& elevation = map_.Layer(layers::kElevation);
   Eigen::MatrixXf& elevation_variance = map_.Layer(layers::kElevationVariance);

@@ -3,6 +3,7 @@
 #include <lbfgs.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -342,6 +343,59 @@ void SparseGp::Predict(const Eigen::Ref<const Eigen::MatrixXd>& test_inputs,
     });
     mean[t] = mean_ + sum;
     mean_gradient.row(t) = gradient.cwiseProduct(inverse_length_scales_).transpose();
+  }
+}
+
+void SparseGp::PredictOnLattice(const Eigen::Ref<const Eigen::MatrixXd>& test_inputs,
+                                Eigen::Ref<Eigen::VectorXd> mean,
+                                Eigen::Ref<Eigen::MatrixXd> mean_gradient) const {
+  const Eigen::Index t_count = test_inputs.rows();
+  TRAV_DEMAND(dims_ == 2 && hyper_.kernel == KernelType::kSquaredExponential);
+  TRAV_DEMAND(mean.size() == t_count);
+  TRAV_DEMAND(mean_gradient.rows() == t_count && mean_gradient.cols() == 2);
+  const auto scaled_inputs = scaled_inputs_.view();
+  const auto alpha = alpha_.view();
+  const Eigen::Index m = scaled_inputs.cols();
+  // per axis: the distinct scaled test coordinates, sorted, and exp(-(q - z_j)^2 / 2) for each of
+  // them (row) and each training point j (column)
+  std::array<std::vector<double>, 2> coordinates;
+  std::array<Eigen::MatrixXd, 2> factors;
+  for (int d = 0; d < 2; ++d) {
+    std::vector<double>& values = coordinates[d];
+    values.resize(static_cast<std::size_t>(t_count));
+    for (Eigen::Index t = 0; t < t_count; ++t)
+      values[t] = test_inputs(t, d) * inverse_length_scales_[d];
+    std::sort(values.begin(), values.end());
+    values.erase(std::unique(values.begin(), values.end()), values.end());
+    factors[d].resize(static_cast<Eigen::Index>(values.size()), m);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      for (Eigen::Index j = 0; j < m; ++j) {
+        const double difference = values[i] - scaled_inputs(d, j);
+        factors[d](static_cast<Eigen::Index>(i), j) = std::exp(-0.5 * difference * difference);
+      }
+    }
+  }
+  auto row_of = [&](int d, double value) {
+    const std::vector<double>& values = coordinates[d];
+    return static_cast<Eigen::Index>(std::lower_bound(values.begin(), values.end(), value) -
+                                     values.begin());
+  };
+  DimsVector query(2);
+  for (Eigen::Index t = 0; t < t_count; ++t) {
+    query = test_inputs.row(t).transpose().cwiseProduct(inverse_length_scales_);
+    const Eigen::Index ix = row_of(0, query[0]), iy = row_of(1, query[1]);
+    double sum = 0.0, gradient_x = 0.0, gradient_y = 0.0;
+    ForNeighbours(query.data(), [&](int j, double) {
+      const double a = alpha[j];
+      const double k = signal_variance_ * factors[0](ix, j) * factors[1](iy, j);
+      sum += k * a;
+      const double g = k * a;
+      gradient_x -= g * (query[0] - scaled_inputs(0, j));
+      gradient_y -= g * (query[1] - scaled_inputs(1, j));
+    });
+    mean[t] = mean_ + sum;
+    mean_gradient(t, 0) = gradient_x * inverse_length_scales_[0];
+    mean_gradient(t, 1) = gradient_y * inverse_length_scales_[1];
   }
 }
 
