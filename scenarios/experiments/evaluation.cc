@@ -306,16 +306,18 @@ class MethodEvaluation {
   // (FsgpBgkMapper::UnfusedOf), which updates on each frame first; null: a mapper of its own.
   MethodEvaluation(const std::string& method, const Scenario& scene, const ScoringTruth& truth,
                    double fixed_gain, const MethodEvaluation* regression_source)
-      : truth_(truth),
-        observed_(truth.layers.geometry(), scene.mapping.area),
-        regression_source_(regression_source) {
+      : truth_(truth), observed_(truth.layers.geometry(), scene.mapping.area) {
     const double heap_before = HeapInUseBytes();
     const auto* source =
         regression_source != nullptr
             ? dynamic_cast<const mapping::FsgpBgkMapper*>(regression_source->mapper_.get())
             : nullptr;
-    mapper_ = source != nullptr ? mapping::FsgpBgkMapper::UnfusedOf(*source)
-                                : MakeEvalMapper(method, scene, truth.layers, fixed_gain);
+    if (source != nullptr) {
+      mapper_ = mapping::FsgpBgkMapper::UnfusedOf(*source);
+      regression_source_ = regression_source;
+    } else {
+      mapper_ = MakeEvalMapper(method, scene, truth.layers, fixed_gain);
+    }
     heap_bytes_ = HeapInUseBytes() - heap_before;
   }
 
@@ -392,7 +394,7 @@ class MethodEvaluation {
  private:
   const ScoringTruth& truth_;
   ObservedCells observed_;
-  const MethodEvaluation* regression_source_;
+  const MethodEvaluation* regression_source_{nullptr};  // whose regression the mapper fuses
   std::unique_ptr<mapping::TraversabilityMapper> mapper_;
   double heap_bytes_{0.0}, peak_heap_{0.0};  // the heap this method's mapper and scores grew by
   double weight_sum_{0.0};
@@ -453,20 +455,11 @@ EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene
 std::vector<Eigen::Vector2i> ScoredCells(
     const common::GridGeometry& geometry, const mapping::MapArea& area,
     const std::vector<const std::vector<RecordedFrame>*>& frame_sets) {
-  std::vector<bool> scored(static_cast<std::size_t>(geometry.num_x) * geometry.num_y, false);
-  std::vector<Eigen::Vector2i> cells;
+  ObservedCells scored(geometry, area);
   for (const std::vector<RecordedFrame>* frames : frame_sets) {
-    ObservedCells observed(geometry, area);
-    for (const RecordedFrame& frame : *frames)
-      observed.Add(frame.cloud_M, frame.X_MB.translation());
-    for (const Eigen::Vector2i& cell : observed.cells()) {
-      const std::size_t index = static_cast<std::size_t>(cell.x() + cell.y() * geometry.num_x);
-      if (scored[index]) continue;
-      scored[index] = true;
-      cells.push_back(cell);
-    }
+    for (const RecordedFrame& frame : *frames) scored.Add(frame.cloud_M, frame.X_MB.translation());
   }
-  return cells;
+  return scored.cells();
 }
 
 // FSGP-BGK's mean uncertainty weight on the scene's frames (from its record when it ran already):
