@@ -44,7 +44,7 @@ void TrainingSetExtractor::Downsample(const Eigen::Ref<const Eigen::Matrix3Xf>& 
   }
 }
 
-void TrainingSetExtractor::ComputeFeatures(int neighbours) {
+void TrainingSetExtractor::ComputeCentroidFeatures(int neighbours) {
   const auto points = points_W_.view();
   const Eigen::Index n = points.cols();
   auto curvature = curvature_.Resize(n);
@@ -94,10 +94,11 @@ void TrainingSetExtractor::ComputeFeatures(int neighbours) {
   }
 }
 
-int TrainingSetExtractor::SelectTrainingPoints(const FsgpConfig& config, common::Random* random) {
-  const auto points = points_W_.view();
-  const auto curvature = curvature_.view();
-  const auto gradient = gradient_.view();
+int TrainingSetExtractor::SelectTrainingPoints(const TrainingSetExtractor& featured,
+                                               const FsgpConfig& config, common::Random* random) {
+  const auto points = featured.points_W_.view();
+  const auto curvature = featured.curvature_.view();
+  const auto gradient = featured.gradient_.view();
   const Eigen::Index n = points.cols();
   // feature points whole; the others one per voxel (the first in order, keeping its features)
   features_.clear();
@@ -140,20 +141,32 @@ int TrainingSetExtractor::SelectTrainingPoints(const FsgpConfig& config, common:
 
 TrainingSet TrainingSetExtractor::Extract(const Eigen::Ref<const Eigen::Matrix3Xf>& points_W,
                                           const FsgpConfig& config, common::Random* random) {
+  ComputeFeatures(points_W, config);
+  return SelectFrom(*this, config, random);
+}
+
+void TrainingSetExtractor::ComputeFeatures(const Eigen::Ref<const Eigen::Matrix3Xf>& points_W,
+                                           const FsgpConfig& config) {
   Downsample(points_W, config.pre_voxel_m);
-  ComputeFeatures(config.neighbours);
-  const auto pre_voxel_points = static_cast<int>(points_W_.cols());
+  ComputeCentroidFeatures(config.neighbours);
+}
+
+TrainingSet TrainingSetExtractor::SelectFrom(const TrainingSetExtractor& featured,
+                                             const FsgpConfig& config, common::Random* random) {
+  const auto points_W = featured.points_W_.view();
+  const auto pre_voxel_points = static_cast<int>(points_W.cols());
   selected_.clear();
-  const int feature_points = pre_voxel_points > 0 ? SelectTrainingPoints(config, random) : 0;
+  const int feature_points =
+      pre_voxel_points > 0 ? SelectTrainingPoints(featured, config, random) : 0;
   const auto m = static_cast<Eigen::Index>(selected_.size());
   auto training_W = training_W_.Resize(3, m);
   auto curvature = training_curvature_.Resize(m);
   auto gradient = training_gradient_.Resize(m);
   for (Eigen::Index s = 0; s < m; ++s) {
     const int i = selected_[static_cast<std::size_t>(s)];
-    training_W.col(s) = points_W_.view().col(i);
-    curvature[s] = curvature_.view()[i];
-    gradient[s] = gradient_.view()[i];
+    training_W.col(s) = points_W.col(i);
+    curvature[s] = featured.curvature_.view()[i];
+    gradient[s] = featured.gradient_.view()[i];
   }
   return {training_W_.const_view(), training_curvature_.const_view(),
           training_gradient_.const_view(), pre_voxel_points, feature_points};

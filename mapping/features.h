@@ -42,6 +42,17 @@ class TrainingSetExtractor {
   TrainingSet Extract(const Eigen::Ref<const Eigen::Matrix3Xf>& points_W, const FsgpConfig& config,
                       common::Random* random);
 
+  /// Extract in two halves. The first: the voxel centroids of `points_W` and their features, which
+  /// depend on the config's pre_voxel_m and neighbours alone.
+  void ComputeFeatures(const Eigen::Ref<const Eigen::Matrix3Xf>& points_W,
+                       const FsgpConfig& config);
+  /// The second: the training set of the features that `featured` (this extractor or another)
+  /// computed last, sampled to config.max_training_points with `random`; views into this
+  /// extractor's storage. What lets extractors of several M share one ComputeFeatures: the same
+  /// training sets, bit for bit, as each one's Extract, if the first half's config is the same.
+  TrainingSet SelectFrom(const TrainingSetExtractor& featured, const FsgpConfig& config,
+                         common::Random* random);
+
  private:
   // A point's voxel (integer coordinates) and the point's index, ordered by voxel z, y, x (the
   // order PCL's VoxelGrid gives its centroids), then index.
@@ -60,9 +71,11 @@ class TrainingSetExtractor {
   // Voxel centroids of `points_W` into points_W_ (ordered by voxel).
   void Downsample(const Eigen::Ref<const Eigen::Matrix3Xf>& points_W, double voxel_m);
   // Curvature and gradient of every centroid over its k nearest neighbours.
-  void ComputeFeatures(int neighbours);
-  // The indices of the training points in selected_ (ascending); returns the feature points.
-  int SelectTrainingPoints(const FsgpConfig& config, common::Random* random);
+  void ComputeCentroidFeatures(int neighbours);
+  // The indices of `featured`'s training points in selected_ (ascending); returns the feature
+  // points.
+  int SelectTrainingPoints(const TrainingSetExtractor& featured, const FsgpConfig& config,
+                           common::Random* random);
 
   std::vector<VoxelEntry> voxels_;
   common::ScratchMatrix<double, 3> points_W_;  // after the pre-downsampling

@@ -140,6 +140,31 @@ std::unique_ptr<FsgpBgkMapper> FsgpBgkMapper::UnfusedOf(const FsgpBgkMapper& sou
   return unfused;
 }
 
+std::unique_ptr<FsgpBgkMapper> FsgpBgkMapper::OnFeaturesOf(const FsgpBgkMapper& source,
+                                                           int max_training_points) {
+  FsgpConfig config = source.config_;
+  config.max_training_points = max_training_points;
+  auto sampling = std::make_unique<FsgpBgkMapper>(config);
+  // the mapper that computes the features, which `source` may read in turn
+  const FsgpBgkMapper* owner = &source;
+  while (owner->source_ != nullptr || owner->features_source_ != nullptr)
+    owner = owner->source_ != nullptr ? owner->source_ : owner->features_source_;
+  sampling->features_source_ = owner;
+  return sampling;
+}
+
+void FsgpBgkMapper::ExpectSameFrame(const FsgpBgkMapper& source, double t_s,
+                                    const Eigen::Vector3d& p_WB, const char* made_by) {
+  if (source.regression_.t_s != t_s || source.regression_.p_WB != p_WB) {
+    throw std::logic_error(std::string("FsgpBgkMapper::") + made_by +
+                           ": the source did not update on this frame");
+  }
+}
+
+const WindowCrop& FsgpBgkMapper::FrameCrop() const {
+  return features_source_ != nullptr ? features_source_->crop_ : crop_;
+}
+
 void FsgpBgkMapper::Regress(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB,
                             double t_s) {
   const common::ThreadCpuStopwatch cpu;
@@ -147,12 +172,13 @@ void FsgpBgkMapper::Regress(const common::PointCloud& points_W, const Eigen::Vec
   regression_.t_s = t_s;
   regression_.p_WB = p_WB;
   regression_.result.status = RegressionSteps(points_W, p_WB);
-  regression_.result.regression_cpu_ms = cpu.ElapsedMilliseconds();
+  regression_.cpu_ms = cpu.ElapsedMilliseconds();
 }
 
-MapUpdateStatus FsgpBgkMapper::RegressionSteps(const common::PointCloud& points_W,
-                                               const Eigen::Vector3d& p_WB) {
+bool FsgpBgkMapper::CropAndFeatures(const common::PointCloud& points_W,
+                                    const Eigen::Vector3d& p_WB) {
   MapUpdateResult& result = regression_.result;
+  const common::ThreadCpuStopwatch cpu;
   // 1. crop to the window (and drop invalid points and overhangs such as tree crowns)
   common::Stopwatch stage;
   crop_.Crop(points_W, p_WB, config_.area.window_m, config_.area.max_height_above_robot_m,
@@ -163,15 +189,43 @@ MapUpdateStatus FsgpBgkMapper::RegressionSteps(const common::PointCloud& points_
       config_.accumulate_frames > 1 ? AccumulateFrames(crop_.window(), p_WB) : crop_.window();
   result.window_points = static_cast<int>(window.cols());
   result.times.crop = stage.ElapsedMilliseconds();
-  if (window.cols() < kMinimumPoints) {
-    return MapUpdateStatus::kTooFewPoints;
+  if (window.cols() < kMinimumPoints) return false;
+  // 2. the voxel centroids and their features
+  stage.Restart();
+  extractor_.ComputeFeatures(window, config_);
+  result.times.features = stage.ElapsedMilliseconds();
+  regression_.featured = true;
+  regression_.features_cpu_ms = cpu.ElapsedMilliseconds();
+  regression_.features_wall_ms = result.times.crop + result.times.features;
+  return true;
+}
+
+MapUpdateStatus FsgpBgkMapper::RegressionSteps(const common::PointCloud& points_W,
+                                               const Eigen::Vector3d& p_WB) {
+  MapUpdateResult& result = regression_.result;
+  if (features_source_ == nullptr) {
+    if (!CropAndFeatures(points_W, p_WB)) return MapUpdateStatus::kTooFewPoints;
+  } else {
+    // the source's crop and features of this frame, and what they took
+    ExpectSameFrame(*features_source_, regression_.t_s, p_WB, "OnFeaturesOf");
+    const Regression& featured = features_source_->regression_;
+    result.input_points = featured.result.input_points;
+    result.dropped_invalid = featured.result.dropped_invalid;
+    result.window_points = featured.result.window_points;
+    if (!featured.featured) return MapUpdateStatus::kTooFewPoints;
+    regression_.featured = true;
+    regression_.features_cpu_ms = featured.features_cpu_ms;
+    regression_.features_wall_ms = featured.features_wall_ms;
+    result.shared_cpu_ms = featured.features_cpu_ms;
+    result.shared_wall_ms = featured.features_wall_ms;
   }
 
-  // 2-3. features and the training set
-  stage.Restart();
-  const TrainingSet training = extractor_.Extract(window, config_, &random_);
+  // 3. the training set, sampled from the features
+  common::Stopwatch stage;
+  const TrainingSet training = extractor_.SelectFrom(
+      features_source_ != nullptr ? features_source_->extractor_ : extractor_, config_, &random_);
   result.training_points = static_cast<int>(training.points_W.cols());
-  result.times.features = stage.ElapsedMilliseconds();
+  result.times.features += stage.ElapsedMilliseconds();
   if (training.points_W.cols() < kMinimumPoints) {
     return MapUpdateStatus::kTooFewPoints;
   }
@@ -200,14 +254,23 @@ MapUpdateStatus FsgpBgkMapper::RegressionSteps(const common::PointCloud& points_
 MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
                                       const Eigen::Isometry3d& X_WB, double t_s) {
   const Eigen::Vector3d p_WB = X_WB.translation();
+  MapUpdateResult result;
   if (source_ == nullptr) {
     Regress(points_W, p_WB, t_s);
-  } else if (source_->regression_.t_s != t_s || source_->regression_.p_WB != p_WB) {
-    throw std::logic_error("FsgpBgkMapper::UnfusedOf: the source did not update on this frame");
+    result = regression_.result;
+  } else {
+    // the source's regression, its time shared: all of it, and what it shared in turn
+    ExpectSameFrame(*source_, t_s, p_WB, "UnfusedOf");
+    const Regression& shared = source_->regression_;
+    const StageTimes& times = shared.result.times;
+    result = shared.result;
+    result.times = StageTimes{};
+    result.shared_cpu_ms = shared.cpu_ms + shared.result.shared_cpu_ms;
+    result.shared_wall_ms =
+        times.crop + times.features + times.fit + times.predict + shared.result.shared_wall_ms;
   }
   const FsgpBgkMapper& regressed = source_ != nullptr ? *source_ : *this;
   const Regression& regression = regressed.regression_;
-  MapUpdateResult result = regression.result;
   if (result.status != MapUpdateStatus::kUpdated) return result;
 
   // 7-8. preliminary score and fusion per world cell
@@ -223,7 +286,7 @@ MapUpdateResult FsgpBgkMapper::Update(const common::PointCloud& points_W,
   Smooth(regression.low, regression.high);
   if (config_.area.obstacle_layer) {
     // the smoothed cost changed in the window and its margin: the closing must be redone there
-    obstacles_.Mark(regressed.crop_, regression.low, regression.high, config_.area, p_WB, t_s,
+    obstacles_.Mark(regressed.FrameCrop(), regression.low, regression.high, config_.area, p_WB, t_s,
                     std::max(SmoothingRadiusCells(), 2), &map_);
   }
   result.times.smoothing = stage.ElapsedMilliseconds();

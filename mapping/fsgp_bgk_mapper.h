@@ -36,9 +36,19 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   /// as FsgpBgkMapper(config without fusion) on its own: the regression reads no layer the fusion
   /// writes (the crop reads the floor that ObstacleMarker builds from the points alike in both).
   /// What lets `trav eval` score FSGP beside FSGP-BGK at the cost of one regression per frame; each
-  /// update reports the regression's CPU time (MapUpdateResult::regression_cpu_ms) that it did
-  /// not spend. `source` must outlive it.
+  /// update reports the regression's time, which it did not spend, as shared
+  /// (MapUpdateResult::shared_cpu_ms). `source` must outlive it.
   static std::unique_ptr<FsgpBgkMapper> UnfusedOf(const FsgpBgkMapper& source);
+
+  /// `source`'s method (its config) at another training-set size M, on `source`'s crop, voxel
+  /// centroids and features of each frame (steps 1 to 3 up to the sampling to M): `source` must
+  /// have updated on the same frame (time and pose) just before. The same map, bit for bit, as
+  /// FsgpBgkMapper(that config) on its own: the features do not depend on M, and the crop reads the
+  /// floor that ObstacleMarker builds from the points alike in both. What lets `trav eval`'s
+  /// inducing-point ablation compute each frame's features once; each update reports the crop's
+  /// and the features' time as shared. `source` must outlive it.
+  static std::unique_ptr<FsgpBgkMapper> OnFeaturesOf(const FsgpBgkMapper& source,
+                                                     int max_training_points);
 
   MapUpdateResult Update(const common::PointCloud& points_W, const Eigen::Isometry3d& X_WB,
                          double t_s) override;
@@ -79,7 +89,12 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   // One frame's regression, kept until the next: what the fusion reads, and what a mapper made by
   // UnfusedOf takes instead of its own.
   struct Regression {
-    MapUpdateResult result;  // status, counts, the stages' times and the CPU time
+    MapUpdateResult result;  // status, counts, the stages' times and the time shared
+    double cpu_ms{0.0};      // the CPU time this mapper spent on it
+    // the crop and the features computed (what OnFeaturesOf reads), and what they took, CPU and
+    // wall, by the mapper that computed them
+    bool featured{false};
+    double features_cpu_ms{0.0}, features_wall_ms{0.0};
     double t_s{std::numeric_limits<double>::quiet_NaN()};
     Eigen::Vector3d p_WB{Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())};
     Eigen::Vector2i low{Eigen::Vector2i::Zero()}, high{Eigen::Vector2i::Zero()};  // window cells
@@ -90,6 +105,14 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   void Regress(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB, double t_s);
   // The steps themselves: kUpdated, or the status of the step that ended them.
   MapUpdateStatus RegressionSteps(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB);
+  // Steps 1 to 3 up to the sampling: the crop and the features into crop_ and extractor_, or
+  // nothing (too few points). @returns whether there are features.
+  bool CropAndFeatures(const common::PointCloud& points_W, const Eigen::Vector3d& p_WB);
+  // The crop of the frame: this mapper's, or its features source's.
+  const WindowCrop& FrameCrop() const;
+  // Throws std::logic_error unless `source` updated last on the frame at t_s and p_WB.
+  static void ExpectSameFrame(const FsgpBgkMapper& source, double t_s, const Eigen::Vector3d& p_WB,
+                              const char* made_by);
   // Fills inputs_ from the training set.
   void StandardiseInputs(const TrainingSet& training);
   // FSGP-Accumulation: the last accumulate_frames windows within the window around p_WB.
@@ -126,6 +149,8 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   std::unique_ptr<common::HelperThread> helper_;  // null: one thread
   Regression regression_;
   const FsgpBgkMapper* source_{nullptr};  // UnfusedOf: the mapper whose regression is fused
+  // OnFeaturesOf: the mapper whose crop and features the regression samples
+  const FsgpBgkMapper* features_source_{nullptr};
 };
 
 /// The BGK update of one cell (the paper's equations): with w_t = exp(-lambda (t - t0)) and

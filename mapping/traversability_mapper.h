@@ -102,10 +102,12 @@ struct MapUpdateResult {
   /// mapper without BGK fusion).
   double mean_fusion_weight{std::numeric_limits<double>::quiet_NaN()};
   StageTimes times{};
-  /// CPU time of the update's regression (FSGP-BGK's crop to prediction) [ms]; a mapper fusing
-  /// another's regression (FsgpBgkMapper::UnfusedOf) reports the time it did not spend. 0 for
-  /// mappers without one.
-  double regression_cpu_ms{0.0};
+  /// The CPU and wall time [ms] of the work this update read from another mapper instead of doing
+  /// it, as that mapper measured it on the same frame (FsgpBgkMapper::UnfusedOf: the regression;
+  /// FsgpBgkMapper::OnFeaturesOf: the crop and the features); not in `times`. What the update would
+  /// have cost alone is its own time plus these. 0 for a mapper doing all its own work.
+  double shared_cpu_ms{0.0};
+  double shared_wall_ms{0.0};
 };
 
 /// A traversability mapper: world-frame clouds, the robot pose and times in; a world-anchored

@@ -299,22 +299,34 @@ std::optional<double> NumberOrNone(double value) {
   return std::isnan(value) ? std::nullopt : std::optional<double>(value);
 }
 
+// What a method reads from another method of the scene instead of computing it (FSGP-BGK
+// mappers of the same frames): `source`'s whole regression (an FSGP fusing its FSGP-BGK's,
+// FsgpBgkMapper::UnfusedOf) or its crop and features (the ablation at another M,
+// FsgpBgkMapper::OnFeaturesOf).
+struct SharedWork {
+  std::string source;
+  bool regression{false};
+};
+
 // One method's mapper and its scores, accumulated frame by frame.
 class MethodEvaluation {
  public:
-  // `regression_source`: the FSGP-BGK mapper whose regression this method's FSGP fuses
-  // (FsgpBgkMapper::UnfusedOf), which updates on each frame first; null: a mapper of its own.
+  // `source`: the evaluation of `shared.source`, which updates on each frame first; null with no
+  // shared work: a mapper of its own.
   MethodEvaluation(const std::string& method, const Scenario& scene, const ScoringTruth& truth,
-                   double fixed_gain, const MethodEvaluation* regression_source)
+                   double fixed_gain, const std::optional<SharedWork>& shared,
+                   const MethodEvaluation* source)
       : truth_(truth), observed_(truth.layers.geometry(), scene.mapping.area) {
     const double heap_before = HeapInUseBytes();
-    const auto* source =
-        regression_source != nullptr
-            ? dynamic_cast<const mapping::FsgpBgkMapper*>(regression_source->mapper_.get())
-            : nullptr;
-    if (source != nullptr) {
-      mapper_ = mapping::FsgpBgkMapper::UnfusedOf(*source);
-      regression_source_ = regression_source;
+    const auto* source_mapper =
+        source != nullptr ? dynamic_cast<const mapping::FsgpBgkMapper*>(source->mapper_.get())
+                          : nullptr;
+    if (source_mapper != nullptr && shared->regression) {
+      mapper_ = mapping::FsgpBgkMapper::UnfusedOf(*source_mapper);
+      regression_source_ = source;
+    } else if (source_mapper != nullptr) {
+      mapper_ = mapping::FsgpBgkMapper::OnFeaturesOf(*source_mapper,
+                                                     ParseAblationMethod(method)->inducing_points);
     } else {
       mapper_ = MakeEvalMapper(method, scene, truth.layers, fixed_gain);
     }
@@ -327,16 +339,9 @@ class MethodEvaluation {
     const common::Stopwatch start;
     const common::ThreadCpuStopwatch cpu;
     const mapping::MapUpdateResult update = mapper_->Update(frame.cloud_M, frame.X_MB, frame.t_s);
-    double runtime_ms = cpu.ElapsedMilliseconds();
-    double wall_ms = start.ElapsedMilliseconds();
-    if (regression_source_ != nullptr) {
-      // the regression it shares, as if it had made it
-      const mapping::StageTimes& times = update.times;
-      runtime_ms += update.regression_cpu_ms;
-      wall_ms += times.crop + times.features + times.fit + times.predict;
-    }
-    runtime_.push_back(runtime_ms);
-    wall_.push_back(wall_ms);
+    // the work it read from another mapper, as if it had done it
+    runtime_.push_back(cpu.ElapsedMilliseconds() + update.shared_cpu_ms);
+    wall_.push_back(start.ElapsedMilliseconds() + update.shared_wall_ms);
     if (!std::isnan(update.mean_fusion_weight)) {
       weight_sum_ += update.mean_fusion_weight;
       ++weighted_frames_;
@@ -355,7 +360,8 @@ class MethodEvaluation {
       ++scored_;
     }
     heap_bytes_ += HeapInUseBytes() - heap_before;
-    // a method sharing a regression counts the storage of the mapper that makes it
+    // a method sharing a regression counts the storage of the mapper that makes it (one sharing
+    // the features does not count the crop's and the features' storage it reads)
     const double heap = heap_bytes_ + (regression_source_ ? regression_source_->heap_bytes_ : 0.0);
     peak_heap_ = std::max(peak_heap_, heap);
     heap_mb_.push_back(heap / kBytesPerMiB);
@@ -421,33 +427,87 @@ std::optional<std::string> RegressionSourceOf(const std::string& method) {
   return std::nullopt;
 }
 
-// Feeds the frames to `methods` (one, or an FSGP-BGK and the FSGP fusing its regression, in that
-// order), scoring each map after every frame.
-std::map<std::string, EvalMethodRecord> EvaluateMethods(const std::vector<std::string>& methods,
+// What `method` reads from another of `methods`: an FSGP its FSGP-BGK's regression; else an
+// FSGP-BGK or FSGP of the ablation (at another M) the crop and features of its method at the base
+// count. Nothing when that method is not among `methods`.
+std::optional<SharedWork> SharedWorkOf(const std::string& method,
+                                       const std::vector<std::string>& methods) {
+  auto among = [&](const std::string& name) {
+    return std::find(methods.begin(), methods.end(), name) != methods.end();
+  };
+  if (const std::optional<std::string> source = RegressionSourceOf(method);
+      source && among(*source))
+    return SharedWork{*source, true};
+  const std::optional<AblationMethod> ablation = ParseAblationMethod(method);
+  if (ablation &&
+      (ablation->base == common::NameOf(MapperMethod::kFsgp) ||
+       ablation->base == common::NameOf(MapperMethod::kFsgpBgk)) &&
+      among(ablation->base)) {
+    return SharedWork{ablation->base, false};
+  }
+  return std::nullopt;
+}
+
+// The method whose work `method` reads in the end (following SharedWorkOf), or `method` itself.
+std::string SharingRoot(const std::string& method, const std::vector<std::string>& methods) {
+  std::optional<SharedWork> shared = SharedWorkOf(method, methods);
+  return shared ? SharingRoot(shared->source, methods) : method;
+}
+
+// Feeds the frames to `group` (methods each after the one whose work it reads, SharedWorkOf
+// among `methods`), scoring each map after every frame.
+std::map<std::string, EvalMethodRecord> EvaluateMethods(const std::vector<std::string>& group,
+                                                        const std::vector<std::string>& methods,
                                                         const Scenario& scene,
                                                         const ScoringTruth& truth,
                                                         const std::vector<RecordedFrame>& frames,
                                                         double fixed_gain) {
+  std::map<std::string, const MethodEvaluation*> made;
   std::vector<std::unique_ptr<MethodEvaluation>> evaluations;
-  for (const std::string& method : methods) {
-    const MethodEvaluation* source = evaluations.empty() ? nullptr : evaluations.front().get();
+  for (const std::string& method : group) {
+    const std::optional<SharedWork> shared = SharedWorkOf(method, methods);
+    const MethodEvaluation* source = shared ? made.at(shared->source) : nullptr;
     evaluations.push_back(
-        std::make_unique<MethodEvaluation>(method, scene, truth, fixed_gain, source));
+        std::make_unique<MethodEvaluation>(method, scene, truth, fixed_gain, shared, source));
+    made[method] = evaluations.back().get();
   }
   for (const RecordedFrame& frame : frames) {
     for (const std::unique_ptr<MethodEvaluation>& evaluation : evaluations)
       evaluation->Update(frame);
   }
   std::map<std::string, EvalMethodRecord> records;
-  for (std::size_t i = 0; i < methods.size(); ++i) records[methods[i]] = evaluations[i]->Record();
+  for (std::size_t i = 0; i < group.size(); ++i) records[group[i]] = evaluations[i]->Record();
   return records;
+}
+
+// The methods of `methods` not in `done` that read `method`'s work in the end (SharingRoot),
+// `method` first and each after the method whose work it reads.
+std::vector<std::string> SharingGroup(const std::string& method,
+                                      const std::vector<std::string>& methods,
+                                      const std::map<std::string, EvalMethodRecord>& done) {
+  std::vector<std::string> group{method}, rest;
+  for (const std::string& other : methods) {
+    if (other != method && done.count(other) == 0 && SharingRoot(other, methods) == method)
+      rest.push_back(other);
+  }
+  while (!rest.empty()) {
+    for (auto it = rest.begin(); it != rest.end(); ++it) {
+      if (std::find(group.begin(), group.end(), SharedWorkOf(*it, methods)->source) !=
+          group.end()) {
+        group.push_back(*it);
+        rest.erase(it);
+        break;
+      }
+    }
+  }
+  return group;
 }
 
 // Feeds the frames to one method, scoring its map after every frame.
 EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene,
                                 const ScoringTruth& truth, const std::vector<RecordedFrame>& frames,
                                 double fixed_gain) {
-  return EvaluateMethods({method}, scene, truth, frames, fixed_gain).at(method);
+  return EvaluateMethods({method}, {method}, scene, truth, frames, fixed_gain).at(method);
 }
 
 // The cells of `geometry` that any method's scores read (EvaluateMethod's ObservedCells over each
@@ -880,22 +940,19 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
                                             scenario.ground_truth, &scored_cells),
                          1.0}
           : ScoringTruth{*routable, scenario.planner.search.lethal_threshold};
-  // an FSGP beside its FSGP-BGK fuses that one's regression (the same map at a fraction of the
-  // time), the two fed frame by frame together
+  // an FSGP beside its FSGP-BGK fuses that one's regression, the ablation's FSGP-BGK samples the
+  // features of FSGP-BGK at the base M (the same maps at a fraction of the time): each group of
+  // methods sharing work fed frame by frame together
   const std::vector<std::string> methods = EvalMethods(options);
   for (const std::string& method : methods) {
     if (record.methods.count(method) > 0) continue;
-    std::vector<std::string> group{method};
-    const std::optional<std::string> source = RegressionSourceOf(method);
-    if (source && record.methods.count(*source) == 0 &&
-        std::find(methods.begin(), methods.end(), *source) != methods.end()) {
-      group = {*source, method};
-    }
+    const std::vector<std::string> group =
+        SharingGroup(SharingRoot(method, methods), methods, record.methods);
     const double fixed_gain =
         method == kFixedGain ? SceneMeanWeight(record, scenario, truth, frames) : 0.0;
     const std::optional<PoseSourceMethod> on_source = ParsePoseSourceMethod(method);
     for (auto& [name, scores] :
-         EvaluateMethods(group, scenario, truth,
+         EvaluateMethods(group, methods, scenario, truth,
                          on_source ? frames_on_source.at(on_source->source) : frames, fixed_gain))
       record.methods[name] = std::move(scores);
   }

@@ -1160,8 +1160,14 @@ TEST(FsgpBgkMapperTest, AnUnfusedMapperOnAnotherMappersRegressionIsFsgpBitForBit
     ASSERT_EQ(fused.status, reference.status) << "frame " << frame;
     EXPECT_EQ(fused.training_points, reference.training_points);
     EXPECT_EQ(fused.observed_cells, reference.observed_cells);
-    // the regression's CPU time, which the shared mapper did not spend, is reported
-    EXPECT_EQ(fused.regression_cpu_ms, regressed.regression_cpu_ms);
+    // the regression's time, which the shared mapper did not spend, is reported as shared
+    const StageTimes& times = regressed.times;
+    EXPECT_EQ(fused.shared_wall_ms, times.crop + times.features + times.fit + times.predict);
+    EXPECT_EQ(fused.times.crop + fused.times.features + fused.times.fit + fused.times.predict, 0.0);
+    EXPECT_EQ(regressed.shared_cpu_ms, 0.0);
+    if (fused.status == MapUpdateStatus::kUpdated) {
+      EXPECT_GT(fused.shared_cpu_ms, 0.0);
+    }
     const int known = ExpectSameLayers(shared->map(), own.map());
     EXPECT_GT(known, 0) << "frame " << frame;
   }
@@ -1170,6 +1176,70 @@ TEST(FsgpBgkMapperTest, AnUnfusedMapperOnAnotherMappersRegressionIsFsgpBitForBit
   EXPECT_EQ(*shared->map().At(layers::kTraversability, {4.0, 0.0}), 1.0f);
   // a frame the source has not seen is refused
   EXPECT_THROW(shared->Update(Surface(terrain, {0, 0}), RobotAt(0, 0), 5.0), std::logic_error);
+}
+
+TEST(FsgpBgkMapperTest, MappersOnAnotherMappersFeaturesAreTheirMethodsAtTheirMBitForBit) {
+  // the ablation's mappers at M = 60 on FSGP-BGK's features at M = 150 (directly, and through the
+  // FSGP fusing its regression), against each at M = 60 on its own, every layer after every frame;
+  // a frame empty and one of too few points
+  FsgpConfig config;
+  config.max_training_points = 150;
+  FsgpBgkMapper bgk(config);
+  const std::unique_ptr<FsgpBgkMapper> fsgp = FsgpBgkMapper::UnfusedOf(bgk);
+  const std::unique_ptr<FsgpBgkMapper> bgk_60 = FsgpBgkMapper::OnFeaturesOf(bgk, 60);
+  const std::unique_ptr<FsgpBgkMapper> fsgp_60 = FsgpBgkMapper::OnFeaturesOf(*fsgp, 60);
+  const std::unique_ptr<FsgpBgkMapper> unfused_60 = FsgpBgkMapper::UnfusedOf(*bgk_60);
+  EXPECT_EQ(bgk_60->config().max_training_points, 60);
+  EXPECT_TRUE(bgk_60->config().fuse);
+  EXPECT_FALSE(fsgp_60->config().fuse);
+  config.max_training_points = 60;
+  FsgpBgkMapper own_bgk_60(config);
+  config.fuse = false;
+  FsgpBgkMapper own_fsgp_60(config);
+  auto terrain = [](double x, double y) {
+    const double step = x > 4.0 && std::abs(y) < 1.0 ? 0.2 : 0.0;
+    const double wall = std::abs(y - 3.0) < 0.15 && x > 1.0 && x < 3.0 ? 1.0 : 0.0;
+    return 0.1 * std::sin(1.3 * x) * std::cos(0.9 * y) + step + wall;
+  };
+  for (int frame = 0; frame < 8; ++frame) {
+    const double x = 0.4 * frame;
+    common::PointCloud cloud = Surface(terrain, {x, 0.0}, 4.0, 0.01);
+    if (frame == 5) cloud = common::PointCloud{};
+    if (frame == 6) cloud.points.conservativeResize(3, 5);
+    const double t = 0.1 * frame;
+    const Eigen::Isometry3d X_WB = RobotAt(x, 0.0);
+    const MapUpdateResult source = bgk.Update(cloud, X_WB, t);
+    fsgp->Update(cloud, X_WB, t);
+    const MapUpdateResult sampled = bgk_60->Update(cloud, X_WB, t);
+    const MapUpdateResult sampled_fsgp = fsgp_60->Update(cloud, X_WB, t);
+    const MapUpdateResult unfused = unfused_60->Update(cloud, X_WB, t);
+    const MapUpdateResult reference = own_bgk_60.Update(cloud, X_WB, t);
+    const MapUpdateResult reference_fsgp = own_fsgp_60.Update(cloud, X_WB, t);
+    ASSERT_EQ(reference_fsgp.status, reference.status) << "frame " << frame;
+    ASSERT_EQ(sampled.status, reference.status) << "frame " << frame;
+    ASSERT_EQ(sampled_fsgp.status, reference.status) << "frame " << frame;
+    ASSERT_EQ(unfused.status, reference.status) << "frame " << frame;
+    EXPECT_EQ(sampled.training_points, reference.training_points);
+    EXPECT_EQ(sampled.window_points, reference.window_points);
+    EXPECT_EQ(sampled.input_points, reference.input_points);
+    if (reference.status == MapUpdateStatus::kUpdated) {
+      EXPECT_EQ(sampled.training_points, 60) << "frame " << frame;
+      // the crop's and the features' time, which the sampling mappers did not spend, is shared
+      EXPECT_GT(sampled.shared_cpu_ms, 0.0);
+      EXPECT_EQ(sampled_fsgp.shared_cpu_ms, sampled.shared_cpu_ms);
+      EXPECT_GE(sampled.shared_wall_ms, source.times.crop);
+      EXPECT_LE(sampled.shared_wall_ms, source.times.crop + source.times.features);
+      EXPECT_EQ(sampled.times.crop, 0.0);
+      // and FSGP on the sampling mapper's regression shares that regression and its features
+      EXPECT_GT(unfused.shared_cpu_ms, sampled.shared_cpu_ms);
+    }
+    EXPECT_GT(ExpectSameLayers(bgk_60->map(), own_bgk_60.map()), 0) << "frame " << frame;
+    EXPECT_GT(ExpectSameLayers(fsgp_60->map(), own_fsgp_60.map()), 0) << "frame " << frame;
+    EXPECT_GT(ExpectSameLayers(unfused_60->map(), own_fsgp_60.map()), 0) << "frame " << frame;
+  }
+  // the step and the wall are obstacles; a frame the features' owner has not seen is refused
+  EXPECT_EQ(*bgk_60->map().At(layers::kTraversability, {2.0, 3.0}), 1.0f);
+  EXPECT_THROW(bgk_60->Update(Surface(terrain, {0, 0}), RobotAt(0, 0), 5.0), std::logic_error);
 }
 
 TEST(BgkUpdateTest, MatchesTheEquationsOnTwoFrames) {

@@ -253,36 +253,45 @@ TEST_F(EvaluationTest, TheContributionAblationsRunBesideFsgpBgk) {
       2);
 }
 
-// FSGP beside FSGP-BGK fuses FSGP-BGK's regression (FsgpBgkMapper::UnfusedOf), in the ablation
-// too: its scores are those of FSGP evaluated alone, number for number.
-TEST_F(EvaluationTest, FsgpBesideFsgpBgkScoresAsFsgpAlone) {
-  auto eval = [&](const std::string& folder, const std::string& methods) {
+// FSGP beside FSGP-BGK fuses FSGP-BGK's regression (FsgpBgkMapper::UnfusedOf), and the ablation's
+// FSGP-BGK and FSGP at M = 50 sample the features of those at the base M (OnFeaturesOf): the
+// scores of each are those of its method evaluated alone at its M, number for number.
+TEST_F(EvaluationTest, MappersSharingWorkScoreAsTheirMethodsAlone) {
+  auto eval = [&](const std::string& folder, const std::string& methods,
+                  const std::string& options) {
     const CommandResult run = RunTrav(
         "eval --out " + (root_ / folder).string() +
-        " --terrains flat --scenes 1 --seed 5 --frames 6 --jobs 1 --route-length 6 --inducing "
-        "50,500 --methods " +
-        methods +
+        " --terrains flat --scenes 1 --seed 5 --frames 6 --jobs 1 --route-length 6 --methods " +
+        methods + " " + options +
         " --set 'terrain.boxes=[{name: crate, centre: [0, 0], half_extents: [0.4, 0.4], height: "
         "1}]'");
     EXPECT_EQ(run.exit_code, 0) << run.output;
     return ReadJson(root_ / folder / "scenes" / "flat-5.json").at("methods");
   };
-  const nlohmann::json together = eval("together", "fsgp,fsgp-bgk");
-  const nlohmann::json alone = eval("alone", "fsgp");
-  for (const std::string method : {"fsgp", "fsgp-m50"}) {
+  const nlohmann::json together = eval("together", "fsgp,fsgp-bgk", "--inducing 50,500");
+  const nlohmann::json fsgp = eval("fsgp", "fsgp", "--no-ablation");
+  const std::string at_50 = "--no-ablation --set mapping.max_training_points=50";
+  const nlohmann::json fsgp_50 = eval("fsgp_50", "fsgp", at_50);
+  const nlohmann::json bgk_50 = eval("bgk_50", "fsgp-bgk", at_50);
+  for (const auto& [method, alone] : std::vector<std::pair<std::string, nlohmann::json>>{
+           {"fsgp", fsgp.at("fsgp")},
+           {"fsgp-m50", fsgp_50.at("fsgp")},
+           {"fsgp-bgk-m50", bgk_50.at("fsgp-bgk")}}) {
     for (const std::string key : {"mean_error", "error_variance", "scored_frames", "coverage",
                                   "auroc", "average_precision", "cost_truth_histogram"}) {
-      EXPECT_EQ(together.at(method).at(key), alone.at(method).at(key)) << method << " " << key;
+      EXPECT_EQ(together.at(method).at(key), alone.at(key)) << method << " " << key;
     }
     for (const std::string key : {"mean_error", "compared_cells", "observed_cells"}) {
-      EXPECT_EQ(together.at(method).at("frames").at(key), alone.at(method).at("frames").at(key))
+      EXPECT_EQ(together.at(method).at("frames").at(key), alone.at("frames").at(key))
           << method << " " << key;
     }
     EXPECT_EQ(together.at(method).at("frames").at("runtime_ms").size(), 6u);
   }
-  // the crate is seen: the maps are scored against hazards
-  EXPECT_GT(alone.at("fsgp").at("hazard_cells").get<int>(), 0);
+  // the crate is seen: the maps are scored against hazards; the methods' maps differ
+  EXPECT_GT(fsgp.at("fsgp").at("hazard_cells").get<int>(), 0);
   EXPECT_NE(together.at("fsgp").at("frames").at("mean_error"),
+            together.at("fsgp-bgk").at("frames").at("mean_error"));
+  EXPECT_NE(together.at("fsgp-bgk-m50").at("frames").at("mean_error"),
             together.at("fsgp-bgk").at("frames").at("mean_error"));
 }
 
