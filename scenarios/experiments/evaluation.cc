@@ -536,10 +536,10 @@ double SceneMeanWeight(const EvalSceneRecord& record, const Scenario& scene,
 // Draws the route of a scene: start and goal `length` apart through the world's centre at a
 // random heading, until A* finds a path between them on the ground truth (the world is generated
 // with obstacles kept clear of both), kRouteDraws headings at each length of kRouteLengths in turn.
-// Sets the scenario's start and goal and returns the ground truth of the world drawn, or nothing
+// Sets the scenario's start and goal and returns the world drawn with its ground truth, or nothing
 // (the scene is recorded as no_route); `route` gets the length and the draws taken.
-std::optional<common::GridLayers> DrawRoute(Scenario* scene, double length_m, std::uint64_t seed,
-                                            EvalRoute* route) {
+std::optional<PreparedWorld> DrawRoute(Scenario* scene, double length_m, std::uint64_t seed,
+                                       EvalRoute* route) {
   common::Random random(seed);
   for (const double fraction : kRouteLengths) {
     for (int draw = 0; draw < kRouteDraws; ++draw) {
@@ -550,9 +550,9 @@ std::optional<common::GridLayers> DrawRoute(Scenario* scene, double length_m, st
       scene->start_W.position = -half;
       scene->start_W.yaw = heading;
       scene->goal_W = half;
-      if (std::optional<common::GridLayers> truth_W = RoutableGroundTruth(*scene)) {
+      if (std::optional<PreparedWorld> routable = RoutableWorld(*scene)) {
         route->length_m = fraction * length_m;
-        return truth_W;
+        return routable;
       }
     }
   }
@@ -902,7 +902,7 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   record.id = scene.Id();
   record.terrain = scene.terrain;
   record.seed = scene.seed;
-  const std::optional<common::GridLayers> routable =
+  const std::optional<PreparedWorld> routable =
       DrawRoute(&scenario, options.route_length_m, scene.seed, &record.route);
   if (!routable) {
     record.drive.outcome = kNoRoute;
@@ -917,7 +917,8 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   std::vector<RecordedFrame> frames;
   std::vector<RecordedScan> scans;
   FrameRecorder recorder(&frames, scan_matching ? &scans : nullptr);
-  ClosedLoop loop(drive_scenario, {robot_model_path, options.max_frames});
+  // on the world the route was drawn on, not built again
+  ClosedLoop loop(drive_scenario, {robot_model_path, options.max_frames, false, false, &*routable});
   const RunSummary drive = RunLoop(&loop, {&recorder});
 
   std::map<std::string, std::vector<RecordedFrame>> frames_on_source;
@@ -933,13 +934,13 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   }
   // the physical truth only where a score reads it: 12 to 16 % of the world on 24 m routes
   const std::vector<Eigen::Vector2i> scored_cells =
-      ScoredCells(routable->geometry(), scenario.mapping.area, frame_sets);
+      ScoredCells(routable->truth_W.geometry(), scenario.mapping.area, frame_sets);
   const ScoringTruth truth =
       options.truth == kPhysicalTruth
-          ? ScoringTruth{WorldPhysicalTruth(routable->geometry(), loop.world(),
+          ? ScoringTruth{WorldPhysicalTruth(routable->truth_W.geometry(), loop.world(),
                                             scenario.ground_truth, &scored_cells),
                          1.0}
-          : ScoringTruth{*routable, scenario.planner.search.lethal_threshold};
+          : ScoringTruth{routable->truth_W, scenario.planner.search.lethal_threshold};
   // an FSGP beside its FSGP-BGK fuses that one's regression, the ablation's FSGP-BGK samples the
   // features of FSGP-BGK at the base M (the same maps at a fraction of the time): each group of
   // methods sharing work fed frame by frame together
@@ -961,7 +962,8 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   record.route.goal = {scenario.goal_W.x(), scenario.goal_W.y()};
   record.route.optimal_length_m = drive.navigation ? drive.navigation->optimal_path_length_m : 0.0;
   record.drive = {common::NameOf(drive.outcome), drive.sim_time_s, drive.distance_m, frames.size(),
-                  static_cast<long long>(routable->geometry().num_x) * routable->geometry().num_y};
+                  static_cast<long long>(routable->truth_W.geometry().num_x) *
+                      routable->truth_W.geometry().num_y};
   return record;
 }
 

@@ -123,7 +123,13 @@ sim::WorldOptions WorldOptionsOf(const Scenario& scenario, const ClosedLoopOptio
 ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& options)
     : wall_clock_(),
       scenario_(scenario),
-      world_(sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W})),
+      world_(options.world != nullptr
+                 ? options.world->world
+                 : sim::GenerateTerrain(scenario.terrain,
+                                        {scenario.start_W.position, scenario.goal_W})),
+      obstacle_heights_(options.world != nullptr
+                            ? std::optional<Eigen::MatrixXf>(options.world->obstacle_heights)
+                            : std::nullopt),
       tracker_(MakeTracker(scenario)),
       movers_(scenario.traffic.count > 0 ? ScenarioMovers(scenario, world_, obstacle_heights())
                                          : scenario.movers),
@@ -154,7 +160,8 @@ ClosedLoop::ClosedLoop(const Scenario& scenario, const ClosedLoopOptions& option
 
   // the closed loop: the ground truth for the oracle and the metrics, the navigator on the map
   if (scenario.mode == RunMode::kNavigate) {
-    truth_W_ = WorldGroundTruth(scenario, world_, obstacle_heights());
+    truth_W_ = options.world != nullptr ? options.world->truth_W
+                                        : WorldGroundTruth(scenario, world_, obstacle_heights());
     // the robot's outline from the robot file, for the search and the optimiser alike
     planner::NavigationPlannerConfig planner = scenario.planner;
     planner.footprint = simulation_->RobotFootprint();

@@ -87,6 +87,16 @@ class EndCondition {
 };
 
 /// Options of a loop that are not part of the scenario.
+/// A scenario's world as a run builds it first: the terrain and its obstacles (sim::GenerateTerrain
+/// with the scenario's start and goal), the obstacles' height grid (sim::ObstacleHeightGrid) and
+/// the ground truth (WorldGroundTruth). For a caller that built them already (trav eval's route
+/// draw, RoutableWorld) to hand to the loop instead of their being built again.
+struct PreparedWorld {
+  sim::TerrainWorld world;
+  Eigen::MatrixXf obstacle_heights;
+  common::GridLayers truth_W;
+};
+
 struct ClosedLoopOptions {
   std::string robot_model_path;  ///< the MJCF of the robot
   int max_lidar_frames{0};       ///< stop after this many frames (0: the scenario's duration)
@@ -96,6 +106,9 @@ struct ClosedLoopOptions {
   /// Cast each physics step's rays on a worker thread while the loop goes on (LidarPipeline): the
   /// same run, bit for bit, in less wall time.
   bool lidar_thread{false};
+  /// The scenario's world built already, copied (it must be of the same scenario, start and
+  /// goal: the same run, bit for bit); null: built here.
+  const PreparedWorld* world{nullptr};
 };
 
 /// One run of a scenario as an object: the world (terrain, MuJoCo, movers, the LiDAR's ray scene)

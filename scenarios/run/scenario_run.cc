@@ -176,21 +176,22 @@ double OptimalPathLength(const Scenario& scenario, const common::GridLayers& tru
   return length;
 }
 
-std::optional<common::GridLayers> RoutableGroundTruth(const Scenario& scenario) {
-  const sim::TerrainWorld world =
+std::optional<PreparedWorld> RoutableWorld(const Scenario& scenario) {
+  PreparedWorld prepared;
+  prepared.world =
       sim::GenerateTerrain(scenario.terrain, {scenario.start_W.position, scenario.goal_W});
-  const Eigen::MatrixXf obstacle_heights = sim::ObstacleHeightGrid(world);
-  common::GridLayers obstacles(world.geometry, {mapping::layers::kTraversability});
+  prepared.obstacle_heights = sim::ObstacleHeightGrid(prepared.world);
+  common::GridLayers obstacles(prepared.world.geometry, {mapping::layers::kTraversability});
   obstacles.Layer(mapping::layers::kTraversability) =
-      (obstacle_heights.array() > scenario.ground_truth.clearance_m).cast<float>();
+      (prepared.obstacle_heights.array() > scenario.ground_truth.clearance_m).cast<float>();
   const planner::GridPlanner quick(obstacles, scenario.planner.SearchConfig());
   if (quick.Plan(scenario.start_W.position, scenario.goal_W).status !=
       planner::PlanStatus::kFound) {
     return std::nullopt;
   }
-  common::GridLayers truth_W = WorldGroundTruth(scenario, world, obstacle_heights);
-  if (OptimalPathLength(scenario, truth_W) <= 0.0) return std::nullopt;
-  return truth_W;
+  prepared.truth_W = WorldGroundTruth(scenario, prepared.world, prepared.obstacle_heights);
+  if (OptimalPathLength(scenario, prepared.truth_W) <= 0.0) return std::nullopt;
+  return prepared;
 }
 
 std::string RobotModelPath(const Scenario& scenario, const std::string& models_dir) {

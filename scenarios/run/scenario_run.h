@@ -213,11 +213,11 @@ common::GridLayers ScenarioGroundTruth(const Scenario& scenario);
 /// its goal on the ground truth `truth_W` [m]; 0 if there is none.
 double OptimalPathLength(const Scenario& scenario, const common::GridLayers& truth_W);
 
-/// The ground truth of the scenario's world if A* finds a path from its start to its goal on it,
-/// else nothing. A route is first tried on the world's obstacles alone (cells with an obstacle
-/// higher than the ground truth's clearance, milliseconds), so that a blocked route is rejected
-/// before the truth is computed (seconds).
-std::optional<common::GridLayers> RoutableGroundTruth(const Scenario& scenario);
+/// The scenario's world with its ground truth (what its closed loop builds first) if A* finds a
+/// path from its start to its goal on the truth, else nothing. A route is first tried on the
+/// world's obstacles alone (cells with an obstacle higher than the ground truth's clearance,
+/// milliseconds), so that a blocked route is rejected before the truth is computed (seconds).
+std::optional<PreparedWorld> RoutableWorld(const Scenario& scenario);
 
 /// The moving obstacles of a run: the scenario's `moving_obstacles`, then its `traffic` spawned for
 /// its route clear of the world's static obstacles (`obstacle_heights`, sim::ObstacleHeightGrid;
