@@ -1,9 +1,11 @@
 #include "mapping/fsgp_bgk_mapper.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -49,6 +51,51 @@ TEST(FeaturesTest, FlatGroundHasNoCurvatureOrGradientAndAStepEdgeHasBoth) {
     }
     if (distance_to_edge < 0.1) {
       ASSERT_GT(edge.gradient[i], 0.03);
+    }
+  }
+}
+
+// Every voxel centroid of a cloud (every centroid a training point: no feature voxels, M above the
+// count), against a brute-force grouping: the voxels in (z, y, x) order, each the mean of its
+// points summed in single precision in the cloud's order; in a window and with points kilometres
+// apart.
+TEST(FeaturesTest, TheVoxelCentroidsAreABruteForceGroupingsInVoxelOrder) {
+  FsgpConfig config;
+  config.feature_voxel_m = 0.0;
+  config.max_training_points = 100000;
+  for (const double spread_m : {5.0, 4.0e5}) {
+    common::Random random(7);
+    Eigen::Matrix3Xf points(3, 3000);
+    for (Eigen::Index i = 0; i < points.cols(); ++i) {
+      // clusters of points sharing voxels, some far apart along x and y
+      const double far = random.Uniform(0, 1) < 0.3 ? spread_m : 0.0;
+      points.col(i) << static_cast<float>(random.Uniform(-1, 1) + far),
+          static_cast<float>(random.Uniform(-2, 0.5) - far),
+          static_cast<float>(random.Uniform(0, 1));
+    }
+    const float inverse_voxel = 1.0f / static_cast<float>(config.pre_voxel_m);
+    std::map<std::array<std::int64_t, 3>, std::pair<Eigen::Vector3f, int>> voxels;
+    for (Eigen::Index i = 0; i < points.cols(); ++i) {
+      const Eigen::Vector3f scaled = points.col(i) * inverse_voxel;
+      const std::array<std::int64_t, 3> zyx{static_cast<std::int64_t>(std::floor(scaled.z())),
+                                            static_cast<std::int64_t>(std::floor(scaled.y())),
+                                            static_cast<std::int64_t>(std::floor(scaled.x()))};
+      auto& [sum, count] = voxels.try_emplace(zyx, Eigen::Vector3f::Zero(), 0).first->second;
+      sum += points.col(i);
+      ++count;
+    }
+    TrainingSetExtractor extractor;
+    common::Random sampling(1);
+    extractor.ComputeFeatures(points, config);
+    const TrainingSet training = extractor.SelectFrom(extractor, config, &sampling);
+    ASSERT_EQ(training.pre_voxel_points, static_cast<int>(voxels.size())) << spread_m;
+    ASSERT_EQ(training.points_W.cols(), training.pre_voxel_points);
+    Eigen::Index c = 0;
+    for (const auto& [voxel, centroid] : voxels) {
+      const Eigen::Vector3d expected =
+          (centroid.first / static_cast<float>(centroid.second)).cast<double>();
+      ASSERT_EQ(training.points_W.col(c), expected) << "centroid " << c << ", spread " << spread_m;
+      ++c;
     }
   }
 }
