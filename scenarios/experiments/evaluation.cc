@@ -308,15 +308,33 @@ struct SharedWork {
   bool regression{false};
 };
 
+// The cells a set of frames observed (ObservedCells fed them in order) and how many after each
+// frame: what every method fed those frames is scored over, computed once for them all.
+struct ObservedFrames {
+  ObservedCells cells;
+  std::vector<int> counts;
+};
+
+ObservedFrames ObserveFrames(const common::GridGeometry& geometry, const mapping::MapArea& area,
+                             const std::vector<RecordedFrame>& frames) {
+  ObservedFrames observed{ObservedCells(geometry, area), {}};
+  for (const RecordedFrame& frame : frames) {
+    observed.cells.Add(frame.cloud_M, frame.X_MB.translation());
+    observed.counts.push_back(static_cast<int>(observed.cells.cells().size()));
+  }
+  return observed;
+}
+
 // One method's mapper and its scores, accumulated frame by frame.
 class MethodEvaluation {
  public:
   // `source`: the evaluation of `shared.source`, which updates on each frame first; null with no
   // shared work: a mapper of its own.
+  // `observed`: the cells of the frames the method is fed, each in turn.
   MethodEvaluation(const std::string& method, const Scenario& scene, const ScoringTruth& truth,
-                   double fixed_gain, const std::optional<SharedWork>& shared,
-                   const MethodEvaluation* source)
-      : truth_(truth), observed_(truth.layers.geometry(), scene.mapping.area) {
+                   const ObservedFrames& observed, double fixed_gain,
+                   const std::optional<SharedWork>& shared, const MethodEvaluation* source)
+      : truth_(truth), observed_(observed) {
     const double heap_before = HeapInUseBytes();
     const auto* source_mapper =
         source != nullptr ? dynamic_cast<const mapping::FsgpBgkMapper*>(source->mapper_.get())
@@ -346,14 +364,16 @@ class MethodEvaluation {
       weight_sum_ += update.mean_fusion_weight;
       ++weighted_frames_;
     }
-    observed_.Add(frame.cloud_M, frame.X_MB.translation());
+    // the cells observed up to this frame
+    const int observed = observed_.counts.at(t_.size());
     const LayerError error =
-        CompareObserved(mapper_->map(), truth_.layers, observed_, mapping::layers::kTraversability);
+        CompareObserved(mapper_->map(), truth_.layers, observed_.cells,
+                        mapping::layers::kTraversability, static_cast<std::size_t>(observed));
     t_.push_back(frame.t_s);
     mean_.push_back(error.known_cells > 0 ? error.mean : std::nan(""));
     variance_.push_back(error.known_cells > 0 ? error.variance : std::nan(""));
     compared_.push_back(error.known_cells);
-    observed_count_.push_back(static_cast<int>(observed_.cells().size()));
+    observed_count_.push_back(observed);
     if (error.known_cells > 0) {
       mean_sum_ += error.mean;
       variance_sum_ += error.variance;
@@ -376,8 +396,9 @@ class MethodEvaluation {
     record.runtime_ms_median = common::Quantile(runtime_, 0.5);
     record.wall_ms_median = common::Quantile(wall_, 0.5);
     if (weighted_frames_ > 0) record.mean_fusion_weight = weight_sum_ / weighted_frames_;
+    // (fed every frame: the cells of them all)
     record.hazards =
-        ScoreHazards(mapper_->map(), truth_.layers, observed_, truth_.untraversable_cost);
+        ScoreHazards(mapper_->map(), truth_.layers, observed_.cells, truth_.untraversable_cost);
     record.runtime_ms_max =
         runtime_.empty() ? 0.0 : *std::max_element(runtime_.begin(), runtime_.end());
     record.peak_memory_mb = peak_heap_ / kBytesPerMiB;
@@ -399,7 +420,7 @@ class MethodEvaluation {
 
  private:
   const ScoringTruth& truth_;
-  ObservedCells observed_;
+  const ObservedFrames& observed_;
   const MethodEvaluation* regression_source_{nullptr};  // whose regression the mapper fuses
   std::unique_ptr<mapping::TraversabilityMapper> mapper_;
   double heap_bytes_{0.0}, peak_heap_{0.0};  // the heap this method's mapper and scores grew by
@@ -456,19 +477,17 @@ std::string SharingRoot(const std::string& method, const std::vector<std::string
 
 // Feeds the frames to `group` (methods each after the one whose work it reads, SharedWorkOf
 // among `methods`), scoring each map after every frame.
-std::map<std::string, EvalMethodRecord> EvaluateMethods(const std::vector<std::string>& group,
-                                                        const std::vector<std::string>& methods,
-                                                        const Scenario& scene,
-                                                        const ScoringTruth& truth,
-                                                        const std::vector<RecordedFrame>& frames,
-                                                        double fixed_gain) {
+std::map<std::string, EvalMethodRecord> EvaluateMethods(
+    const std::vector<std::string>& group, const std::vector<std::string>& methods,
+    const Scenario& scene, const ScoringTruth& truth, const std::vector<RecordedFrame>& frames,
+    const ObservedFrames& observed, double fixed_gain) {
   std::map<std::string, const MethodEvaluation*> made;
   std::vector<std::unique_ptr<MethodEvaluation>> evaluations;
   for (const std::string& method : group) {
     const std::optional<SharedWork> shared = SharedWorkOf(method, methods);
     const MethodEvaluation* source = shared ? made.at(shared->source) : nullptr;
-    evaluations.push_back(
-        std::make_unique<MethodEvaluation>(method, scene, truth, fixed_gain, shared, source));
+    evaluations.push_back(std::make_unique<MethodEvaluation>(method, scene, truth, observed,
+                                                             fixed_gain, shared, source));
     made[method] = evaluations.back().get();
   }
   for (const RecordedFrame& frame : frames) {
@@ -506,30 +525,36 @@ std::vector<std::string> SharingGroup(const std::string& method,
 // Feeds the frames to one method, scoring its map after every frame.
 EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene,
                                 const ScoringTruth& truth, const std::vector<RecordedFrame>& frames,
-                                double fixed_gain) {
-  return EvaluateMethods({method}, {method}, scene, truth, frames, fixed_gain).at(method);
+                                const ObservedFrames& observed, double fixed_gain) {
+  return EvaluateMethods({method}, {method}, scene, truth, frames, observed, fixed_gain).at(method);
 }
 
-// The cells of `geometry` that any method's scores read (EvaluateMethod's ObservedCells over each
-// set of frames a method is fed): the only cells of the ground truth a scene's record depends on.
-std::vector<Eigen::Vector2i> ScoredCells(
-    const common::GridGeometry& geometry, const mapping::MapArea& area,
-    const std::vector<const std::vector<RecordedFrame>*>& frame_sets) {
-  ObservedCells scored(geometry, area);
-  for (const std::vector<RecordedFrame>* frames : frame_sets) {
-    for (const RecordedFrame& frame : *frames) scored.Add(frame.cloud_M, frame.X_MB.translation());
+// The cells that any method's scores read (each set of frames' ObservedFrames): the only cells of
+// the ground truth a scene's record depends on.
+std::vector<Eigen::Vector2i> ScoredCells(const std::vector<const ObservedFrames*>& frame_sets) {
+  const common::GridGeometry& geometry = frame_sets.front()->cells.geometry();
+  std::vector<bool> scored(static_cast<std::size_t>(geometry.num_x) * geometry.num_y, false);
+  std::vector<Eigen::Vector2i> cells;
+  for (const ObservedFrames* observed : frame_sets) {
+    for (const Eigen::Vector2i& cell : observed->cells.cells()) {
+      const std::size_t index = static_cast<std::size_t>(cell.x() + cell.y() * geometry.num_x);
+      if (scored[index]) continue;
+      scored[index] = true;
+      cells.push_back(cell);
+    }
   }
-  return scored.cells();
+  return cells;
 }
 
 // FSGP-BGK's mean uncertainty weight on the scene's frames (from its record when it ran already):
 // the gain of the fixed-gain ablation, so that both fuse with the same mean weight.
 double SceneMeanWeight(const EvalSceneRecord& record, const Scenario& scene,
-                       const ScoringTruth& truth, const std::vector<RecordedFrame>& frames) {
+                       const ScoringTruth& truth, const std::vector<RecordedFrame>& frames,
+                       const ObservedFrames& observed) {
   const auto bgk = record.methods.find("fsgp-bgk");
-  const EvalMethodRecord measured = bgk != record.methods.end()
-                                        ? bgk->second
-                                        : EvaluateMethod("fsgp-bgk", scene, truth, frames, 0.0);
+  const EvalMethodRecord measured =
+      bgk != record.methods.end() ? bgk->second
+                                  : EvaluateMethod("fsgp-bgk", scene, truth, frames, observed, 0.0);
   return measured.mean_fusion_weight.value_or(1.0 / scene.mapping.variance_epsilon);
 }
 
@@ -921,8 +946,12 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   ClosedLoop loop(drive_scenario, {robot_model_path, options.max_frames, false, false, &*routable});
   const RunSummary drive = RunLoop(&loop, {&recorder});
 
+  // each set of frames (the true pose's, each pose source's) and the cells it observed
+  const common::GridGeometry& geometry = routable->truth_W.geometry();
   std::map<std::string, std::vector<RecordedFrame>> frames_on_source;
-  std::vector<const std::vector<RecordedFrame>*> frame_sets{&frames};
+  std::map<std::string, ObservedFrames> observed_on_source;
+  const ObservedFrames observed = ObserveFrames(geometry, scenario.mapping.area, frames);
+  std::vector<const ObservedFrames*> frame_sets{&observed};
   for (const std::string& source : options.pose_sources) {
     sim::PoseNoiseConfig localization = scenario.pose_noise;
     localization.method = *common::EnumFromName<sim::LocalizationMethod>(source);
@@ -930,15 +959,16 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
         FramesOnPoses(frames, localization.method == sim::LocalizationMethod::kScanMatching
                                   ? ScanMatchingPoses(frames, scans, scenario)
                                   : DriftModelPoses(frames, localization));
-    frame_sets.push_back(&frames_on_source[source]);
+    observed_on_source.emplace(
+        source, ObserveFrames(geometry, scenario.mapping.area, frames_on_source[source]));
+    frame_sets.push_back(&observed_on_source.at(source));
   }
   // the physical truth only where a score reads it: 12 to 16 % of the world on 24 m routes
-  const std::vector<Eigen::Vector2i> scored_cells =
-      ScoredCells(routable->truth_W.geometry(), scenario.mapping.area, frame_sets);
+  const std::vector<Eigen::Vector2i> scored_cells = ScoredCells(frame_sets);
   const ScoringTruth truth =
       options.truth == kPhysicalTruth
-          ? ScoringTruth{WorldPhysicalTruth(routable->truth_W.geometry(), loop.world(),
-                                            scenario.ground_truth, &scored_cells),
+          ? ScoringTruth{WorldPhysicalTruth(geometry, loop.world(), scenario.ground_truth,
+                                            &scored_cells),
                          1.0}
           : ScoringTruth{routable->truth_W, scenario.planner.search.lethal_threshold};
   // an FSGP beside its FSGP-BGK fuses that one's regression, the ablation's FSGP-BGK samples the
@@ -950,11 +980,12 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
     const std::vector<std::string> group =
         SharingGroup(SharingRoot(method, methods), methods, record.methods);
     const double fixed_gain =
-        method == kFixedGain ? SceneMeanWeight(record, scenario, truth, frames) : 0.0;
+        method == kFixedGain ? SceneMeanWeight(record, scenario, truth, frames, observed) : 0.0;
     const std::optional<PoseSourceMethod> on_source = ParsePoseSourceMethod(method);
-    for (auto& [name, scores] :
-         EvaluateMethods(group, methods, scenario, truth,
-                         on_source ? frames_on_source.at(on_source->source) : frames, fixed_gain))
+    for (auto& [name, scores] : EvaluateMethods(
+             group, methods, scenario, truth,
+             on_source ? frames_on_source.at(on_source->source) : frames,
+             on_source ? observed_on_source.at(on_source->source) : observed, fixed_gain))
       record.methods[name] = std::move(scores);
   }
   record.route.start = {scenario.start_W.position.x(), scenario.start_W.position.y(),
@@ -962,8 +993,7 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   record.route.goal = {scenario.goal_W.x(), scenario.goal_W.y()};
   record.route.optimal_length_m = drive.navigation ? drive.navigation->optimal_path_length_m : 0.0;
   record.drive = {common::NameOf(drive.outcome), drive.sim_time_s, drive.distance_m, frames.size(),
-                  static_cast<long long>(routable->truth_W.geometry().num_x) *
-                      routable->truth_W.geometry().num_y};
+                  static_cast<long long>(geometry.num_x) * geometry.num_y};
   return record;
 }
 

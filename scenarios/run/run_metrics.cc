@@ -92,11 +92,15 @@ int ObservedCells::Add(const common::PointCloud& points_W, const Eigen::Vector3d
 }
 
 LayerError CompareObserved(const common::GridLayers& map, const common::GridLayers& truth_W,
-                           const ObservedCells& observed, const std::string& layer) {
+                           const ObservedCells& observed, const std::string& layer,
+                           std::size_t cells) {
   const Eigen::MatrixXf& truth = truth_W.Layer(layer);
   const Eigen::MatrixXf& map_layer = map.Layer(layer);
   ErrorAccumulator error;
-  for (const Eigen::Vector2i& cell : observed.cells()) {
+  const std::vector<Eigen::Vector2i>& observed_cells = observed.cells();
+  const std::size_t count = std::min(cells, observed_cells.size());
+  for (std::size_t i = 0; i < count; ++i) {
+    const Eigen::Vector2i& cell = observed_cells[i];
     const float expected = truth(cell.x(), cell.y());
     if (std::isnan(expected)) continue;
     const std::optional<float> predicted = common::KnownValueAt(

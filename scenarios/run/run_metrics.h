@@ -2,6 +2,7 @@
 
 #include <array>
 #include <deque>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -56,10 +57,13 @@ class ObservedCells {
   mapping::WindowCrop crop_;
 };
 
-/// `map`'s `layer` against the ground truth `truth_W` (on `observed`'s grid) over the observed
-/// cells: each observed cell whose centre lies in a known cell of the map counts once.
+/// `map`'s `layer` against the ground truth `truth_W` (on `observed`'s grid) over the first
+/// `cells` observed cells (all by default; the cells are in the order first observed, so those of
+/// the frames up to one are the first ones): each whose centre lies in a known cell of the map
+/// counts once.
 LayerError CompareObserved(const common::GridLayers& map, const common::GridLayers& truth_W,
-                           const ObservedCells& observed, const std::string& layer);
+                           const ObservedCells& observed, const std::string& layer,
+                           std::size_t cells = std::numeric_limits<std::size_t>::max());
 
 /// How well a map finds the hazards of the ground truth, over the observed cells whose cost it
 /// knows (trav eval, docs/evaluation.md): the cost ranked against the truth's untraversable cells

@@ -243,6 +243,11 @@ TEST(CompareObservedTest, ScoresObservedCellsTheMapKnows) {
   ASSERT_EQ(error.known_cells, 3);
   EXPECT_NEAR(error.mean, (0.1 + 0.3 + 0.2) / 3.0, 1e-6);
   EXPECT_NEAR(error.variance, (0.01 + 0.09 + 0.04) / 3.0 - 0.04, 1e-6);
+  // the cells observed first only (those of the frames up to one)
+  const LayerError first_two = CompareObserved(constant, truth, observed, "traversability", 2);
+  ASSERT_EQ(first_two.known_cells, 2);
+  EXPECT_NEAR(first_two.mean, (0.1 + 0.3) / 2.0, 1e-6);
+  EXPECT_EQ(CompareObserved(constant, truth, observed, "traversability", 7).known_cells, 3);
 
   // unknown cells of the map are not scored; unobserved cells never are
   constant.Layer("traversability")(6, 5) = NAN;
