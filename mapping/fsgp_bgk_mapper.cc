@@ -213,9 +213,6 @@ MapUpdateStatus FsgpBgkMapper::RegressionSteps(const common::PointCloud& points_
     result.dropped_invalid = featured.result.dropped_invalid;
     result.window_points = featured.result.window_points;
     if (!featured.featured) return MapUpdateStatus::kTooFewPoints;
-    regression_.featured = true;
-    regression_.features_cpu_ms = featured.features_cpu_ms;
-    regression_.features_wall_ms = featured.features_wall_ms;
     result.shared_cpu_ms = featured.features_cpu_ms;
     result.shared_wall_ms = featured.features_wall_ms;
   }

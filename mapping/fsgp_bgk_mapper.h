@@ -91,8 +91,8 @@ class FsgpBgkMapper final : public TraversabilityMapper {
   struct Regression {
     MapUpdateResult result;  // status, counts, the stages' times and the time shared
     double cpu_ms{0.0};      // the CPU time this mapper spent on it
-    // the crop and the features computed (what OnFeaturesOf reads), and what they took, CPU and
-    // wall, by the mapper that computed them
+    // the crop and the features computed here (what OnFeaturesOf reads), and what they took,
+    // CPU and wall
     bool featured{false};
     double features_cpu_ms{0.0}, features_wall_ms{0.0};
     double t_s{std::numeric_limits<double>::quiet_NaN()};

@@ -509,15 +509,15 @@ std::vector<std::string> SharingGroup(const std::string& method,
     if (other != method && done.count(other) == 0 && SharingRoot(other, methods) == method)
       rest.push_back(other);
   }
+  // each method's chain of sources leads to `method` within `rest`
   while (!rest.empty()) {
-    for (auto it = rest.begin(); it != rest.end(); ++it) {
-      if (std::find(group.begin(), group.end(), SharedWorkOf(*it, methods)->source) !=
-          group.end()) {
-        group.push_back(*it);
-        rest.erase(it);
-        break;
-      }
-    }
+    const auto next = std::find_if(rest.begin(), rest.end(), [&](const std::string& other) {
+      return std::find(group.begin(), group.end(), SharedWorkOf(other, methods)->source) !=
+             group.end();
+    });
+    if (next == rest.end()) throw std::logic_error("SharingGroup: a source of " + rest.front());
+    group.push_back(*next);
+    rest.erase(next);
   }
   return group;
 }
