@@ -313,11 +313,28 @@ struct SharedWork {
 struct ObservedFrames {
   ObservedCells cells;
   std::vector<int> counts;
+  // per frame, for each map geometry asked, the map's cell of each cell observed up to the frame
+  // (MapCellIndices): the mappers' maps share a geometry frame by frame (one size and resolution,
+  // recentred on the same poses), and their cells are looked up once
+  std::vector<std::vector<std::pair<common::GridGeometry, std::vector<int>>>> map_cells;
+
+  const std::vector<int>& MapCells(std::size_t frame, const common::GridGeometry& geometry) {
+    if (map_cells.size() < counts.size()) map_cells.resize(counts.size());
+    auto& known = map_cells.at(frame);
+    for (const auto& [g, indices] : known) {
+      if (g.origin_W == geometry.origin_W && g.resolution_m == geometry.resolution_m &&
+          g.num_x == geometry.num_x && g.num_y == geometry.num_y)
+        return indices;
+    }
+    known.emplace_back(geometry,
+                       MapCellIndices(geometry, cells, static_cast<std::size_t>(counts.at(frame))));
+    return known.back().second;
+  }
 };
 
 ObservedFrames ObserveFrames(const common::GridGeometry& geometry, const mapping::MapArea& area,
                              const std::vector<RecordedFrame>& frames) {
-  ObservedFrames observed{ObservedCells(geometry, area), {}};
+  ObservedFrames observed{ObservedCells(geometry, area), {}, {}};
   for (const RecordedFrame& frame : frames) {
     observed.cells.Add(frame.cloud_M, frame.X_MB.translation());
     observed.counts.push_back(static_cast<int>(observed.cells.cells().size()));
@@ -332,7 +349,7 @@ class MethodEvaluation {
   // shared work: a mapper of its own.
   // `observed`: the cells of the frames the method is fed, each in turn.
   MethodEvaluation(const std::string& method, const Scenario& scene, const ScoringTruth& truth,
-                   const ObservedFrames& observed, double fixed_gain,
+                   ObservedFrames& observed, double fixed_gain,
                    const std::optional<SharedWork>& shared, const MethodEvaluation* source)
       : truth_(truth), observed_(observed) {
     const double heap_before = HeapInUseBytes();
@@ -364,11 +381,16 @@ class MethodEvaluation {
       weight_sum_ += update.mean_fusion_weight;
       ++weighted_frames_;
     }
-    // the cells observed up to this frame
-    const int observed = observed_.counts.at(t_.size());
-    const LayerError error =
-        CompareObserved(mapper_->map(), truth_.layers, observed_.cells,
-                        mapping::layers::kTraversability, static_cast<std::size_t>(observed));
+    // the cells observed up to this frame, their map cells shared with the other methods (their
+    // storage not this method's)
+    const std::size_t frame_index = t_.size();
+    const int observed = observed_.counts.at(frame_index);
+    const double heap_before_cells = HeapInUseBytes();
+    const std::vector<int>& map_cells = observed_.MapCells(frame_index, mapper_->map().geometry());
+    const double shared_heap = HeapInUseBytes() - heap_before_cells;
+    const std::string& layer = mapping::layers::kTraversability;
+    const LayerError error = CompareObserved(
+        mapper_->map().Layer(layer), truth_.layers.Layer(layer), observed_.cells, map_cells);
     t_.push_back(frame.t_s);
     mean_.push_back(error.known_cells > 0 ? error.mean : std::nan(""));
     variance_.push_back(error.known_cells > 0 ? error.variance : std::nan(""));
@@ -379,7 +401,7 @@ class MethodEvaluation {
       variance_sum_ += error.variance;
       ++scored_;
     }
-    heap_bytes_ += HeapInUseBytes() - heap_before;
+    heap_bytes_ += HeapInUseBytes() - heap_before - shared_heap;
     // a method sharing a regression counts the storage of the mapper that makes it (one sharing
     // the features does not count the crop's and the features' storage it reads)
     const double heap = heap_bytes_ + (regression_source_ ? regression_source_->heap_bytes_ : 0.0);
@@ -420,7 +442,7 @@ class MethodEvaluation {
 
  private:
   const ScoringTruth& truth_;
-  const ObservedFrames& observed_;
+  ObservedFrames& observed_;
   const MethodEvaluation* regression_source_{nullptr};  // whose regression the mapper fuses
   std::unique_ptr<mapping::TraversabilityMapper> mapper_;
   double heap_bytes_{0.0}, peak_heap_{0.0};  // the heap this method's mapper and scores grew by
@@ -480,7 +502,7 @@ std::string SharingRoot(const std::string& method, const std::vector<std::string
 std::map<std::string, EvalMethodRecord> EvaluateMethods(
     const std::vector<std::string>& group, const std::vector<std::string>& methods,
     const Scenario& scene, const ScoringTruth& truth, const std::vector<RecordedFrame>& frames,
-    const ObservedFrames& observed, double fixed_gain) {
+    ObservedFrames& observed, double fixed_gain) {
   std::map<std::string, const MethodEvaluation*> made;
   std::vector<std::unique_ptr<MethodEvaluation>> evaluations;
   for (const std::string& method : group) {
@@ -525,7 +547,7 @@ std::vector<std::string> SharingGroup(const std::string& method,
 // Feeds the frames to one method, scoring its map after every frame.
 EvalMethodRecord EvaluateMethod(const std::string& method, const Scenario& scene,
                                 const ScoringTruth& truth, const std::vector<RecordedFrame>& frames,
-                                const ObservedFrames& observed, double fixed_gain) {
+                                ObservedFrames& observed, double fixed_gain) {
   return EvaluateMethods({method}, {method}, scene, truth, frames, observed, fixed_gain).at(method);
 }
 
@@ -550,7 +572,7 @@ std::vector<Eigen::Vector2i> ScoredCells(const std::vector<const ObservedFrames*
 // the gain of the fixed-gain ablation, so that both fuse with the same mean weight.
 double SceneMeanWeight(const EvalSceneRecord& record, const Scenario& scene,
                        const ScoringTruth& truth, const std::vector<RecordedFrame>& frames,
-                       const ObservedFrames& observed) {
+                       ObservedFrames& observed) {
   const auto bgk = record.methods.find("fsgp-bgk");
   const EvalMethodRecord measured =
       bgk != record.methods.end() ? bgk->second
@@ -950,7 +972,7 @@ EvalSceneRecord RunEvalScene(const EvalOptions& options, const EvalScene& scene,
   const common::GridGeometry& geometry = routable->truth_W.geometry();
   std::map<std::string, std::vector<RecordedFrame>> frames_on_source;
   std::map<std::string, ObservedFrames> observed_on_source;
-  const ObservedFrames observed = ObserveFrames(geometry, scenario.mapping.area, frames);
+  ObservedFrames observed = ObserveFrames(geometry, scenario.mapping.area, frames);
   std::vector<const ObservedFrames*> frame_sets{&observed};
   for (const std::string& source : options.pose_sources) {
     sim::PoseNoiseConfig localization = scenario.pose_noise;

@@ -91,23 +91,38 @@ int ObservedCells::Add(const common::PointCloud& points_W, const Eigen::Vector3d
   return added;
 }
 
+std::vector<int> MapCellIndices(const common::GridGeometry& geometry, const ObservedCells& observed,
+                                std::size_t cells) {
+  const std::vector<Eigen::Vector2i>& observed_cells = observed.cells();
+  std::vector<int> indices(std::min(cells, observed_cells.size()), -1);
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    const Eigen::Vector2i& cell = observed_cells[i];
+    const std::optional<Eigen::Vector2i> in_map =
+        geometry.CellIndex(observed.geometry().CellCenter(cell.x(), cell.y()));
+    if (in_map) indices[i] = in_map->x() + in_map->y() * geometry.num_x;
+  }
+  return indices;
+}
+
+LayerError CompareObserved(const Eigen::MatrixXf& map_layer, const Eigen::MatrixXf& truth_layer,
+                           const ObservedCells& observed, const std::vector<int>& map_cells) {
+  ErrorAccumulator error;
+  const std::vector<Eigen::Vector2i>& observed_cells = observed.cells();
+  for (std::size_t i = 0; i < map_cells.size(); ++i) {
+    const Eigen::Vector2i& cell = observed_cells[i];
+    const float expected = truth_layer(cell.x(), cell.y());
+    if (std::isnan(expected) || map_cells[i] < 0) continue;
+    const float predicted = map_layer.data()[map_cells[i]];
+    if (!std::isnan(predicted)) error.Add(std::abs(static_cast<double>(predicted) - expected));
+  }
+  return error.Result();
+}
+
 LayerError CompareObserved(const common::GridLayers& map, const common::GridLayers& truth_W,
                            const ObservedCells& observed, const std::string& layer,
                            std::size_t cells) {
-  const Eigen::MatrixXf& truth = truth_W.Layer(layer);
-  const Eigen::MatrixXf& map_layer = map.Layer(layer);
-  ErrorAccumulator error;
-  const std::vector<Eigen::Vector2i>& observed_cells = observed.cells();
-  const std::size_t count = std::min(cells, observed_cells.size());
-  for (std::size_t i = 0; i < count; ++i) {
-    const Eigen::Vector2i& cell = observed_cells[i];
-    const float expected = truth(cell.x(), cell.y());
-    if (std::isnan(expected)) continue;
-    const std::optional<float> predicted = common::KnownValueAt(
-        map.geometry(), map_layer, observed.geometry().CellCenter(cell.x(), cell.y()));
-    if (predicted) error.Add(std::abs(static_cast<double>(*predicted) - expected));
-  }
-  return error.Result();
+  return CompareObserved(map.Layer(layer), truth_W.Layer(layer), observed,
+                         MapCellIndices(map.geometry(), observed, cells));
 }
 
 namespace {

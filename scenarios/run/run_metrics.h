@@ -65,6 +65,18 @@ LayerError CompareObserved(const common::GridLayers& map, const common::GridLaye
                            const ObservedCells& observed, const std::string& layer,
                            std::size_t cells = std::numeric_limits<std::size_t>::max());
 
+/// The index in a layer on `geometry` (ix + iy num_x, Eigen's column-major order) of the cell that
+/// holds the centre of each of the first `cells` observed cells, -1 where none: where
+/// CompareObserved looks each up in a map on that geometry.
+std::vector<int> MapCellIndices(const common::GridGeometry& geometry, const ObservedCells& observed,
+                                std::size_t cells);
+
+/// CompareObserved of a map's layer against the truth's on `observed`'s grid, over the observed
+/// cells `map_cells` has (MapCellIndices of the map's geometry): for maps that share a geometry,
+/// the cells looked up once.
+LayerError CompareObserved(const Eigen::MatrixXf& map_layer, const Eigen::MatrixXf& truth_layer,
+                           const ObservedCells& observed, const std::vector<int>& map_cells);
+
 /// How well a map finds the hazards of the ground truth, over the observed cells whose cost it
 /// knows (trav eval, docs/evaluation.md): the cost ranked against the truth's untraversable cells
 /// (truth cost >= `lethal_threshold`), rank correlation with the truth's cost, and the elevation

@@ -1181,6 +1181,13 @@ int ExpectSameLayers(const common::GridLayers& a, const common::GridLayers& b) {
   return static_cast<int>((!a.Layer(layers::kTraversability).array().isNaN()).count());
 }
 
+// Bumps, a 1 m wall at y = 3 for 1 < x < 3 and a 0.2 m step up at x = 4 [m].
+double BumpsAWallAndAStep(double x, double y) {
+  const double step = x > 4.0 && std::abs(y) < 1.0 ? 0.2 : 0.0;
+  const double wall = std::abs(y - 3.0) < 0.15 && x > 1.0 && x < 3.0 ? 1.0 : 0.0;
+  return 0.1 * std::sin(1.3 * x) * std::cos(0.9 * y) + step + wall;
+}
+
 TEST(FsgpBgkMapperTest, AnUnfusedMapperOnAnotherMappersRegressionIsFsgpBitForBit) {
   // a robot driving over bumps past a wall and a low step, one frame empty: FSGP on FSGP-BGK's
   // regression against FSGP on its own, every layer after every frame
@@ -1191,11 +1198,7 @@ TEST(FsgpBgkMapperTest, AnUnfusedMapperOnAnotherMappersRegressionIsFsgpBitForBit
   config.fuse = false;
   FsgpBgkMapper own(config);
   EXPECT_FALSE(shared->config().fuse);
-  auto terrain = [](double x, double y) {
-    const double step = x > 4.0 && std::abs(y) < 1.0 ? 0.2 : 0.0;
-    const double wall = std::abs(y - 3.0) < 0.15 && x > 1.0 && x < 3.0 ? 1.0 : 0.0;
-    return 0.1 * std::sin(1.3 * x) * std::cos(0.9 * y) + step + wall;
-  };
+  const auto terrain = BumpsAWallAndAStep;
   for (int frame = 0; frame < 8; ++frame) {
     const double x = 0.4 * frame;
     const common::PointCloud cloud =
@@ -1243,11 +1246,7 @@ TEST(FsgpBgkMapperTest, MappersOnAnotherMappersFeaturesAreTheirMethodsAtTheirMBi
   FsgpBgkMapper own_bgk_60(config);
   config.fuse = false;
   FsgpBgkMapper own_fsgp_60(config);
-  auto terrain = [](double x, double y) {
-    const double step = x > 4.0 && std::abs(y) < 1.0 ? 0.2 : 0.0;
-    const double wall = std::abs(y - 3.0) < 0.15 && x > 1.0 && x < 3.0 ? 1.0 : 0.0;
-    return 0.1 * std::sin(1.3 * x) * std::cos(0.9 * y) + step + wall;
-  };
+  const auto terrain = BumpsAWallAndAStep;
   for (int frame = 0; frame < 8; ++frame) {
     const double x = 0.4 * frame;
     common::PointCloud cloud = Surface(terrain, {x, 0.0}, 4.0, 0.01);

@@ -259,6 +259,18 @@ TEST(CompareObservedTest, ScoresObservedCellsTheMapKnows) {
   const LayerError on_shifted = CompareObserved(shifted, truth, observed, "traversability");
   EXPECT_EQ(on_shifted.known_cells, 3);
   EXPECT_NEAR(on_shifted.mean, (0.0 + 0.2 + 0.1) / 3.0, 1e-6);
+  // the same with the map's cells looked up beforehand: cell (5, 5)'s centre (0, 0) in the shifted
+  // map's cell (2, 2) of 5 x 5 (origin (-1.75, -2)), (6, 5)'s in (3, 2), (4, 6)'s in (1, 3); none
+  // in a map off to the side
+  const std::vector<int> map_cells = MapCellIndices(shifted.geometry(), observed, 3);
+  EXPECT_EQ(map_cells, (std::vector<int>{2 + 2 * 5, 3 + 2 * 5, 1 + 3 * 5}));
+  const LayerError looked_up = CompareObserved(shifted.Layer("traversability"),
+                                               truth.Layer("traversability"), observed, map_cells);
+  EXPECT_EQ(looked_up.known_cells, on_shifted.known_cells);
+  EXPECT_EQ(looked_up.mean, on_shifted.mean);
+  EXPECT_EQ(looked_up.variance, on_shifted.variance);
+  const common::GridGeometry aside = common::GridGeometry::Centered({10.0, 0.0}, {4.0, 4.0}, 1.0);
+  EXPECT_EQ(MapCellIndices(aside, observed, 2), (std::vector<int>{-1, -1}));
 }
 
 }  // namespace
