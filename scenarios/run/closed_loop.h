@@ -86,7 +86,6 @@ class EndCondition {
   virtual std::optional<Outcome> Check(const ClosedLoop& loop, const LoopStep& step) = 0;
 };
 
-/// Options of a loop that are not part of the scenario.
 /// A scenario's world as a run builds it first: the terrain and its obstacles (sim::GenerateTerrain
 /// with the scenario's start and goal), the obstacles' height grid (sim::ObstacleHeightGrid) and
 /// the ground truth (WorldGroundTruth). For a caller that built them already (trav eval's route
@@ -97,6 +96,7 @@ struct PreparedWorld {
   common::GridLayers truth_W;
 };
 
+/// Options of a loop that are not part of the scenario.
 struct ClosedLoopOptions {
   std::string robot_model_path;  ///< the MJCF of the robot
   int max_lidar_frames{0};       ///< stop after this many frames (0: the scenario's duration)
