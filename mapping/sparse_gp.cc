@@ -8,6 +8,7 @@
 #include <limits>
 #include <numeric>
 #include <tuple>
+#include <utility>
 
 #if defined(__SSE2__)
 #include <xmmintrin.h>
@@ -318,6 +319,24 @@ void SparseGp::VarianceDense(const Eigen::Ref<const Eigen::MatrixXd>& test_input
   }
 }
 
+template <typename KernelAndRadialFactor>
+double SparseGp::SumOverNeighbours(const double* query, KernelAndRadialFactor kernel,
+                                   double* gradient) const {
+  const auto scaled_inputs = scaled_inputs_.view();
+  const auto alpha = alpha_.view();
+  double sum = 0.0;
+  std::fill(gradient, gradient + dims_, 0.0);
+  ForNeighbours(query, [&](int j, double squared_distance) {
+    const double a = alpha[j];
+    const auto [k, radial_factor] = kernel(j, squared_distance);
+    sum += k * a;
+    const double g = radial_factor * a;
+    // scaled difference (u_d - z_jd) / l_d: one more 1 / l_d in the caller
+    for (Eigen::Index d = 0; d < dims_; ++d) gradient[d] -= g * (query[d] - scaled_inputs(d, j));
+  });
+  return sum;
+}
+
 void SparseGp::Predict(const Eigen::Ref<const Eigen::MatrixXd>& test_inputs,
                        Eigen::Ref<Eigen::VectorXd> mean,
                        Eigen::Ref<Eigen::MatrixXd> mean_gradient) const {
@@ -326,22 +345,14 @@ void SparseGp::Predict(const Eigen::Ref<const Eigen::MatrixXd>& test_inputs,
   TRAV_DEMAND(mean.size() == t_count);
   TRAV_DEMAND(mean_gradient.rows() == t_count && mean_gradient.cols() == dims_);
   const bool squared_exponential = hyper_.kernel == KernelType::kSquaredExponential;  // G = k
-  const auto scaled_inputs = scaled_inputs_.view();
-  const auto alpha = alpha_.view();
+  auto kernel = [&](int, double squared_distance) {
+    const double k = KernelOf(squared_distance);
+    return std::pair(k, squared_exponential ? k : RadialFactorOf(squared_distance));
+  };
   DimsVector query(dims_), gradient(dims_);
   for (Eigen::Index t = 0; t < t_count; ++t) {
     query = test_inputs.row(t).transpose().cwiseProduct(inverse_length_scales_);
-    double sum = 0.0;
-    gradient.setZero();
-    ForNeighbours(query.data(), [&](int j, double squared_distance) {
-      const double a = alpha[j];
-      const double k = KernelOf(squared_distance);
-      sum += k * a;
-      const double g = (squared_exponential ? k : RadialFactorOf(squared_distance)) * a;
-      // scaled difference (u_d - z_jd) / l_d: one more 1 / l_d below
-      for (Eigen::Index d = 0; d < dims_; ++d) gradient[d] -= g * (query[d] - scaled_inputs(d, j));
-    });
-    mean[t] = mean_ + sum;
+    mean[t] = mean_ + SumOverNeighbours(query.data(), kernel, gradient.data());
     mean_gradient.row(t) = gradient.cwiseProduct(inverse_length_scales_).transpose();
   }
 }
@@ -354,48 +365,41 @@ void SparseGp::PredictOnLattice(const Eigen::Ref<const Eigen::MatrixXd>& test_in
   TRAV_DEMAND(mean.size() == t_count);
   TRAV_DEMAND(mean_gradient.rows() == t_count && mean_gradient.cols() == 2);
   const auto scaled_inputs = scaled_inputs_.view();
-  const auto alpha = alpha_.view();
   const Eigen::Index m = scaled_inputs.cols();
-  // per axis: the distinct scaled test coordinates, sorted, and exp(-(q - z_j)^2 / 2) for each of
-  // them (row) and each training point j (column)
-  std::array<std::vector<double>, 2> coordinates;
-  std::array<Eigen::MatrixXd, 2> factors;
+  const double cutoff = CutoffSquaredDistance();
   for (int d = 0; d < 2; ++d) {
-    std::vector<double>& values = coordinates[d];
+    std::vector<double>& values = lattice_coordinates_[d];
     values.resize(static_cast<std::size_t>(t_count));
     for (Eigen::Index t = 0; t < t_count; ++t)
       values[t] = test_inputs(t, d) * inverse_length_scales_[d];
     std::sort(values.begin(), values.end());
     values.erase(std::unique(values.begin(), values.end()), values.end());
-    factors[d].resize(static_cast<Eigen::Index>(values.size()), m);
-    for (std::size_t i = 0; i < values.size(); ++i) {
+    auto factors = lattice_factors_[d].Resize(m, static_cast<Eigen::Index>(values.size()));
+    for (Eigen::Index i = 0; i < factors.cols(); ++i) {
       for (Eigen::Index j = 0; j < m; ++j) {
+        // a neighbour lies within the cutoff along each axis: farther factors are never read
         const double difference = values[i] - scaled_inputs(d, j);
-        factors[d](static_cast<Eigen::Index>(i), j) = std::exp(-0.5 * difference * difference);
+        factors(j, i) =
+            difference * difference < cutoff ? std::exp(-0.5 * difference * difference) : 0.0;
       }
     }
   }
-  auto row_of = [&](int d, double value) {
-    const std::vector<double>& values = coordinates[d];
-    return static_cast<Eigen::Index>(std::lower_bound(values.begin(), values.end(), value) -
-                                     values.begin());
+  auto factors_at = [&](int d, double value) {
+    const std::vector<double>& values = lattice_coordinates_[d];
+    const auto column = std::lower_bound(values.begin(), values.end(), value) - values.begin();
+    return lattice_factors_[d].view().col(column).data();
   };
-  DimsVector query(2);
+  DimsVector query(2), gradient(2);
   for (Eigen::Index t = 0; t < t_count; ++t) {
     query = test_inputs.row(t).transpose().cwiseProduct(inverse_length_scales_);
-    const Eigen::Index ix = row_of(0, query[0]), iy = row_of(1, query[1]);
-    double sum = 0.0, gradient_x = 0.0, gradient_y = 0.0;
-    ForNeighbours(query.data(), [&](int j, double) {
-      const double a = alpha[j];
-      const double k = signal_variance_ * factors[0](ix, j) * factors[1](iy, j);
-      sum += k * a;
-      const double g = k * a;
-      gradient_x -= g * (query[0] - scaled_inputs(0, j));
-      gradient_y -= g * (query[1] - scaled_inputs(1, j));
-    });
-    mean[t] = mean_ + sum;
-    mean_gradient(t, 0) = gradient_x * inverse_length_scales_[0];
-    mean_gradient(t, 1) = gradient_y * inverse_length_scales_[1];
+    const double* factor_x = factors_at(0, query[0]);
+    const double* factor_y = factors_at(1, query[1]);
+    auto kernel = [&](int j, double) {
+      const double k = signal_variance_ * factor_x[j] * factor_y[j];
+      return std::pair(k, k);
+    };
+    mean[t] = mean_ + SumOverNeighbours(query.data(), kernel, gradient.data());
+    mean_gradient.row(t) = gradient.cwiseProduct(inverse_length_scales_).transpose();
   }
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -120,6 +121,13 @@ class SparseGp {
   /// scaled input `query` (D values).
   template <typename Visit>
   void ForNeighbours(const double* query, Visit visit) const;
+  /// The sum over the neighbours j of the scaled input `query` of k_j alpha_j, and in `gradient`
+  /// (D values) -sum_j G_j alpha_j (u_d - z_jd) (still to be divided by l_d), with
+  /// kernel(j, squared scaled distance) giving the pair (k_j, G_j): Predict's and
+  /// PredictOnLattice's one loop, whichever way they take the kernel.
+  template <typename KernelAndRadialFactor>
+  double SumOverNeighbours(const double* query, KernelAndRadialFactor kernel,
+                           double* gradient) const;
 
   // A vector of at most kMaxDims entries, on the stack.
   using DimsVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxDims, 1>;
@@ -149,6 +157,10 @@ class SparseGp {
   mutable common::ScratchMatrix<float> dense_cross_kernel_;   // K_M* of the last variance query
   common::ScratchMatrix<double, Eigen::Dynamic, 1> alpha_;    // (K_MM + s_n^2 I)^-1 (z - m)
   common::ScratchMatrix<double, Eigen::Dynamic, 1> centred_;  // z - m
+  // PredictOnLattice's tables per axis: the distinct scaled test coordinates, sorted, and
+  // exp(-(q - z_j)^2 / 2) for each training point j (row) and each of them (column)
+  mutable std::array<std::vector<double>, 2> lattice_coordinates_;
+  mutable std::array<common::ScratchMatrix<double>, 2> lattice_factors_;
 };
 
 }  // namespace trav::mapping
