@@ -59,6 +59,40 @@ Search Run(const SearchCostMap& costs, const Eigen::Vector2i& start, const Eigen
   return search;
 }
 
+// The reachable cell on the map's edge with the way open beyond it (unknown ground inside the
+// operating area) from which the way to goal_W looks cheapest: its cost from the start plus the
+// straight line to the goal over unknown ground. Nothing if no such cell.
+std::optional<Eigen::Vector2i> ExitTowards(const SearchCostMap& costs, const Search& search,
+                                           const Eigen::Vector2d& goal_W) {
+  const CostMapConfig& config = costs.config();
+  if (config.unknown_policy != UnknownPolicy::kCost) return std::nullopt;
+  const common::GridGeometry& g = costs.geometry();
+  const double per_metre = 1.0 + config.cost_weight * config.unknown_cost;
+  auto open_beyond = [&](int ix, int iy, int dx, int dy) {
+    return !config.operating_area_W ||
+           config.operating_area_W->contains(g.CellCenter(ix + dx, iy + dy));
+  };
+  std::optional<Eigen::Vector2i> exit;
+  double best = kInfinity;
+  for (int iy = 0; iy < g.num_y; ++iy) {
+    for (int ix = 0; ix < g.num_x; ++ix) {
+      if (!std::isfinite(search.g_cost(ix, iy))) continue;
+      const bool open = (ix == 0 && open_beyond(ix, iy, -1, 0)) ||
+                        (ix == g.num_x - 1 && open_beyond(ix, iy, 1, 0)) ||
+                        (iy == 0 && open_beyond(ix, iy, 0, -1)) ||
+                        (iy == g.num_y - 1 && open_beyond(ix, iy, 0, 1));
+      if (!open) continue;
+      const double cost =
+          search.g_cost(ix, iy) + per_metre * (g.CellCenter(ix, iy) - goal_W).norm();
+      if (cost < best) {
+        best = cost;
+        exit = Eigen::Vector2i(ix, iy);
+      }
+    }
+  }
+  return exit;
+}
+
 }  // namespace
 
 GridPlanner::GridPlanner(const common::GridLayers& map, const AStarConfig& config)
@@ -77,6 +111,12 @@ GridPath GridPlanner::Plan(const Eigen::Vector2d& start_W, const Eigen::Vector2d
   if (goal && std::isfinite(costs_->cost(goal->x(), goal->y()))) {
     search = Run(*costs_, *start, &*goal);
     path.status = PlanStatus::kFound;
+    if (!std::isfinite(search.g_cost(goal->x(), goal->y()))) {
+      // walled off within the map (A* has costed every reachable cell on the way): the way may
+      // lie beyond the map's edge
+      goal = ExitTowards(*costs_, search, goal_W);
+      path.status = PlanStatus::kGoalMoved;
+    }
   } else {
     // a blocked, unknown-and-blocked or outside goal: the reachable cell nearest to it
     search = Run(*costs_, *start, nullptr);

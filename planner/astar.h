@@ -16,7 +16,7 @@ using AStarConfig = CostMapConfig;
 /// Outcome of a search.
 enum class PlanStatus {
   kFound,         ///< a path to the goal
-  kGoalMoved,     ///< the goal was blocked or unknown: a path to the nearest reachable cell instead
+  kGoalMoved,     ///< the goal was blocked, unknown or walled off: a path to another cell instead
   kStartBlocked,  ///< the start cell is blocked (or outside the map)
   kNoPath,        ///< nothing reachable
 };
@@ -35,8 +35,12 @@ struct GridPath {
 /// cells per the policy), so replanning and simplifying on the same map cost no more. Edge cost
 /// L (1 + w c), L the edge length [m] and c the mean cost of its two cells; the heuristic is the
 /// octile distance times (1 + w c_min), admissible because every edge costs at least that per
-/// metre. A blocked goal is moved to the reachable cell nearest to it. Deterministic (ties broken
-/// by cell index). No path is a status, not an error.
+/// metre. A blocked goal (or one off the map) is moved to the reachable cell nearest to it. A free
+/// goal walled off within the map is moved to the map's edge, where the way may go on: to the
+/// reachable edge cell with unknown ground in the operating area beyond it (under
+/// UnknownPolicy::kCost) whose cost from the start plus the straight line on to the goal at the
+/// unknown cells' cost is least; the map is a window on a larger world, and what lies beyond it
+/// is unknown. Deterministic (ties broken by cell index). No path is a status, not an error.
 class GridPlanner {
  public:
   /// @throws std::out_of_range if the map lacks `config.cost_layer`.

@@ -105,9 +105,41 @@ TEST(AStarTest, GoesThroughTheGapOfAWall) {
     if (std::abs(p.x()) < 0.05) through_gap = p.y() > 2.0 && p.y() < 3.0;
   }
   EXPECT_TRUE(through_gap);
-  // an inflation of 0.5 m closes the 1 m gap: the goal is free but unreachable
+  // an inflation of 0.5 m closes the 1 m gap: the goal is free but unreachable on a map that is
+  // the whole operating area
   config.inflation_radius_m = 0.5;
+  config.operating_area_W.emplace(Eigen::Vector2d(-5, -5), Eigen::Vector2d(5, 5));
   EXPECT_EQ(GridPlanner(map, config).Plan({-3, 0}, {3, 0}).status, PlanStatus::kNoPath);
+}
+
+TEST(AStarTest, AGoalWalledOffWithinTheMapIsMovedToTheMapsEdgeWhereTheWayGoesOn) {
+  common::GridLayers map = EmptyMap();
+  // a wall across the whole map at x = 0: within the map the goal is unreachable
+  Paint(&map, 1.0f, [](const Eigen::Vector2d& p) { return std::abs(p.x()) < 0.15; });
+  AStarConfig config;
+  config.inflation_radius_m = 0.2;
+  const Eigen::Vector2d start(-3, 2), goal(3, 1);
+  const GridPath dut = GridPlanner(map, config).Plan(start, goal);
+  ASSERT_EQ(dut.status, PlanStatus::kGoalMoved);
+  // to the top edge beside the wall: of the edge cells, the least cost from the start plus the
+  // straight line on to the goal at the unknown cells' cost (1 + 5 x 0.5 per metre)
+  const Eigen::Vector2d edge_cell(-0.4, 5.0);
+  EXPECT_NEAR((dut.goal_W - edge_cell).norm(), 0.0, 1e-9) << dut.goal_W.transpose();
+  EXPECT_EQ(dut.points_W.back(), dut.goal_W);
+  EXPECT_EQ(dut.points_W.front(), Eigen::Vector2d(-3.0, 2.0));
+  // nothing beyond the edges: no way
+  config.operating_area_W.emplace(Eigen::Vector2d(-5, -5), Eigen::Vector2d(5, 5));
+  EXPECT_EQ(GridPlanner(map, config).Plan(start, goal).status, PlanStatus::kNoPath);
+  // the world going on only beyond the bottom edge: the way leaves there
+  config.operating_area_W.emplace(Eigen::Vector2d(-5, -8), Eigen::Vector2d(5, 5));
+  const GridPath down = GridPlanner(map, config).Plan(start, goal);
+  ASSERT_EQ(down.status, PlanStatus::kGoalMoved);
+  EXPECT_NEAR((down.goal_W - Eigen::Vector2d(-0.4, -5.0)).norm(), 0.0, 1e-9)
+      << down.goal_W.transpose();
+  // unknown ground never entered: no way either
+  config.operating_area_W.reset();
+  config.unknown_policy = UnknownPolicy::kBlocked;
+  EXPECT_EQ(GridPlanner(map, config).Plan(start, goal).status, PlanStatus::kNoPath);
 }
 
 TEST(AStarTest, CostlyTerrainIsAvoidedInProportionToItsWeight) {

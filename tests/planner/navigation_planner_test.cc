@@ -68,7 +68,10 @@ TEST(NavigationPlannerTest, ABlockedGoalIsMovedAndAnUnreachableOneHasNoPath) {
       if (p.x() >= 4.0 && p.x() <= 4.6) map.Layer("traversability")(ix, iy) = 1.0f;
     }
   }
-  NavigationPlanner dut(NavigationPlannerConfig{});
+  // the map is the whole operating area
+  NavigationPlannerConfig config;
+  config.search.operating_area_W.emplace(Eigen::Vector2d(-6, -6), Eigen::Vector2d(14, 6));
+  NavigationPlanner dut(config);
   // a goal inside the wall: A* moves it to the nearest reachable cell, left of the wall
   const NavigationPlan moved = dut.Plan(map, Start(), {4.3, 0.0}, {});
   EXPECT_EQ(moved.status, NavigationStatus::kPlannedToNearest);
@@ -80,6 +83,14 @@ TEST(NavigationPlannerTest, ABlockedGoalIsMovedAndAnUnreachableOneHasNoPath) {
   EXPECT_EQ(none.status, NavigationStatus::kNoPath);
   EXPECT_FALSE(none.has_trajectory());
   EXPECT_EQ(common::NameOf(none.status), "no-path");
+  // where the world goes on beyond the map, the way may too: to the map's edge
+  NavigationPlanner in_a_larger_world(NavigationPlannerConfig{});
+  const NavigationPlan beyond = in_a_larger_world.Plan(map, Start(), {9.0, 0.0}, {});
+  EXPECT_EQ(beyond.status, NavigationStatus::kPlannedToNearest);
+  EXPECT_TRUE(beyond.has_trajectory());
+  const Eigen::Vector2d end = beyond.waypoints_W.back();
+  EXPECT_LT(end.x(), 4.0);
+  EXPECT_NEAR(std::abs(end.y()), 6.0, 1e-9) << end.transpose();
 }
 
 // The smallest gap between the footprint and lethal cells along a trajectory, and at its start [m].
