@@ -84,7 +84,8 @@ INSTANTIATE_TEST_SUITE_P(
                                      "hard/tight_gaps.yaml", "hard/indoor_doors.yaml",
                                      "hard/crossing_pedestrians.yaml", "hard/curb.yaml",
                                      "hard/stairs.yaml", "hard/platform.yaml", "hard/ramp.yaml",
-                                     "hard/ledge.yaml", "hard/door_jamb.yaml"),
+                                     "hard/ledge.yaml", "hard/door_jamb.yaml",
+                                     "hard/walled_goal.yaml"),
                      testing::Range(1, 6)),
     TestName);
 // worlds a user would write, none tuned for (scenarios/probes/, docs/navigation.md)
@@ -125,8 +126,8 @@ INSTANTIATE_TEST_SUITE_P(
                                      "hard/stairs.yaml", "hard/platform.yaml", "hard/low_wall.yaml",
                                      "hard/low_wall_hidden.yaml", "hard/ramp.yaml",
                                      "hard/ledge.yaml", "hard/slope_down.yaml",
-                                     "hard/door_jamb.yaml", "barn/world_000.yaml",
-                                     "barn/world_150.yaml"),
+                                     "hard/door_jamb.yaml", "hard/walled_goal.yaml",
+                                     "barn/world_000.yaml", "barn/world_150.yaml"),
                      testing::Values(0)),
     TestName);
 #endif
