@@ -47,6 +47,13 @@ struct GridGeometry {
   /// True if (ix, iy) is a cell of the grid.
   bool Contains(int ix, int iy) const { return ix >= 0 && iy >= 0 && ix < num_x && iy < num_y; }
 
+  /// True if both grids have the same cells: origin, resolution and counts, exactly.
+  bool operator==(const GridGeometry& other) const {
+    return origin_W == other.origin_W && resolution_m == other.resolution_m &&
+           num_x == other.num_x && num_y == other.num_y;
+  }
+  bool operator!=(const GridGeometry& other) const { return !(*this == other); }
+
   /// The whole cells (dx, dy) that bring the grid's centre nearest to center_W.
   Eigen::Vector2i RecenterShift(const Eigen::Vector2d& center_W) const;
   /// The grid moved by RecenterShift(center_W): the geometry GridLayers::Recenter gives.

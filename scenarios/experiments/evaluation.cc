@@ -322,9 +322,7 @@ struct ObservedFrames {
     if (map_cells.size() < counts.size()) map_cells.resize(counts.size());
     auto& known = map_cells.at(frame);
     for (const auto& [g, indices] : known) {
-      if (g.origin_W == geometry.origin_W && g.resolution_m == geometry.resolution_m &&
-          g.num_x == geometry.num_x && g.num_y == geometry.num_y)
-        return indices;
+      if (g == geometry) return indices;
     }
     known.emplace_back(geometry,
                        MapCellIndices(geometry, cells, static_cast<std::size_t>(counts.at(frame))));

@@ -104,9 +104,15 @@ TEST(GridLayersTest, RecenteringKeepsCellsAnchoredInTheWorld) {
   EXPECT_TRUE(dut.geometry().Center().isApprox(Eigen::Vector2d(3.0, -2.0)));
   // the geometry a recentring gives, known before it
   const GridGeometry predicted = before.RecenteredOn(Eigen::Vector2d(3.1, -1.9));
-  EXPECT_EQ(predicted.origin_W, dut.geometry().origin_W);
-  EXPECT_EQ(predicted.num_x, dut.geometry().num_x);
-  EXPECT_EQ(predicted.resolution_m, dut.geometry().resolution_m);
+  EXPECT_TRUE(predicted == dut.geometry());
+  EXPECT_TRUE(predicted != before);
+  // any field apart makes other cells
+  GridGeometry other = predicted;
+  other.num_y += 1;
+  EXPECT_FALSE(other == predicted);
+  other = predicted;
+  other.resolution_m = 0.25;
+  EXPECT_TRUE(other != predicted);
   int kept = 0, unknown = 0;
   for (int ix = 0; ix < dut.geometry().num_x; ++ix) {
     for (int iy = 0; iy < dut.geometry().num_y; ++iy) {
