@@ -258,6 +258,9 @@ OptimizedTrajectory Output(const TrajectoryOptimizerConfig& config, const CostFi
   };
   for (int k = 0; k <= steps; ++k) {
     const double t = std::min(duration, k * duration / steps);
+    // pieces shrunk below the resolution of the start time (a start at its goal: nothing holds
+    // their durations up) give samples of one time stamp, and a trajectory's times increase
+    if (k > 0 && !(request.start.t_s + t > points.back().t_s)) continue;
     const FlatSample sample = SampleAt(polynomial, t);
     if (k > 0) {
       const double h = t - previous_t;

@@ -282,6 +282,35 @@ TEST(TrajectoryOptimizerTest, AGoalInsideAWallIsReportedInfeasible) {
   EXPECT_FALSE(out.trajectory.empty());
 }
 
+// A robot at rest to within rounding at its goal (a substitute goal in its own cell; the request
+// of `probes/big_building.yaml` at seed 3, 292 s into the run, which ended the run as an internal
+// error): nothing holds the pieces' durations up, and they shrink to 1e-17 s, below the resolution
+// of the start time. The trajectory keeps the samples whose time advances: a hold at the start.
+TEST(TrajectoryOptimizerTest, AStartAtRestAtItsGoalIsAHoldAtTheStart) {
+  const CostField field(FlatMap(), CostMapConfig{});
+  TrajectoryOptimizer dut(TrajectoryOptimizerConfig{});
+  for (const double t_s : {2.0, 150.0, 292.35000000066782, 3600.0}) {
+    TrajectoryRequest request;
+    request.start.t_s = t_s;
+    request.start.position_W = Eigen::Vector2d(1.790783, 1.976382);
+    request.start.yaw = 0.021146;
+    request.start.v = 3.85186e-34;
+    request.start.acceleration = 8.27181e-25;
+    request.goal_W = request.start.position_W;
+    request.guide_W = {request.start.position_W};
+    const OptimizedTrajectory out = dut.Optimize(field, request);
+    ASSERT_FALSE(out.trajectory.empty()) << t_s;
+    EXPECT_EQ(out.trajectory.start_time(), t_s);
+    EXPECT_NE(out.status, OptimizationStatus::kInfeasible) << t_s;
+    EXPECT_LE(ExtremesOf(out.trajectory).v, TrajectoryOptimizerConfig{}.limits.max_speed_m_s);
+    for (const common::TrajectoryPoint& p : out.trajectory.points()) {
+      EXPECT_LE((p.position_W - request.goal_W).norm(),
+                TrajectoryOptimizerConfig{}.terminal_tolerance_m)
+          << t_s;
+    }
+  }
+}
+
 TEST(TrajectoryOptimizerTest, RejectsAnInvalidConfigNamingTheKey) {
   TrajectoryOptimizerConfig config;
   config.limits.max_speed_m_s = 3.5;
