@@ -59,29 +59,36 @@ Search Run(const SearchCostMap& costs, const Eigen::Vector2i& start, const Eigen
   return search;
 }
 
-// The reachable cell on the map's edge with the way open beyond it (unknown ground inside the
-// operating area) from which the way to goal_W looks cheapest: its cost from the start plus the
-// straight line to the goal over unknown ground. Nothing if no such cell.
+// True if p_W lies in the operating area (anywhere without one).
+bool InOperatingArea(const CostMapConfig& config, const Eigen::Vector2d& p_W) {
+  return !config.operating_area_W || config.operating_area_W->contains(p_W);
+}
+
+// True if cell (ix, iy) lies on the map's edge with the way open beyond it: unknown ground (under
+// UnknownPolicy::kCost) in the operating area.
+bool OnOpenEdge(const SearchCostMap& costs, int ix, int iy) {
+  const CostMapConfig& config = costs.config();
+  if (config.unknown_policy != UnknownPolicy::kCost) return false;
+  const common::GridGeometry& g = costs.geometry();
+  auto open_beyond = [&](int dx, int dy) {
+    return InOperatingArea(config, g.CellCenter(ix + dx, iy + dy));
+  };
+  return (ix == 0 && open_beyond(-1, 0)) || (ix == g.num_x - 1 && open_beyond(1, 0)) ||
+         (iy == 0 && open_beyond(0, -1)) || (iy == g.num_y - 1 && open_beyond(0, 1));
+}
+
+// The reachable cell on the map's open edge from which the way to goal_W looks cheapest: its cost
+// from the start plus the straight line to the goal over unknown ground. Nothing if no such cell.
 std::optional<Eigen::Vector2i> ExitTowards(const SearchCostMap& costs, const Search& search,
                                            const Eigen::Vector2d& goal_W) {
   const CostMapConfig& config = costs.config();
-  if (config.unknown_policy != UnknownPolicy::kCost) return std::nullopt;
   const common::GridGeometry& g = costs.geometry();
   const double per_metre = 1.0 + config.cost_weight * config.unknown_cost;
-  auto open_beyond = [&](int ix, int iy, int dx, int dy) {
-    return !config.operating_area_W ||
-           config.operating_area_W->contains(g.CellCenter(ix + dx, iy + dy));
-  };
   std::optional<Eigen::Vector2i> exit;
   double best = kInfinity;
   for (int iy = 0; iy < g.num_y; ++iy) {
     for (int ix = 0; ix < g.num_x; ++ix) {
-      if (!std::isfinite(search.g_cost(ix, iy))) continue;
-      const bool open = (ix == 0 && open_beyond(ix, iy, -1, 0)) ||
-                        (ix == g.num_x - 1 && open_beyond(ix, iy, 1, 0)) ||
-                        (iy == 0 && open_beyond(ix, iy, 0, -1)) ||
-                        (iy == g.num_y - 1 && open_beyond(ix, iy, 0, 1));
-      if (!open) continue;
+      if (!std::isfinite(search.g_cost(ix, iy)) || !OnOpenEdge(costs, ix, iy)) continue;
       const double cost =
           search.g_cost(ix, iy) + per_metre * (g.CellCenter(ix, iy) - goal_W).norm();
       if (cost < best) {
@@ -129,6 +136,14 @@ GridPath GridPlanner::Plan(const Eigen::Vector2d& start_W, const Eigen::Vector2d
           best = d;
           goal = Eigen::Vector2i(ix, iy);
         }
+      }
+    }
+    // a goal off the map is reached across the map's edge: where the reachable cell nearest to
+    // it is not on the open edge, the way toward it is walled off within the map (a dead end)
+    if (goal && !g.CellIndex(goal_W) && InOperatingArea(costs_->config(), goal_W) &&
+        !OnOpenEdge(*costs_, goal->x(), goal->y())) {
+      if (const std::optional<Eigen::Vector2i> exit = ExitTowards(*costs_, search, goal_W)) {
+        goal = exit;
       }
     }
     path.status = PlanStatus::kGoalMoved;

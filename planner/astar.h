@@ -35,12 +35,14 @@ struct GridPath {
 /// cells per the policy), so replanning and simplifying on the same map cost no more. Edge cost
 /// L (1 + w c), L the edge length [m] and c the mean cost of its two cells; the heuristic is the
 /// octile distance times (1 + w c_min), admissible because every edge costs at least that per
-/// metre. A blocked goal (or one off the map) is moved to the reachable cell nearest to it. A free
-/// goal walled off within the map is moved to the map's edge, where the way may go on: to the
+/// metre. A blocked goal (or one off the map) is moved to the reachable cell nearest to it. The map
+/// is a window on a larger world, and what lies beyond its edge is unknown: a free goal walled off
+/// within the map, and a goal off the map (in the operating area) whose nearest reachable cell is
+/// not on the map's open edge, are moved to the map's edge, where the way may go on: to the
 /// reachable edge cell with unknown ground in the operating area beyond it (under
 /// UnknownPolicy::kCost) whose cost from the start plus the straight line on to the goal at the
-/// unknown cells' cost is least; the map is a window on a larger world, and what lies beyond it
-/// is unknown. Deterministic (ties broken by cell index). No path is a status, not an error.
+/// unknown cells' cost is least. Deterministic (ties broken by cell index). No path is a status,
+/// not an error.
 class GridPlanner {
  public:
   /// @throws std::out_of_range if the map lacks `config.cost_layer`.

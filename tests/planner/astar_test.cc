@@ -142,6 +142,33 @@ TEST(AStarTest, AGoalWalledOffWithinTheMapIsMovedToTheMapsEdgeWhereTheWayGoesOn)
   EXPECT_EQ(GridPlanner(map, config).Plan(start, goal).status, PlanStatus::kNoPath);
 }
 
+TEST(AStarTest, AGoalOffTheMapBehindAWallIsApproachedAcrossTheMapsEdge) {
+  common::GridLayers map = EmptyMap();
+  AStarConfig config;
+  config.inflation_radius_m = 0.2;
+  const Eigen::Vector2d start(-3, 1), goal(9, 0);
+  // nothing in the way: the reachable cell nearest to the goal, on the edge facing it
+  const GridPath open = GridPlanner(map, config).Plan(start, goal);
+  ASSERT_EQ(open.status, PlanStatus::kGoalMoved);
+  EXPECT_EQ(open.goal_W, Eigen::Vector2d(5.0, 0.0));
+  // a wall across the whole map at x = 2: the nearest reachable cell lies against it, a dead end;
+  // the way goes on across the top edge beside the wall
+  Paint(&map, 1.0f, [](const Eigen::Vector2d& p) { return std::abs(p.x() - 2.0) < 0.15; });
+  const GridPath dut = GridPlanner(map, config).Plan(start, goal);
+  ASSERT_EQ(dut.status, PlanStatus::kGoalMoved);
+  EXPECT_NEAR((dut.goal_W - Eigen::Vector2d(1.6, 5.0)).norm(), 0.0, 1e-9) << dut.goal_W.transpose();
+  // with nothing beyond the map but the goal's side, or the goal off the world, the nearest cell
+  config.operating_area_W.emplace(Eigen::Vector2d(-5, -5), Eigen::Vector2d(12, 5));
+  const GridPath walled = GridPlanner(map, config).Plan(start, goal);
+  ASSERT_EQ(walled.status, PlanStatus::kGoalMoved);
+  EXPECT_NEAR((walled.goal_W - Eigen::Vector2d(1.6, 0.0)).norm(), 0.0, 1e-9)
+      << walled.goal_W.transpose();
+  config.operating_area_W.emplace(Eigen::Vector2d(-5, -8), Eigen::Vector2d(8, 8));
+  EXPECT_NEAR(
+      (GridPlanner(map, config).Plan(start, goal).goal_W - Eigen::Vector2d(1.6, 0.0)).norm(), 0.0,
+      1e-9);
+}
+
 TEST(AStarTest, CostlyTerrainIsAvoidedInProportionToItsWeight) {
   common::GridLayers map = EmptyMap();
   // a rough band across the direct route, passable; a detour around it at y > 3
