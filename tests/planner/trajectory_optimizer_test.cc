@@ -282,10 +282,11 @@ TEST(TrajectoryOptimizerTest, AGoalInsideAWallIsReportedInfeasible) {
   EXPECT_FALSE(out.trajectory.empty());
 }
 
-// A robot at rest to within rounding at its goal (a substitute goal in its own cell; the request
-// of `probes/big_building.yaml` at seed 3, 292 s into the run, which ended the run as an internal
-// error): nothing holds the pieces' durations up, and they shrink to 1e-17 s, below the resolution
-// of the start time. The trajectory keeps the samples whose time advances: a hold at the start.
+// A robot at rest to within rounding at its goal (a substitute goal in its own cell): the request
+// of `probes/big_building.yaml` at seed 3, 292 s into the run, its y moved onto this map, which
+// ended the run as an internal error. Nothing holds the pieces' durations up, and they shrink to
+// 1e-17 s, below the resolution of the start time. The trajectory keeps the samples whose time
+// advances: a hold at the start.
 TEST(TrajectoryOptimizerTest, AStartAtRestAtItsGoalIsAHoldAtTheStart) {
   const CostField field(FlatMap(), CostMapConfig{});
   TrajectoryOptimizer dut(TrajectoryOptimizerConfig{});
