@@ -37,7 +37,8 @@ namespace trav::mapping {
 ///   only weighs the fusion, is taken from the single-precision factor.
 ///
 /// Fitting and prediction reuse the model's storage (the kernel matrix is factorised in place):
-/// once its sizes have been seen they allocate nothing. The L-BFGS steps do.
+/// once its sizes have been seen they allocate nothing. The L-BFGS steps do. The const queries
+/// PredictOnLattice and the variance write that storage too: one thread at a time per model.
 class SparseGp {
  public:
   /// The most input dimensions (x, y, kappa, g).
