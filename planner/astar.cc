@@ -5,6 +5,8 @@
 #include <limits>
 #include <queue>
 
+#include "planner/obstacle_memory.h"
+
 namespace trav::planner {
 namespace {
 
@@ -59,11 +61,6 @@ Search Run(const SearchCostMap& costs, const Eigen::Vector2i& start, const Eigen
   return search;
 }
 
-// True if p_W lies in the operating area (anywhere without one).
-bool InOperatingArea(const CostMapConfig& config, const Eigen::Vector2d& p_W) {
-  return !config.operating_area_W || config.operating_area_W->contains(p_W);
-}
-
 // True if cell (ix, iy) lies on the map's edge with the way open beyond it: unknown ground (under
 // UnknownPolicy::kCost) in the operating area.
 bool OnOpenEdge(const SearchCostMap& costs, int ix, int iy) {
@@ -71,33 +68,72 @@ bool OnOpenEdge(const SearchCostMap& costs, int ix, int iy) {
   if (config.unknown_policy != UnknownPolicy::kCost) return false;
   const common::GridGeometry& g = costs.geometry();
   auto open_beyond = [&](int dx, int dy) {
-    return InOperatingArea(config, g.CellCenter(ix + dx, iy + dy));
+    return config.InOperatingArea(g.CellCenter(ix + dx, iy + dy));
   };
   return (ix == 0 && open_beyond(-1, 0)) || (ix == g.num_x - 1 && open_beyond(1, 0)) ||
          (iy == 0 && open_beyond(0, -1)) || (iy == g.num_y - 1 && open_beyond(0, 1));
 }
 
+// The way on from a point of the map to goal_W [m], as far as the map cannot tell: the straight
+// line, or where that crosses an obstacle the robot remembers (ObstacleMemory), the way round the
+// remembered obstacles; infinity where they wall the point off.
+class WayOn {
+ public:
+  WayOn(const ObstacleMemory* memory, const Eigen::Vector2d& goal_W)
+      : memory_(memory), goal_W_(goal_W) {}
+
+  // True if the straight line from p_W crosses a remembered obstacle.
+  bool Obstructed(const Eigen::Vector2d& p_W) const {
+    return memory_ != nullptr && memory_->Obstructed(p_W, goal_W_);
+  }
+
+  double Length(const Eigen::Vector2d& p_W) {
+    if (!Obstructed(p_W)) return (p_W - goal_W_).norm();
+    if (!round_m_) round_m_ = memory_->DistancesFrom(goal_W_);
+    const std::optional<Eigen::Vector2i> cell = memory_->geometry().CellIndex(p_W);
+    return cell ? (*round_m_)(cell->x(), cell->y()) : kInfinity;
+  }
+
+ private:
+  const ObstacleMemory* memory_;
+  Eigen::Vector2d goal_W_;
+  std::optional<Eigen::MatrixXd> round_m_;  // the memory's distances from the goal, once needed
+};
+
 // The reachable cell on the map's open edge from which the way to goal_W looks cheapest: its cost
-// from the start plus the straight line to the goal over unknown ground. Nothing if no such cell.
+// from the start plus the way on (WayOn) over unknown ground. Where the remembered obstacles wall
+// every such cell off, the memory may be wrong (it keeps no gap narrower than a cell): the
+// straight line instead. Ties go to the lower linear index. Nothing if no such cell.
 std::optional<Eigen::Vector2i> ExitTowards(const SearchCostMap& costs, const Search& search,
-                                           const Eigen::Vector2d& goal_W) {
+                                           WayOn* way_on, const Eigen::Vector2d& goal_W) {
   const CostMapConfig& config = costs.config();
   const common::GridGeometry& g = costs.geometry();
   const double per_metre = 1.0 + config.cost_weight * config.unknown_cost;
-  std::optional<Eigen::Vector2i> exit;
-  double best = kInfinity;
-  for (int iy = 0; iy < g.num_y; ++iy) {
-    for (int ix = 0; ix < g.num_x; ++ix) {
-      if (!std::isfinite(search.g_cost(ix, iy)) || !OnOpenEdge(costs, ix, iy)) continue;
-      const double cost =
-          search.g_cost(ix, iy) + per_metre * (g.CellCenter(ix, iy) - goal_W).norm();
-      if (cost < best) {
-        best = cost;
-        exit = Eigen::Vector2i(ix, iy);
-      }
-    }
+  struct Best {
+    double cost{kInfinity};
+    int index{-1};
+  } round, straight;  // by the way on, by the straight line
+  auto consider = [&](int ix, int iy) {
+    if (!std::isfinite(search.g_cost(ix, iy)) || !OnOpenEdge(costs, ix, iy)) return;
+    const int index = ix + iy * g.num_x;
+    auto take = [&](Best* best, double cost) {
+      if (cost < best->cost || (cost == best->cost && index < best->index)) *best = {cost, index};
+    };
+    const Eigen::Vector2d p_W = g.CellCenter(ix, iy);
+    take(&round, search.g_cost(ix, iy) + per_metre * way_on->Length(p_W));
+    take(&straight, search.g_cost(ix, iy) + per_metre * (p_W - goal_W).norm());
+  };
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    consider(ix, 0);
+    if (g.num_y > 1) consider(ix, g.num_y - 1);
   }
-  return exit;
+  for (int iy = 1; iy + 1 < g.num_y; ++iy) {
+    consider(0, iy);
+    if (g.num_x > 1) consider(g.num_x - 1, iy);
+  }
+  const int index = std::isfinite(round.cost) ? round.index : straight.index;
+  if (index < 0) return std::nullopt;
+  return Eigen::Vector2i(index % g.num_x, index / g.num_x);
 }
 
 }  // namespace
@@ -121,7 +157,8 @@ GridPath GridPlanner::Plan(const Eigen::Vector2d& start_W, const Eigen::Vector2d
     if (!std::isfinite(search.g_cost(goal->x(), goal->y()))) {
       // walled off within the map (A* has costed every reachable cell on the way): the way may
       // lie beyond the map's edge
-      goal = ExitTowards(*costs_, search, goal_W);
+      WayOn way_on(costs_->memory(), goal_W);
+      goal = ExitTowards(*costs_, search, &way_on, goal_W);
       path.status = PlanStatus::kGoalMoved;
     }
   } else {
@@ -139,10 +176,15 @@ GridPath GridPlanner::Plan(const Eigen::Vector2d& start_W, const Eigen::Vector2d
       }
     }
     // a goal off the map is reached across the map's edge: where the reachable cell nearest to
-    // it is not on the open edge, the way toward it is walled off within the map (a dead end)
-    if (goal && !g.CellIndex(goal_W) && InOperatingArea(costs_->config(), goal_W) &&
-        !OnOpenEdge(*costs_, goal->x(), goal->y())) {
-      if (const std::optional<Eigen::Vector2i> exit = ExitTowards(*costs_, search, goal_W)) {
+    // it is not on the open edge, the way toward it is walled off within the map (a dead end);
+    // where the straight line on from it crosses an obstacle the robot remembers, the way on may
+    // be shorter from elsewhere (a dead end that has left the map)
+    WayOn way_on(costs_->memory(), goal_W);
+    if (goal && !g.CellIndex(goal_W) && costs_->config().InOperatingArea(goal_W) &&
+        (!OnOpenEdge(*costs_, goal->x(), goal->y()) ||
+         way_on.Obstructed(g.CellCenter(goal->x(), goal->y())))) {
+      if (const std::optional<Eigen::Vector2i> exit =
+              ExitTowards(*costs_, search, &way_on, goal_W)) {
         goal = exit;
       }
     }

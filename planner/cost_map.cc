@@ -91,11 +91,13 @@ SearchCostMap::SearchCostMap(const common::GridGeometry& geometry, const Eigen::
                                   : Eigen::MatrixXd()) {}
 
 SearchCostMap::SearchCostMap(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
-                             const CostMapConfig& config, const Eigen::MatrixXd& known_obstacle_m)
+                             const CostMapConfig& config, const Eigen::MatrixXd& known_obstacle_m,
+                             std::shared_ptr<const ObstacleMemory> memory)
     : geometry_(geometry),
       config_(config),
       costs_(SearchCosts(geometry, layer, config, known_obstacle_m)),
-      min_cost_(MinFiniteCost(costs_)) {}
+      min_cost_(MinFiniteCost(costs_)),
+      memory_(std::move(memory)) {}
 
 double SearchCostMap::CostAt(const Eigen::Vector2d& p_W) const {
   const std::optional<Eigen::Vector2i> cell = geometry_.CellIndex(p_W);
@@ -135,15 +137,19 @@ Eigen::Vector2d SlopeLimits::Tangents() const {
   return {std::tan(max_pitch_deg * kDegToRad), std::tan(max_roll_deg * kDegToRad)};
 }
 
-CostMap::CostMap(const common::GridLayers& map, const CostMapConfig& config)
-    : geometry_(map.geometry()), config_(config), layer_(map.Layer(config.cost_layer)) {
+CostMap::CostMap(const common::GridLayers& map, const CostMapConfig& config,
+                 std::shared_ptr<const ObstacleMemory> memory)
+    : geometry_(map.geometry()),
+      config_(config),
+      layer_(map.Layer(config.cost_layer)),
+      memory_(std::move(memory)) {
   if (map.Has(config.speed.roughness_layer)) roughness_ = map.Layer(config.speed.roughness_layer);
   if (map.Has(config.slope.elevation_layer)) elevation_ = map.Layer(config.slope.elevation_layer);
   extents_ = CellExtents::Of(map, config);
   if (!config.operating_area_W) return;
   for (int ix = 0; ix < geometry_.num_x; ++ix) {
     for (int iy = 0; iy < geometry_.num_y; ++iy) {
-      if (config.operating_area_W->contains(geometry_.CellCenter(ix, iy))) continue;
+      if (config.InOperatingArea(geometry_.CellCenter(ix, iy))) continue;
       layer_(ix, iy) = 1.0f;
       if (!extents_.empty()) extents_.x_low(ix, iy) = std::numeric_limits<float>::quiet_NaN();
     }
@@ -169,7 +175,8 @@ const Eigen::MatrixXd& CostMap::known_obstacle_m() const {
 
 const SearchCostMap& CostMap::search() const {
   if (!search_) {
-    search_ = std::make_unique<SearchCostMap>(geometry_, layer_, config_, known_obstacle_m());
+    search_ =
+        std::make_unique<SearchCostMap>(geometry_, layer_, config_, known_obstacle_m(), memory_);
   }
   return *search_;
 }
@@ -178,7 +185,8 @@ const SearchCostMap& CostMap::wide_search() const {
   if (!wide_search_) {
     CostMapConfig wide = config_;
     wide.inflation_radius_m = std::max(config_.inflation_radius_m, config_.band_radius_m);
-    wide_search_ = std::make_unique<SearchCostMap>(geometry_, layer_, wide, known_obstacle_m());
+    wide_search_ =
+        std::make_unique<SearchCostMap>(geometry_, layer_, wide, known_obstacle_m(), memory_);
   }
   return *wide_search_;
 }

@@ -114,6 +114,11 @@ struct CostMapConfig {
   std::array<std::string, 4> extent_layers{
       {"face_x_low", "face_x_high", "face_y_low", "face_y_high"}};
 
+  /// True if p_W lies in the operating area (anywhere without one).
+  bool InOperatingArea(const Eigen::Vector2d& p_W) const {
+    return !operating_area_W || operating_area_W->contains(p_W);
+  }
+
   /// The keys of scenario section `planner.search` that configure the costs (common/archive.h).
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -143,6 +148,8 @@ struct CellExtents {
 /// is at or above `lethal_threshold`, or unknown (NaN) under UnknownPolicy::kBlocked.
 bool IsLethal(float cost, const CostMapConfig& config);
 
+class ObstacleMemory;
+
 /// The per-cell cost c that every planner of this module pays, built once from a map: cells at or
 /// above the lethal threshold are blocked (infinite cost) and so are the cells within the inflation
 /// radius of them, cells within the band radius pay the band cost more (linearly less with the
@@ -160,9 +167,11 @@ class SearchCostMap {
                 const CostMapConfig& config, const CellExtents& extents = {});
 
   /// The same from the distances the inflation and the band are measured on, already computed:
-  /// `known_obstacle_m` is LethalDistance(geometry, layer, config, extents, /*known_only=*/true).
+  /// `known_obstacle_m` is LethalDistance(geometry, layer, config, extents, /*known_only=*/true);
+  /// with what the robot remembers of the world beyond the map, if anything (memory()).
   SearchCostMap(const common::GridGeometry& geometry, const Eigen::MatrixXf& layer,
-                const CostMapConfig& config, const Eigen::MatrixXd& known_obstacle_m);
+                const CostMapConfig& config, const Eigen::MatrixXd& known_obstacle_m,
+                std::shared_ptr<const ObstacleMemory> memory = nullptr);
 
   const common::GridGeometry& geometry() const { return geometry_; }
   const CostMapConfig& config() const { return config_; }
@@ -182,6 +191,10 @@ class SearchCostMap {
   /// 1 + w min_cost(), which makes L (1 + w min_cost()) an admissible heuristic.
   double min_cost() const { return min_cost_; }
 
+  /// What the robot remembers of the obstacles beyond the map (and on it), for the ways out of the
+  /// map (GridPlanner); null if nothing.
+  const ObstacleMemory* memory() const { return memory_.get(); }
+
   /// Cost of the straight segment a_W-b_W: L (1 + w c_mean), L = |b_W - a_W| [m] and c_mean the
   /// mean of CostAt at n + 1 evenly spaced samples including both ends, n = ceil(L / (resolution /
   /// 2)) (at most half a cell apart); infinity if any sample is blocked or outside the grid (or an
@@ -195,6 +208,7 @@ class SearchCostMap {
   CostMapConfig config_;
   Eigen::MatrixXd costs_;  // per cell; infinity = blocked
   double min_cost_{0.0};
+  std::shared_ptr<const ObstacleMemory> memory_;
 };
 
 class CostField;
@@ -207,9 +221,11 @@ class CostField;
 /// their lethal cells agree. Not thread-safe (the lazy parts).
 class CostMap {
  public:
-  /// The cells outside `config.operating_area_W` read as lethal (cost 1) for every part.
+  /// The cells outside `config.operating_area_W` read as lethal (cost 1) for every part. The
+  /// searches carry `memory`, what the robot remembers beyond the map (SearchCostMap::memory).
   /// @throws std::out_of_range if the map lacks `config.cost_layer`.
-  CostMap(const common::GridLayers& map, const CostMapConfig& config);
+  CostMap(const common::GridLayers& map, const CostMapConfig& config,
+          std::shared_ptr<const ObstacleMemory> memory = nullptr);
   ~CostMap();
   CostMap(CostMap&&) noexcept;
   CostMap& operator=(CostMap&&) noexcept;
@@ -237,6 +253,7 @@ class CostMap {
   Eigen::MatrixXf roughness_;  // empty when the map has no `config.speed.roughness_layer`
   Eigen::MatrixXf elevation_;  // empty when the map has no `config.slope.elevation_layer`
   CellExtents extents_;        // empty when the map has no `config.extent_layers`
+  std::shared_ptr<const ObstacleMemory> memory_;  // for the searches
   // LethalDistance of the known lethal cells, shared by the searches and (where no unknown cell is
   // lethal) the field
   const Eigen::MatrixXd& known_obstacle_m() const;

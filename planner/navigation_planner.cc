@@ -143,7 +143,20 @@ NavigationPlan NavigationPlanner::Plan(const common::GridLayers& map,
                                        const Eigen::Vector2d& goal_W,
                                        const std::vector<MovingObstacle>& obstacles,
                                        const common::Trajectory* followed) {
-  return Plan(CostMap(map, config_.SearchConfig()), start, goal_W, obstacles, followed);
+  return Plan(CostMap(map, config_.SearchConfig(), Remember(map)), start, goal_W, obstacles,
+              followed);
+}
+
+std::shared_ptr<const ObstacleMemory> NavigationPlanner::Remember(const common::GridLayers& map) {
+  const CostMapConfig search = config_.SearchConfig();
+  const Eigen::MatrixXf& layer = map.Layer(search.cost_layer);
+  if (!search.operating_area_W) return nullptr;
+  auto memory = memory_ && memory_->SharesLattice(map.geometry())
+                    ? std::make_shared<ObstacleMemory>(*memory_)
+                    : std::make_shared<ObstacleMemory>(*search.operating_area_W, map.geometry());
+  memory->Record(map.geometry(), layer, search);
+  memory_ = std::move(memory);
+  return memory_;
 }
 
 NavigationPlan NavigationPlanner::Plan(const CostMap& costs, const common::TrajectoryPoint& start,

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "common/trajectory.h"
 #include "planner/astar.h"
 #include "planner/manoeuvres.h"
+#include "planner/obstacle_memory.h"
 #include "planner/trajectory_optimizer.h"
 
 namespace trav::planner {
@@ -161,16 +163,23 @@ class NavigationPlanner {
                       const Eigen::Vector2d& goal_W, const std::vector<MovingObstacle>& obstacles,
                       const common::Trajectory* followed = nullptr);
 
-  /// Plans on a map's costs built before (with this planner's `config().SearchConfig()`), so that
-  /// plans on one map share them.
+  /// Plans on a map's costs built before (with this planner's `config().SearchConfig()` and the
+  /// memory Remember returned for that map), so that plans on one map share them.
   NavigationPlan Plan(const CostMap& costs, const common::TrajectoryPoint& start,
                       const Eigen::Vector2d& goal_W, const std::vector<MovingObstacle>& obstacles,
                       const common::Trajectory* followed = nullptr);
 
-  /// Forgets the previous trajectory and substitute goal.
+  /// Adds what `map` shows to the planner's memory of obstacles (ObstacleMemory, on the search
+  /// config's operating area) and returns the memory for the map's costs (CostMap); null without
+  /// an operating area (the memory needs a bounded world). A map on another lattice than the
+  /// memory's starts it afresh. @throws std::out_of_range if the map lacks the cost layer.
+  std::shared_ptr<const ObstacleMemory> Remember(const common::GridLayers& map);
+
+  /// Forgets the previous trajectory, substitute goal and remembered obstacles.
   void Reset() {
     optimizer_.Reset();
     substitute_goal_W_.reset();
+    memory_.reset();
   }
 
   const NavigationPlannerConfig& config() const { return config_; }
@@ -186,6 +195,7 @@ class NavigationPlanner {
   PathSearch search_;
   TrajectoryOptimizer optimizer_;
   std::optional<Eigen::Vector2d> substitute_goal_W_;
+  std::shared_ptr<const ObstacleMemory> memory_;  // copied on each Remember: CostMaps share it
 };
 
 }  // namespace trav::planner

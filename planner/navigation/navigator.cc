@@ -411,7 +411,7 @@ std::vector<Eigen::Vector2d> Navigator::BodyPointsOn(const CostMap& costs) const
 }
 
 const CostMap& Navigator::CostMapOf(const common::GridLayers& map) {
-  if (!cost_map_) cost_map_.emplace(map, planner_.config().SearchConfig());
+  if (!cost_map_) cost_map_.emplace(map, planner_.config().SearchConfig(), planner_.Remember(map));
   return *cost_map_;
 }
 

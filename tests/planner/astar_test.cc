@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include <gtest/gtest.h>
 
 #include "common/random.h"
+#include "planner/obstacle_memory.h"
 #include "tests/planner/planner_test_util.h"
 
 namespace trav::planner {
@@ -167,6 +169,45 @@ TEST(AStarTest, AGoalOffTheMapBehindAWallIsApproachedAcrossTheMapsEdge) {
   EXPECT_NEAR(
       (GridPlanner(map, config).Plan(start, goal).goal_W - Eigen::Vector2d(1.6, 0.0)).norm(), 0.0,
       1e-9);
+}
+
+// The map forgets what leaves it; the robot's memory (ObstacleMemory) does not.
+TEST(AStarTest, AGoalBeyondARememberedDeadEndIsApproachedRoundIt) {
+  AStarConfig config;
+  config.inflation_radius_m = 0.2;
+  config.operating_area_W.emplace(Eigen::Vector2d(-5, -8), Eigen::Vector2d(20, 8));
+  const common::GridLayers map = EmptyMap();  // x and y in [-5, 5]
+  const Eigen::Vector2d start(-3, 0), goal(14, 0);
+  auto memory = std::make_shared<ObstacleMemory>(*config.operating_area_W, map.geometry());
+  // a map seen before, 5 m on: a dead end 4.5 m deep and 3 m wide, open toward the map
+  common::GridLayers seen(
+      common::GridGeometry::Centered(Eigen::Vector2d(10, 0), Eigen::Vector2d(10, 10), 0.1),
+      {"traversability"});
+  seen.Layer("traversability").setZero();
+  Paint(&seen, 1.0f, [](const Eigen::Vector2d& p) {
+    const bool sides = p.x() > 5.5 && std::abs(std::abs(p.y()) - 1.5) < 0.11;
+    const bool end = std::abs(p.x() - 10.0) < 0.11 && std::abs(p.y()) < 1.6;
+    return sides || end;
+  });
+  memory->Record(seen.geometry(), seen.Layer("traversability"), config);
+  auto plan = [&](std::shared_ptr<const ObstacleMemory> remembered) {
+    const CostMap costs(map, config, std::move(remembered));
+    return GridPlanner(costs.search()).Plan(start, goal);
+  };
+  // without the memory: the reachable cell nearest to the goal, into the dead end
+  const GridPath forgetting = plan(nullptr);
+  ASSERT_EQ(forgetting.status, PlanStatus::kGoalMoved);
+  EXPECT_EQ(forgetting.goal_W, Eigen::Vector2d(5.0, 0.0));
+  // with it: the same edge, beside the dead end's mouth, where the way on goes round it
+  const GridPath remembering = plan(memory);
+  ASSERT_EQ(remembering.status, PlanStatus::kGoalMoved);
+  EXPECT_NEAR(remembering.goal_W.x(), 5.0, 1e-9);
+  EXPECT_GT(std::abs(remembering.goal_W.y()), 1.6) << remembering.goal_W.transpose();
+  EXPECT_LT(std::abs(remembering.goal_W.y()), 3.0) << remembering.goal_W.transpose();
+  // seen open again, the dead end is forgotten
+  seen.Layer("traversability").setZero();
+  memory->Record(seen.geometry(), seen.Layer("traversability"), config);
+  EXPECT_EQ(plan(memory).goal_W, Eigen::Vector2d(5.0, 0.0));
 }
 
 TEST(AStarTest, CostlyTerrainIsAvoidedInProportionToItsWeight) {

@@ -83,14 +83,47 @@ TEST(NavigationPlannerTest, ABlockedGoalIsMovedAndAnUnreachableOneHasNoPath) {
   EXPECT_EQ(none.status, NavigationStatus::kNoPath);
   EXPECT_FALSE(none.has_trajectory());
   EXPECT_EQ(common::NameOf(none.status), "no-path");
-  // where the world goes on beyond the map, the way may too: to the map's edge
-  NavigationPlanner in_a_larger_world(NavigationPlannerConfig{});
-  const NavigationPlan beyond = in_a_larger_world.Plan(map, Start(), {9.0, 0.0}, {});
-  EXPECT_EQ(beyond.status, NavigationStatus::kPlannedToNearest);
-  EXPECT_TRUE(beyond.has_trajectory());
-  const Eigen::Vector2d end = beyond.waypoints_W.back();
-  EXPECT_LT(end.x(), 4.0);
-  EXPECT_NEAR(std::abs(end.y()), 6.0, 1e-9) << end.transpose();
+  // where the world goes on beyond the map, the way may too: to the map's edge nearer to the
+  // start, the top one for a start 1 m above the middle and the bottom one for 1 m below
+  for (const double start_y : {1.0, -1.0}) {
+    common::TrajectoryPoint start = Start();
+    start.position_W.y() = start_y;
+    NavigationPlanner in_a_larger_world(NavigationPlannerConfig{});
+    const NavigationPlan beyond = in_a_larger_world.Plan(map, start, {9.0, 0.0}, {});
+    EXPECT_EQ(beyond.status, NavigationStatus::kPlannedToNearest);
+    EXPECT_TRUE(beyond.has_trajectory());
+    const Eigen::Vector2d end = beyond.waypoints_W.back();
+    EXPECT_LT(end.x(), 4.0);
+    EXPECT_NEAR(end.y(), 6.0 * start_y, 1e-9) << end.transpose();
+  }
+}
+
+TEST(NavigationPlannerTest, RemembersTheObstaclesOfTheMapsItWasGivenWithinTheOperatingArea) {
+  const common::GridLayers map = WallMap();
+  // without an operating area, nothing
+  NavigationPlanner unbounded{NavigationPlannerConfig{}};
+  EXPECT_EQ(unbounded.Remember(map), nullptr);
+  NavigationPlannerConfig config;
+  config.search.operating_area_W.emplace(Eigen::Vector2d(-20, -20), Eigen::Vector2d(40, 20));
+  NavigationPlanner dut(config);
+  const std::shared_ptr<const ObstacleMemory> first = dut.Remember(map);
+  ASSERT_NE(first, nullptr);
+  EXPECT_TRUE(first->Blocked({4.3, 0.0}));
+  EXPECT_FALSE(first->Blocked({4.3, 3.0}));
+  EXPECT_FALSE(first->Blocked({-10.0, 0.0}));
+  // the map rolled 20 m on: the wall has left it, the memory keeps it; what the new map shows is
+  // added to a new memory, and the one given before stays as it was
+  common::GridLayers rolled = map;
+  rolled.Recenter(Eigen::Vector2d(24, 0));
+  test_util::Paint(&rolled, 1.0f,
+                   [](const Eigen::Vector2d& p) { return std::abs(p.x() - 25.0) < 0.1; });
+  const std::shared_ptr<const ObstacleMemory> second = dut.Remember(rolled);
+  EXPECT_TRUE(second->Blocked({4.3, 0.0}));
+  EXPECT_TRUE(second->Blocked({25.0, 3.0}));
+  EXPECT_FALSE(first->Blocked({25.0, 3.0}));
+  // Reset forgets
+  dut.Reset();
+  EXPECT_FALSE(dut.Remember(rolled)->Blocked({4.3, 0.0}));
 }
 
 // The smallest gap between the footprint and lethal cells along a trajectory, and at its start [m].
