@@ -3,7 +3,8 @@
 // 1.5 m, 1.0 m gaps, rooms with 1.2 m doors, pedestrians crossing the route (perceived from the
 // scans), a 0.12 m curb and 0.09 m stairs to climb, a 0.25 m platform to drive round, two low walls
 // seen from close by (ruins at one seed each: their files only, not over seeds), a 25 deg ramp to
-// climb, a 1 m ledge to drive round (seen by a sensor pitched down); and a sample of BARN
+// climb, a 1 m ledge to drive round (seen by a sensor pitched down), a goal room whose door lies
+// beyond the map, a cul-de-sac the map forgets once left; and a sample of BARN
 // (scenarios/barn/, docs/barn.md). With the seeds, also the worlds of scenarios/probes/ over seeds
 // 1 to 3. Each reaches its goal; a generated world may instead end as a planning failure where it
 // has no route for the robot (A* on the ground truth, summary's optimal_path_length_m 0; the
@@ -85,7 +86,7 @@ INSTANTIATE_TEST_SUITE_P(
                                      "hard/crossing_pedestrians.yaml", "hard/curb.yaml",
                                      "hard/stairs.yaml", "hard/platform.yaml", "hard/ramp.yaml",
                                      "hard/ledge.yaml", "hard/door_jamb.yaml",
-                                     "hard/walled_goal.yaml"),
+                                     "hard/walled_goal.yaml", "hard/cul_de_sac.yaml"),
                      testing::Range(1, 6)),
     TestName);
 // worlds a user would write, none tuned for (scenarios/probes/, docs/navigation.md)
@@ -127,7 +128,8 @@ INSTANTIATE_TEST_SUITE_P(
                                      "hard/low_wall_hidden.yaml", "hard/ramp.yaml",
                                      "hard/ledge.yaml", "hard/slope_down.yaml",
                                      "hard/door_jamb.yaml", "hard/walled_goal.yaml",
-                                     "barn/world_000.yaml", "barn/world_150.yaml"),
+                                     "hard/cul_de_sac.yaml", "barn/world_000.yaml",
+                                     "barn/world_150.yaml"),
                      testing::Values(0)),
     TestName);
 #endif
