@@ -4,7 +4,9 @@
 // with their cost against A*'s. The planning stack on a 20 m route among 10 obstacles (A*,
 // simplification and trajectory optimisation; budget 50 ms), and its replanning 0.2 s later,
 // warm-started from the first plan against cold. The pose search of the fallbacks through a door
-// that opens on a wall, and exhausting its expansions where there is no way.
+// that opens on a wall, and exhausting its expansions where there is no way. The memory of
+// obstacles beyond the rolling map: a 30 m map at 0.2 m recorded into it, and the ways round the
+// remembered obstacles from a goal over a 60 x 60 m world.
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -19,6 +21,7 @@
 #include "planner/cost_field.h"
 #include "planner/cost_map.h"
 #include "planner/navigation_planner.h"
+#include "planner/obstacle_memory.h"
 #include "planner/ompl/ompl_planner.h"
 #include "planner/pose_search.h"
 
@@ -317,5 +320,45 @@ BENCHMARK_CAPTURE(BM_CostFieldDistance, build_boxes, true, false)->Unit(benchmar
 BENCHMARK_CAPTURE(BM_CostFieldDistance, query_whole_cells, false, true)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_CostFieldDistance, query_boxes, true, true)->Unit(benchmark::kMillisecond);
+
+// A 60 x 60 m world's memory at 0.2 m (301 x 301 cells) holding the obstacles of the 50 m map.
+trav::planner::ObstacleMemory WorldMemory() {
+  const trav::common::GridLayers map = CostMap(0.2);
+  trav::planner::ObstacleMemory memory(
+      Eigen::AlignedBox2d(Eigen::Vector2d(-30, -30), Eigen::Vector2d(30, 30)), map.geometry());
+  memory.Record(map.geometry(), map.Layer("traversability"), trav::planner::CostMapConfig{});
+  return memory;
+}
+
+// Recording the default 30 m map (151 x 151 cells) into it: once per map update in the loop.
+void BM_ObstacleMemoryRecord(benchmark::State& state) {
+  trav::planner::ObstacleMemory memory = WorldMemory();
+  const trav::common::GridLayers world = CostMap(0.2);
+  trav::common::GridLayers map(
+      trav::common::GridGeometry::Centered(Eigen::Vector2d(5, 5), Eigen::Vector2d(30, 30), 0.2),
+      {"traversability"});
+  const trav::common::GridGeometry& g = map.geometry();
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      const std::optional<Eigen::Vector2i> cell = world.geometry().CellIndex(g.CellCenter(ix, iy));
+      map.Layer("traversability")(ix, iy) = world.Layer("traversability")(cell->x(), cell->y());
+    }
+  }
+  const trav::planner::CostMapConfig config;
+  for (auto _ : state) {
+    trav::planner::ObstacleMemory copy = memory;  // as NavigationPlanner::Remember does
+    copy.Record(g, map.Layer("traversability"), config);
+    benchmark::DoNotOptimize(copy);
+  }
+}
+BENCHMARK(BM_ObstacleMemoryRecord)->Unit(benchmark::kMicrosecond);
+
+// The ways round the remembered obstacles from a goal in a corner: A*'s work where the straight
+// line on from the map's edge crosses a remembered obstacle.
+void BM_ObstacleMemoryDistances(benchmark::State& state) {
+  const trav::planner::ObstacleMemory memory = WorldMemory();
+  for (auto _ : state) benchmark::DoNotOptimize(memory.DistancesFrom(kGoal));
+}
+BENCHMARK(BM_ObstacleMemoryDistances)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();
