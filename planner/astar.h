@@ -38,11 +38,13 @@ struct GridPath {
 /// metre. A blocked goal (or one off the map) is moved to the reachable cell nearest to it. The map
 /// is a window on a larger world, and what lies beyond its edge is unknown: a free goal walled off
 /// within the map, and a goal off the map (in the operating area) whose nearest reachable cell is
-/// not on the map's open edge, are moved to the map's edge, where the way may go on: to the
-/// reachable edge cell with unknown ground in the operating area beyond it (under
-/// UnknownPolicy::kCost) whose cost from the start plus the straight line on to the goal at the
-/// unknown cells' cost is least. Deterministic (ties broken by cell index). No path is a status,
-/// not an error.
+/// not on the map's open edge or whose straight line on from that cell crosses an obstacle the
+/// robot remembers (SearchCostMap::memory), are moved to the map's edge, where the way may go on:
+/// to the reachable edge cell with unknown ground in the operating area beyond it (under
+/// UnknownPolicy::kCost) whose cost from the start plus the way on to the goal at the unknown
+/// cells' cost is least; the way on is the straight line, or where that crosses a remembered
+/// obstacle the way round the remembered obstacles (ObstacleMemory::DistancesFrom).
+/// Deterministic (ties broken by cell index). No path is a status, not an error.
 class GridPlanner {
  public:
   /// @throws std::out_of_range if the map lacks `config.cost_layer`.

@@ -51,7 +51,7 @@ void ObstacleMemory::Record(const common::GridGeometry& map, const Eigen::Matrix
     for (int ix = x_begin; ix < x_end; ++ix) {
       const float cost = layer(ix, iy);
       if (std::isnan(cost)) continue;
-      blocked_(ix + shift.x(), iy + shift.y()) = cost >= config.lethal_threshold ? 1 : 0;
+      blocked_(ix + shift.x(), iy + shift.y()) = IsLethal(cost, config) ? 1 : 0;
     }
   }
 }
