@@ -43,7 +43,9 @@ struct GridPath {
 /// to the reachable edge cell with unknown ground in the operating area beyond it (under
 /// UnknownPolicy::kCost) whose cost from the start plus the way on to the goal at the unknown
 /// cells' cost is least; the way on is the straight line, or where that crosses a remembered
-/// obstacle the way round the remembered obstacles (ObstacleMemory::DistancesFrom).
+/// obstacle the way round the remembered obstacles (ObstacleMemory::DistancesFrom, a path on the
+/// grid: up to 8 % longer than a straight line, which favours the unobstructed cells a little);
+/// where the remembered obstacles wall every edge cell off, the straight line ranks them all.
 /// Deterministic (ties broken by cell index). No path is a status, not an error.
 class GridPlanner {
  public:

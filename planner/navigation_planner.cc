@@ -151,11 +151,13 @@ std::shared_ptr<const ObstacleMemory> NavigationPlanner::Remember(const common::
   const CostMapConfig search = config_.SearchConfig();
   const Eigen::MatrixXf& layer = map.Layer(search.cost_layer);
   if (!search.operating_area_W) return nullptr;
-  auto memory = memory_ && memory_->SharesLattice(map.geometry())
-                    ? std::make_shared<ObstacleMemory>(*memory_)
-                    : std::make_shared<ObstacleMemory>(*search.operating_area_W, map.geometry());
-  memory->Record(map.geometry(), layer, search);
-  memory_ = std::move(memory);
+  if (!memory_ || !memory_->SharesLattice(map.geometry())) {
+    memory_ = std::make_shared<ObstacleMemory>(*search.operating_area_W, map.geometry());
+  } else if (memory_.use_count() > 1) {
+    // a CostMap still holds the memory given before: it keeps that one, this is a copy
+    memory_ = std::make_shared<ObstacleMemory>(*memory_);
+  }
+  memory_->Record(map.geometry(), layer, search);
   return memory_;
 }
 

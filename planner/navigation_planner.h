@@ -172,7 +172,9 @@ class NavigationPlanner {
   /// Adds what `map` shows to the planner's memory of obstacles (ObstacleMemory, on the search
   /// config's operating area) and returns the memory for the map's costs (CostMap); null without
   /// an operating area (the memory needs a bounded world). A map on another lattice than the
-  /// memory's starts it afresh. @throws std::out_of_range if the map lacks the cost layer.
+  /// memory's starts it afresh. A memory returned before is never changed: while something still
+  /// holds it (a CostMap), the new one is a copy (one byte per cell of the operating area).
+  /// @throws std::out_of_range if the map lacks the cost layer.
   std::shared_ptr<const ObstacleMemory> Remember(const common::GridLayers& map);
 
   /// Forgets the previous trajectory, substitute goal and remembered obstacles.
@@ -195,7 +197,7 @@ class NavigationPlanner {
   PathSearch search_;
   TrajectoryOptimizer optimizer_;
   std::optional<Eigen::Vector2d> substitute_goal_W_;
-  std::shared_ptr<const ObstacleMemory> memory_;  // copied on each Remember: CostMaps share it
+  std::shared_ptr<ObstacleMemory> memory_;  // copied on write while a CostMap shares it
 };
 
 }  // namespace trav::planner

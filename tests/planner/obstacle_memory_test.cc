@@ -65,13 +65,26 @@ TEST(ObstacleMemoryTest, RemembersLethalCellsUntilTheyAreSeenFree) {
   EXPECT_FALSE(dut.Blocked({0.0, 0.5}));
   // a map that has rolled on, half off the memory's grid: its cells on the grid are taken, the
   // cells it no longer shows kept
+  Set(&map, {1.0, -1.0}, 1.0f);
+  Record(&dut, map);
+  EXPECT_TRUE(dut.Blocked({1.0, -1.0}));
   common::GridLayers rolled = SmallMap(Eigen::Vector2d(2.0, -1.0));
   Set(&rolled, {2.0, -1.5}, 1.0f);
   Set(&rolled, {2.5, -1.5}, 1.0f);  // off the grid
+  Set(&rolled, {3.0, -1.0}, 1.0f);  // off the grid
   Record(&dut, rolled);
   EXPECT_TRUE(dut.Blocked({2.0, -1.5}));
   EXPECT_TRUE(dut.Blocked({0.5, 0.0}));
-  EXPECT_FALSE(dut.Blocked({1.5, -1.5}));
+  EXPECT_FALSE(dut.Blocked({1.0, -1.0}));  // seen free again
+  // nothing written off the grid wrapped round onto it
+  for (int ix = 0; ix < dut.geometry().num_x; ++ix) {
+    for (int iy = 0; iy < dut.geometry().num_y; ++iy) {
+      const Eigen::Vector2d p_W = dut.geometry().CellCenter(ix, iy);
+      const bool blocked = (p_W - Eigen::Vector2d(2.0, -1.5)).norm() < 1e-9 ||
+                           (p_W - Eigen::Vector2d(0.5, 0.0)).norm() < 1e-9;
+      EXPECT_EQ(dut.Blocked(p_W), blocked) << p_W.transpose();
+    }
+  }
 }
 
 TEST(ObstacleMemoryTest, ASegmentIsObstructedWhereItCrossesABlockedCell) {
