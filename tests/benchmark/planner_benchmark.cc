@@ -346,7 +346,8 @@ void BM_ObstacleMemoryRecord(benchmark::State& state) {
   }
   const trav::planner::CostMapConfig config;
   for (auto _ : state) {
-    trav::planner::ObstacleMemory copy = memory;  // as NavigationPlanner::Remember does
+    // copied first, as NavigationPlanner::Remember does while a CostMap holds the memory
+    trav::planner::ObstacleMemory copy = memory;
     copy.Record(g, map.Layer("traversability"), config);
     benchmark::DoNotOptimize(copy);
   }
