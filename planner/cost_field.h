@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include <Eigen/Core>
@@ -80,6 +81,22 @@ class CostField {
   /// The slope limits of `config.slope`: the tangents of the largest pitch and roll.
   const Eigen::Vector2d& max_pitch_roll_tangents() const { return max_pitch_roll_tangents_; }
 
+  /// The weight w in [0, 1] of the steps within `config.steps.reach_m` of p_W
+  /// (StepCrossing::Weight, times the coherence of their direction): 0 away from steps, where the
+  /// map has no roughness layer or the term is off (StepCrossing::Active). Each cell holds the
+  /// strongest step cell within the reach.
+  FieldSample StepWeight(const Eigen::Vector2d& p_W) const {
+    return Interpolate(step_weight_, p_W);
+  }
+  /// That step's normal phi as w (cos 2 phi, sin 2 phi) (the doubled angle: a normal and its
+  /// opposite are one direction of crossing), each component with its gradient.
+  std::array<FieldSample, 2> StepAxis(const Eigen::Vector2d& p_W) const {
+    return {Interpolate(step_axis_x_, p_W), Interpolate(step_axis_y_, p_W)};
+  }
+  /// cos(2 max_angle) of `config.steps`: a heading theta is within the limit where
+  /// cos 2 (theta - phi) >= this.
+  double step_cos_twice_max_angle() const { return step_cos_twice_max_angle_; }
+
   /// The speed where the terrain sets no limit [m/s] (TerrainSpeedConfig::open_m_s).
   double open_speed_m_s() const { return open_speed_m_s_; }
 
@@ -105,6 +122,9 @@ class CostField {
   Eigen::MatrixXd distance_;
   Eigen::MatrixXd speed_limit_;
   Eigen::MatrixXd elevation_;
+  Eigen::MatrixXd step_weight_;
+  Eigen::MatrixXd step_axis_x_;
+  Eigen::MatrixXd step_axis_y_;
   // per cell whose centre lies within kExactBand_m of the obstacles, the index in obstacles_ of
   // the face's box nearest to it within that band (a face's cell whose box holds its centre: its
   // own); -1 elsewhere and in lethal cells without a box
@@ -112,6 +132,7 @@ class CostField {
   std::vector<Eigen::AlignedBox2d> obstacles_;
   Eigen::Vector2d max_pitch_roll_tangents_{Eigen::Vector2d::Zero()};
   double open_speed_m_s_{0.0};
+  double step_cos_twice_max_angle_{-1.0};
 };
 
 /// The footprint's boundary points in B (common::Footprint::BoundaryPoints_B) at which the planners

@@ -137,6 +137,13 @@ Eigen::Vector2d SlopeLimits::Tangents() const {
   return {std::tan(max_pitch_deg * kDegToRad), std::tan(max_roll_deg * kDegToRad)};
 }
 
+double StepCrossing::Weight(double roughness_m) const {
+  // a step's edge reads about half its height (common::Roughness)
+  const double height = 2.0 * roughness_m;
+  if (!(height > low_height_m)) return 0.0;
+  return std::min(1.0, (height - low_height_m) / (full_height_m - low_height_m));
+}
+
 CostMap::CostMap(const common::GridLayers& map, const CostMapConfig& config,
                  std::shared_ptr<const ObstacleMemory> memory)
     : geometry_(map.geometry()),

@@ -80,6 +80,37 @@ struct SlopeLimits {
   bool Active() const { return max_pitch_deg < 89.0 || max_roll_deg < 89.0; }
 };
 
+/// How the robot crosses the steps it can climb (scenario section `planner.steps`). A step met
+/// askew is climbed by one side first: the robot rolls onto it, straddles it and cannot turn from
+/// there, or stalls at its foot (docs/navigation.md, "Steps crossed square"). The trajectory
+/// optimiser keeps the heading within `max_angle` of the step's normal (either way) while the
+/// footprint reaches a step cell. A step cell is one whose roughness (about half a step's height,
+/// TerrainSpeedConfig) reads a step of at least `low_height`; its weight rises to 1 at
+/// `full_height`. The step's normal is the dominant direction of the roughness's gradient round the
+/// cell (the structure tensor): across the ridge that a step's edge draws in the roughness.
+struct StepCrossing {
+  double max_angle_deg{15.0};  ///< from square [deg]; 90: no limit
+  double low_height_m{0.08};   ///< steps lower than this are crossed at any angle [m]
+  double full_height_m{0.12};  ///< the weight's full height [m], > low_height_m
+  /// The step's limit holds for the base anywhere within this distance of a step cell [m]. Not a
+  /// scenario key: the planner sets it to the footprint's circumscribed radius.
+  double reach_m{0.0};
+
+  /// The keys of scenario section `planner.steps` (common/archive.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Field("max_angle", &max_angle_deg, {0, 90});
+    a->Field("low_height", &low_height_m, {0, 10});
+    a->Field("full_height", &full_height_m, {0, 10});
+  }
+
+  /// False when `max_angle` is 90 deg: the term is left out.
+  bool Active() const { return max_angle_deg < 90.0; }
+  /// The weight of a cell of roughness `roughness_m` [m] in [0, 1]: 0 up to a step of
+  /// `low_height`, 1 from `full_height`, linear between.
+  double Weight(double roughness_m) const;
+};
+
 /// How a traversability layer becomes search costs; the settings of A* (`AStarConfig`) and of the
 /// sampling planners.
 struct CostMapConfig {
@@ -105,6 +136,7 @@ struct CostMapConfig {
   std::optional<Eigen::AlignedBox2d> operating_area_W;
   TerrainSpeedConfig speed;  ///< the terrain's speed limits (CostField::SpeedLimit)
   SlopeLimits slope;         ///< the steepest pitch and roll
+  StepCrossing steps;        ///< how steps are crossed
   /// Whether the planners measure the distance to an obstacle's box within its lethal cell, where
   /// the map has one (CellExtents), instead of to the whole cell (docs/navigation.md, "The faces'
   /// boxes"): a 1.2 m door reads about 1.1 m wide instead of 0.8 m of free cells.

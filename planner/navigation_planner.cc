@@ -109,6 +109,12 @@ void ValidateNavigationPlannerConfig(const NavigationPlannerConfig& c) {
                s.slope.max_pitch_deg, "must be in (0, 90)");
   RequireValue(s.slope.max_roll_deg > 0.0 && s.slope.max_roll_deg < 90.0, "slope.max_roll",
                s.slope.max_roll_deg, "must be in (0, 90)");
+  RequireValue(s.steps.max_angle_deg > 0.0 && s.steps.max_angle_deg <= 90.0, "steps.max_angle",
+               s.steps.max_angle_deg, "must be in (0, 90]");
+  RequireValue(s.steps.low_height_m >= 0.0, "steps.low_height", s.steps.low_height_m,
+               "must be >= 0");
+  RequireValue(s.steps.full_height_m > s.steps.low_height_m, "steps.full_height",
+               s.steps.full_height_m, "must be > steps.low_height");
   common::ValidateAt("optimizer", [&] { ValidateTrajectoryOptimizerConfig(c.OptimizerConfig()); });
   common::ValidateAt("fallback", [&] { ValidateFallbackConfig(c.fallback); });
 }
@@ -119,6 +125,7 @@ CostMapConfig NavigationPlannerConfig::SearchConfig() const {
   resolved.band_radius_m = footprint.CircumscribedRadius() + optimizer.clearance_m;
   resolved.speed.open_m_s = optimizer.limits.max_speed_m_s;
   resolved.speed.reach_m = footprint.CircumscribedRadius();
+  resolved.steps.reach_m = footprint.CircumscribedRadius();
   return resolved;
 }
 

@@ -56,6 +56,7 @@ struct NavigationPlannerConfig {
     a->Map("optimizer", &optimizer);
     a->Map("speed", &search.speed);
     a->Map("slope", &search.slope);
+    a->Map("steps", &search.steps);
     a->Map("fallback", &fallback);
   }
 };

@@ -88,6 +88,7 @@ struct FieldTerms {
   double traversability;  // the cost integrated over the distance driven
   double speed;           // the speed above the terrain's limit (a limits term)
   double tilt;            // pitch and roll beyond the slope limits (a limits term)
+  double step;            // the heading beyond the steps' square (a limits term)
 };
 
 // The pitch and roll penalty at one node: the ground's slope (its tangent g, the gradient of
@@ -114,6 +115,29 @@ double TiltPenalty(const CostField& field, const Eigen::Vector2d& position, doub
                          slope_roll * roll * Eigen::Vector2d(n.y(), n.x()));
   partials->theta += weight * 2.0 * pitch * roll * (slope_pitch - slope_roll);
   return weight * tilt;
+}
+
+// The step-crossing penalty at one node: with the weight w of the steps the footprint reaches and
+// their normal phi (CostField::StepWeight, StepAxis, the axis a = w (cos 2 phi, sin 2 phi)), the
+// heading theta's excess over the largest angle alpha from square,
+// e = (w cos 2 alpha - (cos 2 theta, sin 2 theta) . a) / 2 = w (cos 2 alpha - cos 2 (theta - phi))
+// / 2, positive beyond alpha either way; its partials added to `p`.
+double StepPenalty(const CostField& field, const Eigen::Vector2d& position, double theta,
+                   double weight, double mu, Partials* partials) {
+  const FieldSample w = field.StepWeight(position);
+  // the weights are never negative: 0 here means that every cell round the position is 0
+  if (!(w.value > 0.0)) return 0.0;
+  const auto [ax, ay] = field.StepAxis(position);
+  const double c2 = std::cos(2.0 * theta), s2 = std::sin(2.0 * theta);
+  const double limit = field.step_cos_twice_max_angle();
+  const double excess = 0.5 * (w.value * limit - (c2 * ax.value + s2 * ay.value));
+  double slope = 0.0;
+  const double penalty = SmoothedL1(excess, mu, &slope);
+  if (slope == 0.0) return weight * penalty;
+  partials->theta += weight * slope * (s2 * ax.value - c2 * ay.value);
+  partials->position +=
+      weight * slope * 0.5 * (limit * w.gradient_W - c2 * ax.gradient_W - s2 * ay.gradient_W);
+  return weight * penalty;
 }
 
 FieldTerms FieldPenalties(const CostField& field, const TrajectoryCostSetup& s,
@@ -158,7 +182,8 @@ FieldTerms FieldPenalties(const CostField& field, const TrajectoryCostSetup& s,
     p.position -= w.limits * slope * 2.0 * limit.value * limit.gradient_W;
   }
   const double tilt = TiltPenalty(field, position, cos_t, sin_t, w.limits, mu, partials);
-  return {clearance, traversability, over_limit, tilt};
+  const double step = StepPenalty(field, position, theta, w.limits, mu, partials);
+  return {clearance, traversability, over_limit, tilt, step};
 }
 
 // The moving-obstacle penalty at one node (position_W at absolute time t_abs), with its partials
@@ -258,7 +283,7 @@ CostTerms NodePenalties(const CostField& field, const TrajectoryCostSetup& s,
   g.limits = LimitsPenalty(state, s.limits, s.weights.limits, s.smoothing, partials);
   const FieldTerms field_terms =
       FieldPenalties(field, s, position, state.theta, state.ds, partials);
-  g.limits += field_terms.speed + field_terms.tilt;
+  g.limits += field_terms.speed + field_terms.tilt + field_terms.step;
   g.clearance = field_terms.clearance;
   g.traversability = field_terms.traversability;
   g.moving_obstacles = ObstaclesPenalty(s, position, t_abs, partials);

@@ -94,9 +94,10 @@ struct CostTerms {
 /// earlier integration nodes. Constraints are penalties integrated by the trapezoidal rule at the
 /// interval ends; the terrain's speed limit (CostField::SpeedLimit, v^2 <= limit(p)^2) and the
 /// slope limits (the elevation's gradient along and across the heading within the tangents of
-/// the largest pitch and roll, CostField::Elevation) are limits too, soft: a start faster than
-/// the limit, or on a slope, cannot change at once, so they do not count in the optimiser's
-/// feasibility.
+/// the largest pitch and roll, CostField::Elevation) and the steps' square (the heading within
+/// StepCrossing::max_angle of a climbable step's normal while the footprint reaches it,
+/// CostField::StepWeight) are limits too, soft: a start faster than the limit, on a slope or
+/// askew on a step, cannot change at once, so they do not count in the optimiser's feasibility.
 ///
 /// Decision vector z (size 3N): [theta_1..theta_{N-1} | s_1..s_{N-1} | theta_T | s_T |
 /// tau_1..tau_N] with inner waypoints of yaw and arc length, the free end yaw and end arc length,

@@ -319,6 +319,76 @@ TEST(CostFieldTest, TheSpeedLimitFollowsUnknownCellsAndRoughnessWithinReach) {
   EXPECT_NEAR(CostField(map, config).SpeedLimit(g.CellCenter(5, 5)).value, 1.5, 1e-6);
 }
 
+// 6 x 6 m at 0.1 m of cost 0.1 whose roughness is common::Roughness of a step `height_m` high
+// along the line through (0, 0) whose normal points at `normal_rad`, on a plane rising 0.2 along x.
+common::GridLayers StepMap(double normal_rad, double height_m) {
+  common::GridLayers map(
+      common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(6, 6), 0.1),
+      {"traversability", "roughness"});
+  const common::GridGeometry& g = map.geometry();
+  const Eigen::Vector2d normal(std::cos(normal_rad), std::sin(normal_rad));
+  Eigen::MatrixXf heights(g.num_x, g.num_y);
+  for (int iy = 0; iy < g.num_y; ++iy) {
+    for (int ix = 0; ix < g.num_x; ++ix) {
+      const Eigen::Vector2d p = g.CellCenter(ix, iy);
+      heights(ix, iy) = static_cast<float>(0.2 * p.x() + (normal.dot(p) > 0.0 ? height_m : 0.0));
+    }
+  }
+  map.Layer("traversability").setConstant(0.1f);
+  for (int iy = 0; iy < g.num_y; ++iy) {
+    for (int ix = 0; ix < g.num_x; ++ix) {
+      map.Layer("roughness")(ix, iy) = static_cast<float>(common::Roughness(heights, ix, iy));
+    }
+  }
+  return map;
+}
+
+// The normal phi of a step axis w (cos 2 phi, sin 2 phi), in [0, pi).
+double NormalOf(const std::array<FieldSample, 2>& axis) {
+  const double phi = 0.5 * std::atan2(axis[1].value, axis[0].value);
+  return phi < 0.0 ? phi + M_PI : phi;
+}
+
+TEST(CostFieldTest, AClimbableStepsNormalAndWeightReachTheFootprintAndNoFarther) {
+  CostMapConfig config;
+  config.steps.reach_m = 0.4;
+  for (const double normal_deg : {0.0, 30.0, 75.0, 135.0}) {
+    const double normal_rad = normal_deg * M_PI / 180.0;
+    const CostField dut(StepMap(normal_rad, 0.13), config);
+    const Eigen::Vector2d along(-std::sin(normal_rad), std::cos(normal_rad));
+    const Eigen::Vector2d normal(std::cos(normal_rad), std::sin(normal_rad));
+    for (const double s : {-1.5, 0.0, 1.2}) {
+      for (const double d : {0.0, -0.3, 0.3}) {
+        const Eigen::Vector2d p = s * along + d * normal;
+        // a 0.13 m step is above the full height (0.12 m); a straight edge is coherent
+        EXPECT_GT(dut.StepWeight(p).value, 0.85) << normal_deg << " at " << p.transpose();
+        EXPECT_NEAR(NormalOf(dut.StepAxis(p)), normal_rad, 3.0 * M_PI / 180.0)
+            << normal_deg << " at " << p.transpose();
+      }
+      // beyond the reach (0.4 m) and the edge's own cells: nothing
+      EXPECT_EQ(dut.StepWeight(s * along + 0.7 * normal).value, 0.0);
+      EXPECT_EQ(dut.StepWeight(s * along - 0.7 * normal).value, 0.0);
+    }
+  }
+  // a 0.07 m step is crossed at any angle (below the low height, 0.08 m); a 0.1 m one weighs half
+  EXPECT_EQ(CostField(StepMap(0.5, 0.07), config).StepWeight(Eigen::Vector2d::Zero()).value, 0.0);
+  const double half =
+      CostField(StepMap(0.0, 0.1), config).StepWeight(Eigen::Vector2d::Zero()).value;
+  EXPECT_GT(half, 0.4);
+  EXPECT_LE(half, 0.5 + 1e-9);
+  // off (90 deg), or the step's cells lethal or unknown: nothing
+  CostMapConfig off = config;
+  off.steps.max_angle_deg = 90.0;
+  EXPECT_EQ(CostField(StepMap(0.5, 0.13), off).StepWeight(Eigen::Vector2d::Zero()).value, 0.0);
+  for (const float cost : {1.0f, std::numeric_limits<float>::quiet_NaN()}) {
+    common::GridLayers map = StepMap(0.0, 0.13);
+    map.Layer("traversability").setConstant(cost);
+    EXPECT_EQ(CostField(map, config).StepWeight(Eigen::Vector2d::Zero()).value, 0.0);
+  }
+  EXPECT_NEAR(CostField(StepMap(0.0, 0.13), config).step_cos_twice_max_angle(),
+              std::cos(30.0 * M_PI / 180.0), 1e-12);
+}
+
 TEST(CostFieldTest, NearLethalCellsTheElevationIsTheSurroundingGroundsNotTheObstaclesFoot) {
   // ground rising 0.2 m per m along x; a column of radius 0.3 m at the origin, whose mapped
   // elevation climbs 1 m per m toward it within 0.8 m (the regression's ramp up its foot); one

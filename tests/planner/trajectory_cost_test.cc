@@ -40,7 +40,8 @@ TrajectoryCostWeights Only(const std::string& term) {
   w.arc_length_jerk = term == "energy" ? 1.0 : 0.0;
   w.time = term == "time" ? 50.0 : 0.0;
   w.traversability = term == "traversability" ? 50.0 : 0.0;
-  w.limits = term == "limits" || term == "terrain_speed" || term == "tilt" ? 1.0e3 : 0.0;
+  w.limits =
+      term == "limits" || term == "terrain_speed" || term == "tilt" || term == "step" ? 1.0e3 : 0.0;
   w.clearance = term == "clearance" || term == "body_clearance" ? 1.0e3 : 0.0;
   w.moving_obstacles = term == "moving_obstacles" ? 1.0e3 : 0.0;
   return w;
@@ -57,7 +58,7 @@ TrajectoryCostSetup CostSetup(const std::string& term) {
   s.limits.max_centripetal_acceleration_m_s2 = 0.1;
   s.clearance_m = 0.8;
   // the terrain's speed limit alone (between 0.5 and 1.3 m/s on the test map)
-  if (term == "terrain_speed" || term == "tilt") {
+  if (term == "terrain_speed" || term == "tilt" || term == "step") {
     s.limits = DynamicLimits{10.0, 10.0, 10.0, 10.0, 100.0};
   }
   // the footprint's boundary keeps the clearance: the yaw enters the term too
@@ -106,6 +107,14 @@ CostMapConfig FieldConfig(const std::string& term) {
   // out of the way of the other terms)
   config.slope.max_pitch_deg = term == "tilt" ? 10.0 : 80.0;
   config.slope.max_roll_deg = term == "tilt" ? 12.0 : 80.0;
+  // the test map's roughness (up to 0.035 m) reads as steps of up to 0.07 m: with steps from
+  // 0.02 m, 0.3 m of reach and 5 deg from square the term is active; by default it reads none
+  if (term == "step") {
+    config.steps.low_height_m = 0.02;
+    config.steps.full_height_m = 0.08;
+    config.steps.max_angle_deg = 5.0;
+    config.steps.reach_m = 0.3;
+  }
   return config;
 }
 
@@ -131,6 +140,7 @@ TEST_P(TrajectoryCostGradientTest, MatchesCentralDifferences) {
                               : GetParam() == "limits"           ? terms.limits
                               : GetParam() == "terrain_speed"    ? terms.limits
                               : GetParam() == "tilt"             ? terms.limits
+                              : GetParam() == "step"             ? terms.limits
                               : GetParam() == "clearance"        ? terms.clearance
                               : GetParam() == "body_clearance"   ? terms.clearance
                               : GetParam() == "moving_obstacles" ? terms.moving_obstacles
@@ -153,8 +163,8 @@ TEST_P(TrajectoryCostGradientTest, MatchesCentralDifferences) {
 
 INSTANTIATE_TEST_SUITE_P(EveryTerm, TrajectoryCostGradientTest,
                          testing::Values("energy", "time", "traversability", "limits",
-                                         "terrain_speed", "tilt", "clearance", "body_clearance",
-                                         "moving_obstacles", "terminal"),
+                                         "terrain_speed", "tilt", "step", "clearance",
+                                         "body_clearance", "moving_obstacles", "terminal"),
                          [](const testing::TestParamInfo<std::string>& param_info) {
                            return param_info.param;
                          });

@@ -1,9 +1,11 @@
 #include "planner/trajectory_optimizer.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
 
+#include "common/grid.h"
 #include "common/input_error.h"
 #include "tests/planner/planner_test_util.h"
 
@@ -106,6 +108,47 @@ TEST(TrajectoryOptimizerTest, SlowsToTheTerrainsLimitOverARoughBandAndOnlyThere)
     if (std::abs(p.position_W.x() - 5.0) <= 0.5) fastest_open = std::max(fastest_open, p.v);
   }
   EXPECT_GT(fastest_open, 1.1 * fields.speed.rough_m_s);
+}
+
+TEST(TrajectoryOptimizerTest, CrossesAClimbableStepSquareWhereTheStraightLineMeetsItAskew) {
+  // a 0.13 m step up along x = 5 (roughness: common::Roughness of the heights), met by the straight
+  // line from (2, -2) to (8, 2) at 34 deg from square
+  common::GridLayers map = FlatMap();
+  map.AddLayer("roughness");
+  const common::GridGeometry& g = map.geometry();
+  Eigen::MatrixXf heights(g.num_x, g.num_y);
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      heights(ix, iy) = g.CellCenter(ix, iy).x() > 5.0 ? 0.13f : 0.0f;
+    }
+  }
+  for (int ix = 0; ix < g.num_x; ++ix) {
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      map.Layer("roughness")(ix, iy) = static_cast<float>(common::Roughness(heights, ix, iy));
+    }
+  }
+  TrajectoryRequest request;
+  request.start.t_s = 0.0;
+  request.start.position_W = Eigen::Vector2d(2, -2);
+  request.start.yaw = std::atan2(4.0, 6.0);
+  request.goal_W = Eigen::Vector2d(8, 2);
+  // the largest angle from square while the base is within 0.3 m of the edge
+  auto askew_deg = [&](double max_angle_deg) {
+    CostMapConfig fields;
+    fields.steps.reach_m = 0.4;
+    fields.steps.max_angle_deg = max_angle_deg;
+    const OptimizedTrajectory out =
+        TrajectoryOptimizer(TrajectoryOptimizerConfig{}).Optimize(CostField(map, fields), request);
+    EXPECT_EQ(out.status, OptimizationStatus::kConverged) << out.diagnostics.worst_constraint;
+    double largest = 0.0;
+    for (const common::TrajectoryPoint& p : out.trajectory.points()) {
+      if (std::abs(p.position_W.x() - 5.0) > 0.3) continue;
+      largest = std::max(largest, std::abs(std::remainder(p.yaw, M_PI)) * 180.0 / M_PI);
+    }
+    return largest;
+  };
+  EXPECT_LT(askew_deg(15.0), 18.0);
+  EXPECT_GT(askew_deg(90.0), 25.0);
 }
 
 TEST(TrajectoryOptimizerTest, KeepsClearOfLethalCellsAlongTheGuide) {

@@ -172,6 +172,23 @@ ground_truth: {clearance: 0.1}
       ThrowsMessage<common::InputError>(HasSubstr("mapping.gp.kernel: unknown value 'matern'")));
 }
 
+TEST(ScenarioTest, StepCrossingKeysTakeEffectAndAreChecked) {
+  const Scenario dut =
+      Load("planner: {steps: {max_angle: 20, low_height: 0.05, full_height: 0.1}}");
+  EXPECT_EQ(dut.planner.search.steps.max_angle_deg, 20.0);
+  EXPECT_EQ(dut.planner.search.steps.low_height_m, 0.05);
+  EXPECT_EQ(dut.planner.search.steps.full_height_m, 0.1);
+  // the planner's footprint sets the reach
+  EXPECT_EQ(dut.planner.SearchConfig().steps.reach_m, dut.planner.footprint.CircumscribedRadius());
+  EXPECT_THAT(
+      [] { Load("planner: {steps: {low_height: 0.1, full_height: 0.1}}"); },
+      ThrowsMessage<common::InputError>(HasSubstr(
+          "test.yaml: planner.steps.full_height: value 0.100000 must be > steps.low_height")));
+  EXPECT_THAT([] { Load("planner: {steps: {max_angle: 0}}"); },
+              ThrowsMessage<common::InputError>(
+                  HasSubstr("planner.steps.max_angle: value 0.000000 must be in (0, 90]")));
+}
+
 // M, the inducing points, is one key for every GP mapper: SGP takes it as well as FSGP-BGK.
 TEST(ScenarioTest, EveryGpMapperTakesItsInducingPointsFromMaxTrainingPoints) {
   // a dense 10 x 10 m surface with a bump: more points than any M below
