@@ -197,6 +197,10 @@ Eigen::MatrixXd SpeedLimits(const Eigen::MatrixXf& cost, const Eigen::MatrixXf* 
 // The structure tensor's half-width round a step cell [m]: wider than the ridge that a step's
 // edge draws in the roughness (two cells), so that both its flanks count.
 constexpr double kStepWindow_m = 0.3;
+// The structure tensor's coherence from which a step cell's direction counts, and from which in
+// full: a straight edge reads 0.85 to 0.95 on a grid, a bump or a corner 0.5 or less.
+constexpr double kCoherentFrom = 0.6;
+constexpr double kCoherentAt = 0.8;
 
 // The step fields of CostField::StepWeight and StepAxis: (weight, w cos 2 phi, w sin 2 phi).
 std::array<Eigen::MatrixXd, 3> StepFields(const Eigen::MatrixXf& cost,
@@ -206,8 +210,22 @@ std::array<Eigen::MatrixXd, 3> StepFields(const Eigen::MatrixXf& cost,
   std::array<Eigen::MatrixXd, 3> fields{
       Eigen::MatrixXd::Zero(nx, ny), Eigen::MatrixXd::Zero(nx, ny), Eigen::MatrixXd::Zero(nx, ny)};
   if (roughness_m == nullptr || !config.steps.Active() || nx < 3 || ny < 3) return fields;
-  const Eigen::MatrixXd rough =
-      roughness_m->cast<double>().unaryExpr([](double r) { return std::isnan(r) ? 0.0 : r; });
+  // the roughness of a cell beside a lethal one measures the obstacle (its top enters the second
+  // differences), not a step: 0 there, as where it is unknown, so that no wall reads as a step
+  // to cross at right angles
+  Eigen::MatrixXd rough(nx, ny);
+  for (int iy = 0; iy < ny; ++iy) {
+    for (int ix = 0; ix < nx; ++ix) {
+      const float r = (*roughness_m)(ix, iy);
+      bool beside_lethal = false;
+      for (int jy = std::max(0, iy - 1); jy <= std::min(ny - 1, iy + 1); ++jy) {
+        for (int jx = std::max(0, ix - 1); jx <= std::min(nx - 1, ix + 1); ++jx) {
+          beside_lethal = beside_lethal || IsLethal(cost(jx, jy), config);
+        }
+      }
+      rough(ix, iy) = std::isnan(r) || beside_lethal ? 0.0 : r;
+    }
+  }
   // the roughness's gradient by Scharr's operator (one-sided at the border): of the 3 x 3
   // derivative filters the one whose direction errs least on a grid (Jaehne, Scharr and Koerkel,
   // "Principles of filter design", 1999); plain central differences read an edge at 30 deg from
@@ -234,7 +252,7 @@ std::array<Eigen::MatrixXd, 3> StepFields(const Eigen::MatrixXf& cost,
   for (int iy = 0; iy < ny; ++iy) {
     for (int ix = 0; ix < nx; ++ix) {
       const float c = cost(ix, iy);
-      if (std::isnan(c) || IsLethal(c, config)) continue;
+      if (std::isnan(c)) continue;
       const double strength = config.steps.Weight(rough(ix, iy));
       if (strength <= 0.0) continue;
       // the structure tensor J = sum g g^T over the window; its dominant eigenvector is the
@@ -251,7 +269,12 @@ std::array<Eigen::MatrixXd, 3> StepFields(const Eigen::MatrixXf& cost,
       const Eigen::Vector2d doubled(jxx - jyy, 2.0 * jxy);
       const double norm = doubled.norm();
       if (!(norm > 0.0)) continue;
-      const double w = strength * norm / (jxx + jyy);
+      // a bump or a corner is no edge to cross square: the weight fades with the coherence
+      const double coherence = norm / (jxx + jyy);
+      const double w =
+          strength *
+          std::clamp((coherence - kCoherentFrom) / (kCoherentAt - kCoherentFrom), 0.0, 1.0);
+      if (!(w > 0.0)) continue;
       const Eigen::Vector2d axis = w / norm * doubled;
       for (int dy = -reach; dy <= reach; ++dy) {
         for (int dx = -reach; dx <= reach; ++dx) {

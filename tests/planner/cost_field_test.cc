@@ -385,6 +385,39 @@ TEST(CostFieldTest, AClimbableStepsNormalAndWeightReachTheFootprintAndNoFarther)
     map.Layer("traversability").setConstant(cost);
     EXPECT_EQ(CostField(map, config).StepWeight(Eigen::Vector2d::Zero()).value, 0.0);
   }
+  // a wall (lethal cells) is no step, though the cells beside it read its height as roughness
+  {
+    common::GridLayers map = StepMap(0.0, 0.13);
+    const common::GridGeometry& g = map.geometry();
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      for (int ix = 0; ix < g.num_x; ++ix) {
+        if (std::abs(g.CellCenter(ix, iy).x()) < 0.1) map.Layer("traversability")(ix, iy) = 1.0f;
+      }
+    }
+    EXPECT_EQ(CostField(map, config).StepWeight(Eigen::Vector2d(0.3, 0.0)).value, 0.0);
+  }
+  // nor is a bump 0.4 m square: its edges are no longer than the robot is wide, and its
+  // roughness's gradient points every way (the coherence below 0.6)
+  {
+    common::GridLayers map = StepMap(0.0, 0.0);
+    const common::GridGeometry& g = map.geometry();
+    Eigen::MatrixXf heights = Eigen::MatrixXf::Zero(g.num_x, g.num_y);
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      for (int ix = 0; ix < g.num_x; ++ix) {
+        if (g.CellCenter(ix, iy).cwiseAbs().maxCoeff() < 0.2) heights(ix, iy) = 0.13f;
+      }
+    }
+    for (int iy = 0; iy < g.num_y; ++iy) {
+      for (int ix = 0; ix < g.num_x; ++ix) {
+        map.Layer("roughness")(ix, iy) = static_cast<float>(common::Roughness(heights, ix, iy));
+      }
+    }
+    const CostField bump(map, config);
+    for (const Eigen::Vector2d p : {Eigen::Vector2d(0, 0), Eigen::Vector2d(0.2, 0.1),
+                                    Eigen::Vector2d(-0.2, -0.2), Eigen::Vector2d(0.4, 0)}) {
+      EXPECT_EQ(bump.StepWeight(p).value, 0.0) << p.transpose();
+    }
+  }
   EXPECT_NEAR(CostField(StepMap(0.0, 0.13), config).step_cos_twice_max_angle(),
               std::cos(30.0 * M_PI / 180.0), 1e-12);
 }

@@ -4,7 +4,8 @@
 // scans), a 0.12 m curb and 0.09 m stairs to climb, a 0.25 m platform to drive round, two low walls
 // seen from close by (ruins at one seed each: their files only, not over seeds), a 25 deg ramp to
 // climb, a 1 m ledge to drive round (seen by a sensor pitched down), a goal room whose door lies
-// beyond the map, a cul-de-sac the map forgets once left; and a sample of BARN
+// beyond the map, a cul-de-sac the map forgets once left, a 0.14 m curb met at 37 deg from square;
+// and a sample of BARN
 // (scenarios/barn/, docs/barn.md). With the seeds, also the worlds of scenarios/probes/ over seeds
 // 1 to 3. Each reaches its goal; a generated world may instead end as a planning failure where it
 // has no route for the robot (A* on the ground truth, summary's optimal_path_length_m 0; the
@@ -12,8 +13,8 @@
 // walls by its 0.3 m neighbourhood, so a 1.2 m door can read closed there: success is always
 // right).
 // Built twice: once per scenario with its own seed (label `scenario`, in CI) and over seeds 1 to 5
-// (label `seeds`; a seed sets the terrain's and the traffic's, and for ground from a file, which
-// has no seed, the LiDAR's noise draws).
+// (label `seeds`; a seed sets the terrain's and the traffic's, and for ground that has no seed
+// (from a file, a step, stairs) the LiDAR's noise draws).
 #include <unistd.h>
 
 #include <filesystem>
@@ -46,7 +47,9 @@ TEST_P(HardScenarioTest, ReachesTheGoalUnlessTheWorldHasNoRoute) {
   if (seed > 0) {
     scenario.terrain.seed = static_cast<std::uint64_t>(seed);
     scenario.traffic.seed = static_cast<std::uint64_t>(seed);
-    if (scenario.terrain.type == sim::TerrainType::kHeightmap) {
+    if (scenario.terrain.type == sim::TerrainType::kHeightmap ||
+        scenario.terrain.type == sim::TerrainType::kStep ||
+        scenario.terrain.type == sim::TerrainType::kStairs) {
       scenario.lidar.seed = static_cast<std::uint64_t>(seed);
     }
   }
@@ -86,7 +89,8 @@ INSTANTIATE_TEST_SUITE_P(
                                      "hard/crossing_pedestrians.yaml", "hard/curb.yaml",
                                      "hard/stairs.yaml", "hard/platform.yaml", "hard/ramp.yaml",
                                      "hard/ledge.yaml", "hard/door_jamb.yaml",
-                                     "hard/walled_goal.yaml", "hard/cul_de_sac.yaml"),
+                                     "hard/walled_goal.yaml", "hard/cul_de_sac.yaml",
+                                     "hard/curb_askew.yaml"),
                      testing::Range(1, 6)),
     TestName);
 // worlds a user would write, none tuned for (scenarios/probes/, docs/navigation.md)
@@ -128,8 +132,8 @@ INSTANTIATE_TEST_SUITE_P(
                                      "hard/low_wall_hidden.yaml", "hard/ramp.yaml",
                                      "hard/ledge.yaml", "hard/slope_down.yaml",
                                      "hard/door_jamb.yaml", "hard/walled_goal.yaml",
-                                     "hard/cul_de_sac.yaml", "barn/world_000.yaml",
-                                     "barn/world_150.yaml"),
+                                     "hard/cul_de_sac.yaml", "hard/curb_askew.yaml",
+                                     "barn/world_000.yaml", "barn/world_150.yaml"),
                      testing::Values(0)),
     TestName);
 #endif
