@@ -90,8 +90,8 @@ struct SlopeLimits {
 /// cell (the structure tensor): across the ridge that a step's edge draws in the roughness.
 struct StepCrossing {
   double max_angle_deg{15.0};  ///< from square [deg]; 90: no limit
-  double low_height_m{0.08};   ///< steps lower than this are crossed at any angle [m]
-  double full_height_m{0.12};  ///< the weight's full height [m], > low_height_m
+  double low_height_m{0.10};   ///< steps lower than this are crossed at any angle [m]
+  double full_height_m{0.14};  ///< the weight's full height [m], > low_height_m
   /// The step's limit holds for the base anywhere within this distance of a step cell [m]. Not a
   /// scenario key: the planner sets it to the footprint's circumscribed radius.
   double reach_m{0.0};
