@@ -196,20 +196,22 @@ Eigen::MatrixXd SpeedLimits(const Eigen::MatrixXf& cost, const Eigen::MatrixXf* 
 
 // The structure tensor's half-width round a step cell [m]: wider than the ridge that a step's
 // edge draws in the roughness (two cells), so that both its flanks count.
-constexpr double kStepWindow_m = 0.3;
+constexpr double kStepWindow_m = 0.5;
 // The structure tensor's coherence from which a step cell's direction counts, and from which in
-// full: a straight edge reads 0.85 to 0.95 on a grid, a bump or a corner 0.5 or less.
+// full: a straight edge reads 0.85 to 1 on a grid (1 along x or y), a bump or a corner 0.5 or
+// less.
 constexpr double kCoherentFrom = 0.6;
 constexpr double kCoherentAt = 0.8;
 
-// The step fields of CostField::StepWeight and StepAxis: (weight, w cos 2 phi, w sin 2 phi).
+// The step fields of CostField::StepWeight and StepAxis: (weight, w cos 2 phi, w sin 2 phi), from
+// the roughness and the cells that IsLethal reads lethal.
 std::array<Eigen::MatrixXd, 3> StepFields(const Eigen::MatrixXf& cost,
-                                          const Eigen::MatrixXf* roughness_m,
-                                          const CostMapConfig& config, double resolution_m) {
+                                          const Eigen::MatrixXf* roughness_m, const Mask& lethal,
+                                          const StepCrossing& steps, double resolution_m) {
   const auto nx = static_cast<int>(cost.rows()), ny = static_cast<int>(cost.cols());
   std::array<Eigen::MatrixXd, 3> fields{
       Eigen::MatrixXd::Zero(nx, ny), Eigen::MatrixXd::Zero(nx, ny), Eigen::MatrixXd::Zero(nx, ny)};
-  if (roughness_m == nullptr || !config.steps.Active() || nx < 3 || ny < 3) return fields;
+  if (roughness_m == nullptr || !steps.Active()) return fields;
   // the roughness of a cell beside a lethal one measures the obstacle (its top enters the second
   // differences), not a step: 0 there, as where it is unknown, so that no wall reads as a step
   // to cross at right angles
@@ -217,19 +219,17 @@ std::array<Eigen::MatrixXd, 3> StepFields(const Eigen::MatrixXf& cost,
   for (int iy = 0; iy < ny; ++iy) {
     for (int ix = 0; ix < nx; ++ix) {
       const float r = (*roughness_m)(ix, iy);
-      bool beside_lethal = false;
-      for (int jy = std::max(0, iy - 1); jy <= std::min(ny - 1, iy + 1); ++jy) {
-        for (int jx = std::max(0, ix - 1); jx <= std::min(nx - 1, ix + 1); ++jx) {
-          beside_lethal = beside_lethal || IsLethal(cost(jx, jy), config);
-        }
-      }
+      const int x0 = std::max(0, ix - 1), y0 = std::max(0, iy - 1);
+      const bool beside_lethal =
+          lethal.block(x0, y0, std::min(nx - 1, ix + 1) - x0 + 1, std::min(ny - 1, iy + 1) - y0 + 1)
+              .any();
       rough(ix, iy) = std::isnan(r) || beside_lethal ? 0.0 : r;
     }
   }
-  // the roughness's gradient by Scharr's operator (one-sided at the border): of the 3 x 3
-  // derivative filters the one whose direction errs least on a grid (Jaehne, Scharr and Koerkel,
-  // "Principles of filter design", 1999); plain central differences read an edge at 30 deg from
-  // the grid at 36 deg
+  // the roughness's gradient by Scharr's operator (the border cells replicated beyond the grid):
+  // of the 3 x 3 derivative filters the one whose direction errs least on a grid (Jaehne, Scharr
+  // and Koerkel, "Principles of filter design", 1999); plain central differences read an edge at
+  // 30 deg from the grid at 36 deg
   auto at = [&](int ix, int iy) {
     return rough(std::clamp(ix, 0, nx - 1), std::clamp(iy, 0, ny - 1));
   };
@@ -246,21 +246,25 @@ std::array<Eigen::MatrixXd, 3> StepFields(const Eigen::MatrixXf& cost,
                    32.0;
     }
   }
-  const int window = std::max(1, static_cast<int>(std::lround(kStepWindow_m / resolution_m)));
-  const int reach = static_cast<int>(std::ceil(config.steps.reach_m / resolution_m - 1e-9));
+  const int window_cells = std::max(1, static_cast<int>(std::lround(kStepWindow_m / resolution_m)));
+  const int reach_cells = static_cast<int>(std::ceil(steps.reach_m / resolution_m - 1e-9));
   auto& [weight, axis_x, axis_y] = fields;
+  // the squared distance [cells^2] to the step cell each cell took its weight from: of equal
+  // weights (every full-height step's) the nearest step's direction holds
+  Eigen::MatrixXi from = Eigen::MatrixXi::Constant(nx, ny, std::numeric_limits<int>::max());
   for (int iy = 0; iy < ny; ++iy) {
     for (int ix = 0; ix < nx; ++ix) {
-      const float c = cost(ix, iy);
-      if (std::isnan(c)) continue;
-      const double strength = config.steps.Weight(rough(ix, iy));
+      if (std::isnan(cost(ix, iy))) continue;
+      const double strength = steps.Weight(rough(ix, iy));
       if (strength <= 0.0) continue;
       // the structure tensor J = sum g g^T over the window; its dominant eigenvector is the
       // normal of the ridge, at the doubled angle of (Jxx - Jyy, 2 Jxy), and its coherence
       // |(Jxx - Jyy, 2 Jxy)| / (Jxx + Jyy) is 1 along a straight edge and 0 at a corner
       double jxx = 0.0, jyy = 0.0, jxy = 0.0;
-      for (int jy = std::max(0, iy - window); jy <= std::min(ny - 1, iy + window); ++jy) {
-        for (int jx = std::max(0, ix - window); jx <= std::min(nx - 1, ix + window); ++jx) {
+      for (int jy = std::max(0, iy - window_cells); jy <= std::min(ny - 1, iy + window_cells);
+           ++jy) {
+        for (int jx = std::max(0, ix - window_cells); jx <= std::min(nx - 1, ix + window_cells);
+             ++jx) {
           jxx += gx(jx, jy) * gx(jx, jy);
           jyy += gy(jx, jy) * gy(jx, jy);
           jxy += gx(jx, jy) * gy(jx, jy);
@@ -276,14 +280,15 @@ std::array<Eigen::MatrixXd, 3> StepFields(const Eigen::MatrixXf& cost,
           std::clamp((coherence - kCoherentFrom) / (kCoherentAt - kCoherentFrom), 0.0, 1.0);
       if (!(w > 0.0)) continue;
       const Eigen::Vector2d axis = w / norm * doubled;
-      for (int dy = -reach; dy <= reach; ++dy) {
-        for (int dx = -reach; dx <= reach; ++dx) {
-          const int jx = ix + dx, jy = iy + dy;
-          if (dx * dx + dy * dy > reach * reach || jx < 0 || jy < 0 || jx >= nx || jy >= ny ||
-              !(w > weight(jx, jy))) {
+      for (int dy = -reach_cells; dy <= reach_cells; ++dy) {
+        for (int dx = -reach_cells; dx <= reach_cells; ++dx) {
+          const int jx = ix + dx, jy = iy + dy, squared = dx * dx + dy * dy;
+          if (squared > reach_cells * reach_cells || jx < 0 || jy < 0 || jx >= nx || jy >= ny ||
+              w < weight(jx, jy) || (w == weight(jx, jy) && squared >= from(jx, jy))) {
             continue;
           }
           weight(jx, jy) = w;
+          from(jx, jy) = squared;
           axis_x(jx, jy) = axis.x();
           axis_y(jx, jy) = axis.y();
         }
@@ -462,7 +467,7 @@ CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf
   }
   FindNearestObstacles(lethal, extents);
   speed_limit_ = SpeedLimits(layer, roughness_m, config.speed, geometry_.resolution_m);
-  auto steps = StepFields(layer, roughness_m, config, geometry_.resolution_m);
+  auto steps = StepFields(layer, roughness_m, lethal, config.steps, geometry_.resolution_m);
   step_weight_ = std::move(steps[0]);
   step_axis_x_ = std::move(steps[1]);
   step_axis_y_ = std::move(steps[2]);

@@ -86,8 +86,10 @@ struct SlopeLimits {
 /// optimiser keeps the heading within `max_angle` of the step's normal (either way) while the
 /// footprint reaches a step cell. A step cell is one whose roughness (about half a step's height,
 /// TerrainSpeedConfig) reads a step of at least `low_height`; its weight rises to 1 at
-/// `full_height`. The step's normal is the dominant direction of the roughness's gradient round the
-/// cell (the structure tensor): across the ridge that a step's edge draws in the roughness.
+/// `full_height`, times the coherence of its direction. The step's normal is the dominant direction
+/// of the roughness's gradient round the cell (the structure tensor): across the ridge that a
+/// step's edge draws in the roughness. Cells beside lethal ones are no step cells (their roughness
+/// measures the obstacle), nor are bumps and corners (no coherent direction).
 struct StepCrossing {
   double max_angle_deg{15.0};  ///< from square [deg]; 90: no limit
   double low_height_m{0.10};   ///< steps lower than this are crossed at any angle [m]
