@@ -121,7 +121,7 @@ double TiltPenalty(const CostField& field, const Eigen::Vector2d& position, doub
 // their normal phi (CostField::StepWeight, StepAxis, the axis a = w (cos 2 phi, sin 2 phi)), the
 // heading theta's excess over the largest angle alpha from square,
 // e = (w cos 2 alpha - (cos 2 theta, sin 2 theta) . a) / 2 = w (cos 2 alpha - cos 2 (theta - phi))
-// / 2, positive beyond alpha either way; its partials added to `p`.
+// / 2, positive beyond alpha either way; its partials added to `partials`.
 double StepPenalty(const CostField& field, const Eigen::Vector2d& position, double theta,
                    double weight, double mu, Partials* partials) {
   const FieldSample w = field.StepWeight(position);
