@@ -198,8 +198,8 @@ Eigen::MatrixXd SpeedLimits(const Eigen::MatrixXf& cost, const Eigen::MatrixXf* 
 // edge draws in the roughness (two cells), so that both its flanks count.
 constexpr double kStepWindow_m = 0.5;
 // The structure tensor's coherence from which a step cell's direction counts, and from which in
-// full: a straight edge reads 0.85 to 1 on a grid (1 along x or y), a bump or a corner 0.5 or
-// less.
+// full: straight edges at any angle read at least 0.77 on a grid (CostFieldTest: weights above
+// 0.85), a 0.4 m square bump below 0.6.
 constexpr double kCoherentFrom = 0.6;
 constexpr double kCoherentAt = 0.8;
 
@@ -211,7 +211,11 @@ std::array<Eigen::MatrixXd, 3> StepFields(const Eigen::MatrixXf& cost,
   const auto nx = static_cast<int>(cost.rows()), ny = static_cast<int>(cost.cols());
   std::array<Eigen::MatrixXd, 3> fields{
       Eigen::MatrixXd::Zero(nx, ny), Eigen::MatrixXd::Zero(nx, ny), Eigen::MatrixXd::Zero(nx, ny)};
-  if (roughness_m == nullptr || !steps.Active()) return fields;
+  // most maps hold no step: then nothing more is needed
+  if (roughness_m == nullptr || !steps.Active() ||
+      !roughness_m->unaryExpr([&](float r) { return steps.Weight(r) > 0.0; }).any()) {
+    return fields;
+  }
   // the roughness of a cell beside a lethal one measures the obstacle (its top enters the second
   // differences), not a step: 0 there, as where it is unknown, so that no wall reads as a step
   // to cross at right angles
@@ -471,6 +475,7 @@ CostField::CostField(const common::GridGeometry& geometry, const Eigen::MatrixXf
   step_weight_ = std::move(steps[0]);
   step_axis_x_ = std::move(steps[1]);
   step_axis_y_ = std::move(steps[2]);
+  has_steps_ = (step_weight_.array() > 0.0).any();
   elevation_ = elevation_m != nullptr && config.slope.Active()
                    ? GroundElevation(*elevation_m, distance_, kGroundReach_m)
                    : Eigen::MatrixXd::Constant(nx, ny, std::numeric_limits<double>::quiet_NaN());

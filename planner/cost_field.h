@@ -93,6 +93,8 @@ class CostField {
   std::array<FieldSample, 2> StepAxis(const Eigen::Vector2d& p_W) const {
     return {Interpolate(step_axis_x_, p_W), Interpolate(step_axis_y_, p_W)};
   }
+  /// True if StepWeight is positive anywhere (a step cell on the map).
+  bool HasSteps() const { return has_steps_; }
   /// cos(2 max_angle) of `config.steps`: a heading theta is within the limit where
   /// cos 2 (theta - phi) >= this.
   double step_cos_twice_max_angle() const { return step_cos_twice_max_angle_; }
@@ -133,6 +135,7 @@ class CostField {
   Eigen::Vector2d max_pitch_roll_tangents_{Eigen::Vector2d::Zero()};
   double open_speed_m_s_{0.0};
   double step_cos_twice_max_angle_{-1.0};
+  bool has_steps_{false};
 };
 
 /// The footprint's boundary points in B (common::Footprint::BoundaryPoints_B) at which the planners

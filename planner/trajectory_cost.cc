@@ -124,6 +124,7 @@ double TiltPenalty(const CostField& field, const Eigen::Vector2d& position, doub
 // / 2, positive beyond alpha either way; its partials added to `partials`.
 double StepPenalty(const CostField& field, const Eigen::Vector2d& position, double theta,
                    double weight, double mu, Partials* partials) {
+  if (!field.HasSteps()) return 0.0;
   const FieldSample w = field.StepWeight(position);
   // the weights are never negative: 0 here means that every cell round the position is 0
   if (!(w.value > 0.0)) return 0.0;

@@ -11,6 +11,7 @@
 
 #include "common/footprint.h"
 #include "common/random.h"
+#include "tests/planner/planner_test_util.h"
 
 namespace trav::planner {
 namespace {
@@ -325,20 +326,9 @@ template <typename Height>
 common::GridLayers RoughMap(Height height_m) {
   common::GridLayers map(
       common::GridGeometry::Centered(Eigen::Vector2d::Zero(), Eigen::Vector2d(6, 6), 0.1),
-      {"traversability", "roughness"});
-  const common::GridGeometry& g = map.geometry();
-  Eigen::MatrixXf heights(g.num_x, g.num_y);
-  for (int iy = 0; iy < g.num_y; ++iy) {
-    for (int ix = 0; ix < g.num_x; ++ix) {
-      heights(ix, iy) = static_cast<float>(height_m(g.CellCenter(ix, iy)));
-    }
-  }
+      {"traversability"});
   map.Layer("traversability").setConstant(0.1f);
-  for (int iy = 0; iy < g.num_y; ++iy) {
-    for (int ix = 0; ix < g.num_x; ++ix) {
-      map.Layer("roughness")(ix, iy) = static_cast<float>(common::Roughness(heights, ix, iy));
-    }
-  }
+  test_util::PaintRoughness(&map, height_m);
   return map;
 }
 
@@ -388,6 +378,9 @@ TEST(CostFieldTest, AClimbableStepsNormalAndWeightReachTheFootprintAndNoFarther)
   CostMapConfig off = config;
   off.steps.max_angle_deg = 90.0;
   EXPECT_EQ(CostField(StepMap(0.5, 0.15), off).StepWeight(Eigen::Vector2d::Zero()).value, 0.0);
+  EXPECT_FALSE(CostField(StepMap(0.5, 0.15), off).HasSteps());
+  EXPECT_FALSE(CostField(StepMap(0.5, 0.09), config).HasSteps());
+  EXPECT_TRUE(CostField(StepMap(0.5, 0.15), config).HasSteps());
   for (const float cost : {1.0f, std::numeric_limits<float>::quiet_NaN()}) {
     common::GridLayers map = StepMap(0.0, 0.15);
     map.Layer("traversability").setConstant(cost);

@@ -22,6 +22,25 @@ void Paint(common::GridLayers* map, float value, Inside inside) {
   }
 }
 
+// Adds (or overwrites) `map`'s "roughness" layer with common::Roughness of the heights
+// `height_m(p_W)` [m] at the cells' centres, as the mappers compute it from their points.
+template <typename Height>
+void PaintRoughness(common::GridLayers* map, Height height_m) {
+  const common::GridGeometry& g = map->geometry();
+  Eigen::MatrixXf heights(g.num_x, g.num_y);
+  for (int iy = 0; iy < g.num_y; ++iy) {
+    for (int ix = 0; ix < g.num_x; ++ix) {
+      heights(ix, iy) = static_cast<float>(height_m(g.CellCenter(ix, iy)));
+    }
+  }
+  if (!map->Has("roughness")) map->AddLayer("roughness");
+  for (int iy = 0; iy < g.num_y; ++iy) {
+    for (int ix = 0; ix < g.num_x; ++ix) {
+      map->Layer("roughness")(ix, iy) = static_cast<float>(common::Roughness(heights, ix, iy));
+    }
+  }
+}
+
 // A drive from (0, 0) heading +x at `v_m_s` from t0_s for `duration_s`, sampled every 0.01 s: at
 // yaw rate `turn_rad_s` over its first `turn_m` metres, then straight (the midpoint rule at
 // 1 ms).

@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include "common/grid.h"
 #include "common/input_error.h"
 #include "tests/planner/planner_test_util.h"
 
@@ -114,19 +113,8 @@ TEST(TrajectoryOptimizerTest, CrossesAClimbableStepSquareWhereTheStraightLineMee
   // a 0.13 m step up along x = 5 (roughness: common::Roughness of the heights), met by the straight
   // line from (2, -2) to (8, 2) at 34 deg from square
   common::GridLayers map = FlatMap();
-  map.AddLayer("roughness");
-  const common::GridGeometry& g = map.geometry();
-  Eigen::MatrixXf heights(g.num_x, g.num_y);
-  for (int ix = 0; ix < g.num_x; ++ix) {
-    for (int iy = 0; iy < g.num_y; ++iy) {
-      heights(ix, iy) = g.CellCenter(ix, iy).x() > 5.0 ? 0.13f : 0.0f;
-    }
-  }
-  for (int ix = 0; ix < g.num_x; ++ix) {
-    for (int iy = 0; iy < g.num_y; ++iy) {
-      map.Layer("roughness")(ix, iy) = static_cast<float>(common::Roughness(heights, ix, iy));
-    }
-  }
+  test_util::PaintRoughness(&map,
+                            [](const Eigen::Vector2d& p) { return p.x() > 5.0 ? 0.13 : 0.0; });
   TrajectoryRequest request;
   request.start.t_s = 0.0;
   request.start.position_W = Eigen::Vector2d(2, -2);
