@@ -1,6 +1,7 @@
 #include "planner/navigation/navigator.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -88,6 +89,9 @@ void ValidateNavigationSettings(const NavigationSettings& s) {
   RequireValue(s.mapping_latency_s >= 0.0, "mapping_latency", s.mapping_latency_s, "must be >= 0");
   RequireValue(s.planning_failure_time_s > 0.0, "planning_failure_time", s.planning_failure_time_s,
                "must be > 0");
+  RequireValue(s.climb_speed_m_s >= 0.0, "climb_speed", s.climb_speed_m_s, "must be >= 0");
+  RequireValue(s.climb_pitch_deg > 0.0 && s.climb_pitch_deg < 90.0, "climb_pitch",
+               s.climb_pitch_deg, "must be in (0, 90) deg");
 }
 
 controller::MpcConfig PlanTrackingConfig(controller::MpcConfig mpc,
@@ -116,6 +120,8 @@ Navigator::Navigator(const NavigationSettings& settings, const NavigationPlanner
                    ? std::move(tracker)
                    : std::make_unique<controller::MpcTracker>(PlanTrackingConfig(mpc, planner))),
       free_drive_speeds_(FreeDriveSpeedsFor(PlanTrackingConfig(mpc, planner))),
+      climb_speed_m_s_(
+          std::min(settings.climb_speed_m_s, PlanTrackingConfig(mpc, planner).max_speed_m_s)),
       goal_W_(goal_W) {
   ValidateNavigationSettings(settings_);
 }
@@ -145,6 +151,7 @@ NavigatorTick Navigator::Update(const common::RobotState& state, const common::G
       force_replan_ = true;
       ++statistics_.safety_stops;
       tick.safety_stop = true;
+      climb_ = Climb::kNone;
       return tick;
     }
   }
@@ -175,20 +182,70 @@ NavigatorTick Navigator::Update(const common::RobotState& state, const common::G
     if (stopped) {
       std::optional<common::Trajectory> escape =
           map != nullptr ? GiveWay(state, *map, movers) : std::nullopt;
-      if (!escape) return tick;
+      if (!escape) {
+        climb_ = Climb::kNone;
+        return tick;
+      }
       StartFreeDrive(std::move(*escape), state.time_s);
       ++statistics_.give_ways;
     }
   }
-  if (!tracker_->SolveDue(state.time_s)) {
-    tick.command = tracker_->Command(state);
-    return tick;
-  }
+  tick.solved = tracker_->SolveDue(state.time_s);
   const common::Stopwatch control_start;
   tick.command = tracker_->Command(state);
-  tick.solved = true;
-  statistics_.control_ms.push_back(control_start.ElapsedMilliseconds());
+  if (tick.solved) statistics_.control_ms.push_back(control_start.ElapsedMilliseconds());
+  tick.climbing = HoldsClimb(state, map, tick.command);
+  if (tick.climbing) tick.command = common::Twist2{climb_speed_m_s_, 0.0};
   return tick;
+}
+
+bool Navigator::HoldsClimb(const common::RobotState& state, const common::GridLayers* map,
+                           const common::Twist2& command) {
+  // meant to drive on with its nose up (pitch is positive nose down, REP-103); else re-armed
+  if (climb_speed_m_s_ <= 0.0 || map == nullptr || command.v < kStallSpeed_m_s ||
+      -common::ToRollPitchYaw(state.X_WB.linear()).pitch <
+          settings_.climb_pitch_deg * M_PI / 180.0) {
+    climb_ = Climb::kNone;
+    return false;
+  }
+  const Eigen::Vector2d p_W = state.X_WB.translation().head<2>();
+  const common::Footprint& footprint = planner_.config().footprint;
+  switch (climb_) {
+    case Climb::kNone:
+      if (!StepWithinReach(*map, p_W, footprint.CircumscribedRadius())) return false;
+      climb_ = Climb::kHolding;
+      climb_start_W_ = p_W;
+      ++statistics_.step_climbs;
+      return true;
+    case Climb::kHolding:
+      // the wheels climb within the robot's length or stall (then the stall's back-off ends it)
+      if ((p_W - climb_start_W_).norm() <= 2.0 * footprint.half_length_m) return true;
+      climb_ = Climb::kSpent;
+      return false;
+    case Climb::kSpent:
+      return false;
+  }
+  return false;
+}
+
+bool Navigator::StepWithinReach(const common::GridLayers& map, const Eigen::Vector2d& p_W,
+                                double reach_m) const {
+  const CostMapConfig& search = planner_.config().search;
+  if (!map.Has(search.speed.roughness_layer)) return false;
+  const Eigen::MatrixXf& roughness = map.Layer(search.speed.roughness_layer);
+  const common::GridGeometry& g = map.geometry();
+  const int cells = static_cast<int>(std::ceil(reach_m / g.resolution_m));
+  for (int dy = -cells; dy <= cells; ++dy) {
+    for (int dx = -cells; dx <= cells; ++dx) {
+      const Eigen::Vector2d q_W = p_W + g.resolution_m * Eigen::Vector2d(dx, dy);
+      const std::optional<Eigen::Vector2i> cell = g.CellIndex(q_W);
+      if (cell && (q_W - p_W).norm() <= reach_m &&
+          search.steps.Weight(roughness(cell->x(), cell->y())) > 0.0) {
+        return true;
+      }
+    }
+  }
+  return false;
 }
 
 void Navigator::StartFreeDrive(common::Trajectory drive, double now_s) {

@@ -41,6 +41,16 @@ struct NavigationSettings {
   /// The map reaches the planner this long after the frame it comes from [s], >= 0.
   double mapping_latency_s{0.05};
 
+  /// Climbing a step: when the robot, meant to drive forward, has its nose up by at least
+  /// `climb_pitch_deg` with a step within the footprint's circumscribed radius (a cell whose
+  /// roughness reads a step of `planner.steps.low_height` or more: StepCrossing::Weight), it
+  /// drives straight at `climb_speed_m_s` (or the tracker's limit if lower) whatever the tracker
+  /// asks, until its nose is down again or it has driven the footprint's length; then no new
+  /// climb until the nose has been down. A turn while the wheels climb stalls them at the face
+  /// (docs/navigation.md, "Climbing a step"). 0 turns the hold off.
+  double climb_speed_m_s{1.1};
+  double climb_pitch_deg{5.0};  ///< (0, 90)
+
   /// The keys of scenario section `navigation` that configure the loop (common/archive.h).
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -57,6 +67,8 @@ struct NavigationSettings {
     a->Field("livelock_time", &livelock_time_s, {0, 86400});
     a->Field("livelock_radius", &livelock_radius_m, {0.01, 100});
     a->Field("near_miss_clearance", &near_miss_clearance_m, {0, 10});
+    a->Field("climb_speed", &climb_speed_m_s, {0, 30});
+    a->Field("climb_pitch", &climb_pitch_deg, {0, 90});
   }
 };
 
@@ -110,6 +122,7 @@ struct NavigatorTick {
   ReplanReason replan{ReplanReason::kNone};  ///< why it planned (kNone: it did not plan)
   bool solved{false};                        ///< the MPC solved for a new command
   bool safety_stop{false};                   ///< it braked: the plan ahead is unsafe
+  bool climbing{false};  ///< it held the climb command over a step (NavigationSettings)
 };
 
 /// The autonomy stack of one robot: plans on the latest traversability map at a fixed rate and on
@@ -121,7 +134,8 @@ struct NavigatorTick {
 /// of the map, and replans after it; if a map update shows that drive no longer keeps clear, it
 /// chooses again from where it is, or stops. A robot that stalls (the plan asks it to move, it
 /// stays in place: a curb it cannot climb at that speed) backs off straight for a run-up, if that
-/// keeps clear of the map, and replans after it (docs/navigation.md). Time is simulation time;
+/// keeps clear of the map, and replans after it. A robot climbing a step drives straight at the
+/// climb speed until its nose is down again (docs/navigation.md). Time is simulation time;
 /// planning is synchronous (the world waits for it).
 class Navigator {
  public:
@@ -167,6 +181,7 @@ class Navigator {
     int safety_stops{0};              ///< control ticks that braked for safety
     int give_ways{0};                 ///< times the stopped robot moved out of a mover's way
     int back_offs{0};                 ///< times the stalled robot backed off for a run-up
+    int step_climbs{0};               ///< times the robot began to climb a step straight
     int replans_on_events{0};         ///< calls triggered by an event rather than the clock
     std::vector<double> planning_ms;  ///< wall time of each planning call
     std::vector<double> control_ms;   ///< wall time of each MPC solve
@@ -189,6 +204,13 @@ class Navigator {
   std::optional<common::Trajectory> GiveWay(const common::RobotState& state,
                                             const common::GridLayers& map,
                                             const std::vector<MovingObstacle>& movers);
+  // True if the robot holds the climb command over a step of `map` while the tracker asks for
+  // `command` (NavigationSettings::climb_speed_m_s); advances the climb's state.
+  bool HoldsClimb(const common::RobotState& state, const common::GridLayers* map,
+                  const common::Twist2& command);
+  // True if a cell of `map` within reach_m of p_W reads a step (StepCrossing::Weight > 0).
+  bool StepWithinReach(const common::GridLayers& map, const Eigen::Vector2d& p_W,
+                       double reach_m) const;
   // A straight drive backward along the heading of the stalled robot, the longest of
   // kBackOffDistances_m that keeps clear of the map, if one does.
   std::optional<common::Trajectory> BackOff(const common::RobotState& state,
@@ -212,6 +234,12 @@ class Navigator {
   NavigationPlanner planner_;
   std::unique_ptr<controller::TrajectoryTracker> tracker_;
   FreeDriveSpeeds free_drive_speeds_;
+  double climb_speed_m_s_{0.0};  // settings_.climb_speed_m_s within the tracker's limit
+  // a climb's state: none (armed), holding the climb command since climb_start_W_, or spent
+  // (driven the footprint's length with the nose still up: no new climb until it is down)
+  enum class Climb { kNone, kHolding, kSpent };
+  Climb climb_{Climb::kNone};
+  Eigen::Vector2d climb_start_W_{Eigen::Vector2d::Zero()};
   Eigen::Vector2d goal_W_;
   common::Trajectory trajectory_;
   std::vector<Eigen::Vector2d> waypoints_W_;

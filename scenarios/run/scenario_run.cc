@@ -89,6 +89,7 @@ NavigationMetrics SummarizeNavigation(const ClosedLoop& loop, const RunSummary& 
   navigation.fallbacks = stats.fallbacks;
   navigation.give_ways = stats.give_ways;
   navigation.back_offs = stats.back_offs;
+  navigation.step_climbs = stats.step_climbs;
   navigation.mover_tracking_error_m = movers.tracking_error_m();
   navigation.perceived_mover_samples = movers.perceived_samples();
   navigation.false_mover_samples = movers.false_mover_samples();
@@ -364,6 +365,7 @@ void to_json(nlohmann::json& json, const NavigationMetrics& n) {
           {"fallbacks", FallbackCounts(n.fallbacks)},
           {"give_ways", n.give_ways},
           {"back_offs", n.back_offs},
+          {"step_climbs", n.step_climbs},
           {"last_planner_status", n.last_planner_status},
           {"planning_failure_cause", n.planning_failure_cause},
           {"mover_tracking_error_m", n.mover_tracking_error_m},

@@ -37,8 +37,9 @@ struct NavigationMetrics {
   int failed_plans{0};
   int replans_on_events{0};
   int safety_stops{0};
-  int give_ways{0};  ///< times the stopped robot drove out of a mover's way
-  int back_offs{0};  ///< times the stalled robot backed off for a run-up
+  int give_ways{0};    ///< times the stopped robot drove out of a mover's way
+  int back_offs{0};    ///< times the stalled robot backed off for a run-up
+  int step_climbs{0};  ///< times the robot began to climb a step straight (Navigator)
   /// Plans that fell back on a manoeuvre, by planner::Fallback (docs/navigation.md).
   std::array<int, planner::kFallbackNames.size()> fallbacks{};
   std::string last_planner_status;

@@ -2,11 +2,16 @@
 #include "planner/navigation/navigator.h"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+
+#include "tests/planner/planner_test_util.h"
 
 namespace trav::planner {
 namespace {
@@ -431,6 +436,110 @@ TEST(NavigatorTest, AStalledRobotWithNoRoomBehindReplansWhereItIs) {
   // stalled after about 1.2 s, then again a second after each stall replan
   EXPECT_EQ(std::count(stall.replans.begin(), stall.replans.end(), planner::ReplanReason::kStalled),
             2);
+}
+
+// OpenMap with 0.14 m stairs up along the way from x = 1 m, a step every 0.4 m, in the roughness
+// layer as the mappers read it: steps reach the base (within the footprint's circumscribed
+// radius, 0.42 m) from x = 0.5 m on.
+common::GridLayers StairsMap() {
+  common::GridLayers map = OpenMap();
+  test_util::PaintRoughness(&map, [](const Eigen::Vector2d& p) {
+    return p.x() > 1.0 ? 0.14 * std::ceil((p.x() - 1.0) / 0.4) : 0.0;
+  });
+  return map;
+}
+
+// `state` at yaw `yaw_rad` with its nose up by `nose_up_deg` (negative: down).
+common::RobotState Tilted(common::RobotState state, double yaw_rad, double nose_up_deg) {
+  state.X_WB.linear() = (Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()) *
+                         Eigen::AngleAxisd(-nose_up_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()))
+                            .toRotationMatrix();
+  return state;
+}
+
+// Ticks `dut` every 0.02 s after *t_s on its own plan, level, until the plan reaches x_m; none of
+// those ticks holds a climb.
+void DriveLevelTo(planner::Navigator* dut, const common::GridLayers& map, double x_m, double* t_s) {
+  while (dut->trajectory().Sample(*t_s).position_W.x() < x_m) {
+    *t_s += 0.02;
+    ASSERT_FALSE(dut->Update(OnDriveAt(dut->trajectory(), *t_s), &map, false, {}).climbing);
+  }
+}
+
+TEST(NavigatorTest, ClimbsAStepStraightAtTheClimbSpeedWhileItsNoseIsUpOverIt) {
+  const common::GridLayers map = StairsMap();
+  planner::Navigator dut = MakeNavigator();
+  dut.Update(At(0.0, 0.0), &map, true, {});
+  double t = 0.0;
+  auto tick = [&](double yaw_rad, double nose_up_deg) {
+    t += 0.02;
+    return dut.Update(Tilted(OnDriveAt(dut.trajectory(), t), yaw_rad, nose_up_deg), &map, false,
+                      {});
+  };
+  DriveLevelTo(&dut, map, 0.25, &t);
+  // nose up short of the stairs (on a slope): the tracker's command
+  EXPECT_FALSE(tick(0.0, 15.0).climbing);
+  DriveLevelTo(&dut, map, 0.95, &t);
+  // over the first step, level, 0.3 rad off the plan's heading: the tracker turns back
+  const planner::NavigatorTick level = tick(0.3, 0.0);
+  EXPECT_FALSE(level.climbing);
+  EXPECT_LT(level.command.omega, -0.05);
+  EXPECT_EQ(dut.statistics().step_climbs, 0);
+  // nose up by 15 deg, then 6 deg: one climb, straight at the climb speed
+  for (const double nose_up_deg : {15.0, 6.0}) {
+    const planner::NavigatorTick climbing = tick(0.3, nose_up_deg);
+    EXPECT_TRUE(climbing.climbing) << nose_up_deg;
+    EXPECT_EQ(climbing.command.v, 1.1);
+    EXPECT_EQ(climbing.command.omega, 0.0);
+  }
+  EXPECT_EQ(dut.statistics().step_climbs, 1);
+  // below the climb pitch (5 deg) or nose down (driving off a step): the tracker's command,
+  // which means to drive on; each ends the climb
+  for (const double nose_up_deg : {4.0, -15.0}) {
+    const planner::NavigatorTick other = tick(0.3, nose_up_deg);
+    EXPECT_FALSE(other.climbing) << nose_up_deg;
+    EXPECT_GE(other.command.v, 0.3) << nose_up_deg;
+  }
+  // nose up again: a second climb, held until the robot has driven the footprint's length
+  // (0.626 m), then not again while the nose stays up
+  const double start_x = dut.trajectory().Sample(t + 0.02).position_W.x();
+  ASSERT_TRUE(tick(0.3, 15.0).climbing);
+  EXPECT_EQ(dut.statistics().step_climbs, 2);
+  double released_x = 0.0;
+  while (released_x == 0.0 && t < 10.0) {
+    if (!tick(0.3, 15.0).climbing) released_x = dut.trajectory().Sample(t).position_W.x();
+  }
+  EXPECT_NEAR(released_x - start_x, 0.626, 0.05);
+  EXPECT_LT(released_x, 3.0);  // still on the stairs
+  EXPECT_FALSE(tick(0.3, 15.0).climbing);
+  EXPECT_EQ(dut.statistics().step_climbs, 2);
+  // the nose down, then up: a new climb
+  EXPECT_FALSE(tick(0.3, 0.0).climbing);
+  EXPECT_TRUE(tick(0.3, 15.0).climbing);
+  EXPECT_EQ(dut.statistics().step_climbs, 3);
+}
+
+TEST(NavigatorTest, ClimbsNoFasterThanTheTrackerMayDriveAndNotAtAllWithTheClimbSpeedZero) {
+  const common::GridLayers map = StairsMap();
+  controller::MpcConfig slow;
+  slow.max_speed_m_s = 0.8;
+  planner::NavigationSettings off;
+  off.climb_speed_m_s = 0.0;
+  for (const bool hold : {true, false}) {
+    planner::Navigator dut(hold ? planner::NavigationSettings{} : off,
+                           planner::NavigationPlannerConfig{}, slow, Eigen::Vector2d(8, 0));
+    dut.Update(At(0.0, 0.0), &map, true, {});
+    double t = 0.0;
+    DriveLevelTo(&dut, map, 0.95, &t);
+    const planner::NavigatorTick tick =
+        dut.Update(Tilted(OnDriveAt(dut.trajectory(), t + 0.02), 0.3, 15.0), &map, false, {});
+    EXPECT_EQ(tick.climbing, hold);
+    if (hold) {
+      EXPECT_EQ(tick.command.v, 0.8);
+    } else {
+      EXPECT_NE(tick.command.omega, 0.0);  // the tracker's: it turns back to the plan
+    }
+  }
 }
 
 TEST(NavigatorTest, AStalledRobotThatMayNotReverseReplansWhereItIs) {

@@ -117,7 +117,8 @@ TEST(FlattenSummaryTest, ASummaryWithEverySectionHasEveryMetric) {
                       "fallbacks.back_out",
                       "fallbacks.stop",
                       "give_ways",
-                      "back_offs"});
+                      "back_offs",
+                      "step_climbs"});
   add("collision.", {"mover", "relative_speed_m_s", "robot_speed_m_s", "time_s"});
   add("localization.",
       {"final_position_error_m", "final_z_error_m", "final_yaw_error_deg", "max_position_error_m",

@@ -189,6 +189,18 @@ TEST(ScenarioTest, StepCrossingKeysTakeEffectAndAreChecked) {
                   HasSubstr("planner.steps.max_angle: value 0.000000 must be in (0, 90]")));
 }
 
+TEST(ScenarioTest, StepClimbKeysTakeEffectAndAreChecked) {
+  const Scenario dut = Load("navigation: {climb_speed: 0.9, climb_pitch: 8}");
+  EXPECT_EQ(dut.navigation.climb_speed_m_s, 0.9);
+  EXPECT_EQ(dut.navigation.climb_pitch_deg, 8.0);
+  EXPECT_EQ(Load("navigation: {climb_speed: 0}").navigation.climb_speed_m_s, 0.0);  // off
+  EXPECT_THAT([] { Load("navigation: {climb_pitch: 0}"); },
+              ThrowsMessage<common::InputError>(
+                  HasSubstr("navigation.climb_pitch: value 0.000000 must be in (0, 90) deg")));
+  EXPECT_THAT([] { Load("navigation: {climb_speed: -1}"); },
+              ThrowsMessage<common::InputError>(HasSubstr("navigation.climb_speed")));
+}
+
 // M, the inducing points, is one key for every GP mapper: SGP takes it as well as FSGP-BGK.
 TEST(ScenarioTest, EveryGpMapperTakesItsInducingPointsFromMaxTrainingPoints) {
   // a dense 10 x 10 m surface with a bump: more points than any M below

@@ -291,6 +291,32 @@ TEST(SimulationTest, RearsOnATenCentimetreStepAtFullSpeed) {
   EXPECT_GT(fast_pitch, 35.0 * M_PI / 180.0);
 }
 
+// Drives at 1 m/s toward a step of `step_height_m` at x = 0 from x = -1.5 m and, from when its
+// nose is up by 5 deg, at `climb` (the navigator's climb hold: planner/navigation/navigator.h);
+// returns how far past the edge the rear axle got in 6 s [m].
+double RearPastAfterClimbing(double step_height_m, const common::Twist2& climb) {
+  common::Pose2 start;
+  start.position = Eigen::Vector2d(-1.5, 0.0);
+  Simulation sim(StepWorld(step_height_m), start, Options());
+  for (int i = 0; i < static_cast<int>(6.0 / sim.timestep()); ++i) {
+    const double nose_up = -common::ToRollPitchYaw(sim.State().X_WB.linear()).pitch;
+    Drive(&sim, nose_up > 5.0 * M_PI / 180.0 ? climb : common::Twist2{1.0, 0.0});
+    sim.Step();
+  }
+  return (sim.State().X_WB * Eigen::Vector3d(-0.2255, 0, 0)).x();
+}
+
+// docs/navigation.md, "Climbing a step": driven straight at 1.1 m/s from when the front wheels
+// climb, the robot gets onto 0.14 m; turning at 0.3 rad/s either way (one side at 0.92 m/s), or
+// straight at 0.8 m/s, its rear wheels stall against the face.
+TEST(SimulationTest, ClimbsFourteenCentimetresDrivenStraightButNotWhileTurning) {
+  EXPECT_GT(RearPastAfterClimbing(0.14, {1.1, 0.0}), 3.0);
+  for (const common::Twist2& stalls :
+       {common::Twist2{1.1, 0.3}, common::Twist2{1.1, -0.3}, common::Twist2{0.8, 0.0}}) {
+    EXPECT_LT(RearPastAfterClimbing(0.14, stalls), 0.0) << stalls.v << " " << stalls.omega;
+  }
+}
+
 TEST(SimulationTest, ClimbsAFiveCentimetreStep) {
   const common::RobotState state = DriveAtStep(0.05);
   EXPECT_GT(state.X_WB.translation().x(), 3.0);
