@@ -138,8 +138,7 @@ Eigen::Vector2d SlopeLimits::Tangents() const {
 }
 
 double StepCrossing::Weight(double roughness_m) const {
-  // a step's edge reads about half its height (common::Roughness)
-  const double height = 2.0 * roughness_m;
+  const double height = StepHeightOfRoughness(roughness_m);
   if (!(height > low_height_m)) return 0.0;
   return std::min(1.0, (height - low_height_m) / (full_height_m - low_height_m));
 }

@@ -113,6 +113,10 @@ struct StepCrossing {
   double Weight(double roughness_m) const;
 };
 
+/// The height [m] of the step whose edge reads `roughness_m` in a map's roughness layer
+/// (common::Roughness: about half the step's height).
+inline double StepHeightOfRoughness(double roughness_m) { return 2.0 * roughness_m; }
+
 /// How a traversability layer becomes search costs; the settings of A* (`AStarConfig`) and of the
 /// sampling planners.
 struct CostMapConfig {

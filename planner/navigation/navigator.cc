@@ -92,6 +92,7 @@ void ValidateNavigationSettings(const NavigationSettings& s) {
   RequireValue(s.climb_speed_m_s >= 0.0, "climb_speed", s.climb_speed_m_s, "must be >= 0");
   RequireValue(s.climb_pitch_deg > 0.0 && s.climb_pitch_deg < 90.0, "climb_pitch",
                s.climb_pitch_deg, "must be in (0, 90) deg");
+  RequireValue(s.climb_step_m >= 0.0, "climb_step", s.climb_step_m, "must be >= 0");
 }
 
 controller::MpcConfig PlanTrackingConfig(controller::MpcConfig mpc,
@@ -201,38 +202,50 @@ NavigatorTick Navigator::Update(const common::RobotState& state, const common::G
 
 bool Navigator::HoldsClimb(const common::RobotState& state, const common::GridLayers* map,
                            const common::Twist2& command) {
-  // meant to drive on with its nose up (pitch is positive nose down, REP-103); else re-armed
-  if (climb_speed_m_s_ <= 0.0 || map == nullptr || command.v < kStallSpeed_m_s ||
-      -common::ToRollPitchYaw(state.X_WB.linear()).pitch <
-          settings_.climb_pitch_deg * M_PI / 180.0) {
+  if (climb_speed_m_s_ <= 0.0 || map == nullptr) {
     climb_ = Climb::kNone;
     return false;
   }
+  // pitch is positive nose down (REP-103)
+  const bool nose_up = -common::ToRollPitchYaw(state.X_WB.linear()).pitch >=
+                       settings_.climb_pitch_deg * M_PI / 180.0;
   const Eigen::Vector2d p_W = state.X_WB.translation().head<2>();
   const common::Footprint& footprint = planner_.config().footprint;
   switch (climb_) {
+    case Climb::kHolding:
+      // until the robot has driven its length, by which its rear wheels have climbed, whatever its
+      // pitch meanwhile (it falls as the rear wheels climb) and however slowly the tracker asks
+      // to go on (a replan at the face starts from the slowed robot); a stall's back-off
+      // (the tracker reversing) or a stop ends it
+      if (command.v > 0.0 && (p_W - climb_start_W_).norm() <= 2.0 * footprint.half_length_m) {
+        return true;
+      }
+      climb_ = command.v > 0.0 && nose_up ? Climb::kSpent : Climb::kNone;
+      // the plan was left: a new one at once, from the measured rates
+      next_plan_s_ = std::min(next_plan_s_, state.time_s);
+      climb_ended_ = true;
+      return false;
+    case Climb::kSpent:
+      if (!nose_up) climb_ = Climb::kNone;
+      return false;
     case Climb::kNone:
-      if (!StepWithinReach(*map, p_W, footprint.CircumscribedRadius())) return false;
+      if (!nose_up || command.v < kStallSpeed_m_s ||
+          !StepWithinReach(*map, p_W, footprint.CircumscribedRadius())) {
+        return false;
+      }
       climb_ = Climb::kHolding;
       climb_start_W_ = p_W;
       ++statistics_.step_climbs;
       return true;
-    case Climb::kHolding:
-      // the wheels climb within the robot's length or stall (then the stall's back-off ends it)
-      if ((p_W - climb_start_W_).norm() <= 2.0 * footprint.half_length_m) return true;
-      climb_ = Climb::kSpent;
-      return false;
-    case Climb::kSpent:
-      return false;
   }
   return false;
 }
 
 bool Navigator::StepWithinReach(const common::GridLayers& map, const Eigen::Vector2d& p_W,
                                 double reach_m) const {
-  const CostMapConfig& search = planner_.config().search;
-  if (!map.Has(search.speed.roughness_layer)) return false;
-  const Eigen::MatrixXf& roughness = map.Layer(search.speed.roughness_layer);
+  const std::string& layer = planner_.config().search.speed.roughness_layer;
+  if (!map.Has(layer)) return false;
+  const Eigen::MatrixXf& roughness = map.Layer(layer);
   const common::GridGeometry& g = map.geometry();
   const int cells = static_cast<int>(std::ceil(reach_m / g.resolution_m));
   for (int dy = -cells; dy <= cells; ++dy) {
@@ -240,7 +253,7 @@ bool Navigator::StepWithinReach(const common::GridLayers& map, const Eigen::Vect
       const Eigen::Vector2d q_W = p_W + g.resolution_m * Eigen::Vector2d(dx, dy);
       const std::optional<Eigen::Vector2i> cell = g.CellIndex(q_W);
       if (cell && (q_W - p_W).norm() <= reach_m &&
-          search.steps.Weight(roughness(cell->x(), cell->y())) > 0.0) {
+          StepHeightOfRoughness(roughness(cell->x(), cell->y())) >= settings_.climb_step_m) {
         return true;
       }
     }
@@ -353,7 +366,9 @@ ReplanReason Navigator::ReasonToReplan(const common::RobotState& state,
   }
   if (force_replan_) return ReplanReason::kSafetyStop;
   const Eigen::Vector2d position_W = state.X_WB.translation().head<2>();
-  const double planned_speed = std::abs(trajectory_.Sample(now).v);
+  // a held climb means to move at the climb speed, whatever the plan
+  const double planned_speed =
+      climb_ == Climb::kHolding ? climb_speed_m_s_ : std::abs(trajectory_.Sample(now).v);
   if (planned_speed < kStallSpeed_m_s || (position_W - last_moving_W_).norm() > kStallDistance_m) {
     last_moving_s_ = now;
     last_moving_W_ = position_W;
@@ -389,9 +404,12 @@ void Navigator::Replan(const common::RobotState& state, const common::GridLayers
   start.t_s = now;
   start.position_W = state.X_WB.translation().head<2>();
   start.yaw = YawOf(state);
-  const bool on_plan =
-      !trajectory_.empty() && (trajectory_.Sample(now).position_W - start.position_W).norm() <=
-                                  settings_.replan_deviation_m;
+  // (a robot that holds or has just held a climb has left the plan: its measured rates start the
+  // next one, not the plan's, which it outran)
+  const bool on_plan = climb_ != Climb::kHolding && !climb_ended_ && !trajectory_.empty() &&
+                       (trajectory_.Sample(now).position_W - start.position_W).norm() <=
+                           settings_.replan_deviation_m;
+  climb_ended_ = false;
   if (on_plan) {
     const common::TrajectoryPoint planned = trajectory_.Sample(now);
     start.v = planned.v;

@@ -41,15 +41,16 @@ struct NavigationSettings {
   /// The map reaches the planner this long after the frame it comes from [s], >= 0.
   double mapping_latency_s{0.05};
 
-  /// Climbing a step: when the robot, meant to drive forward, has its nose up by at least
-  /// `climb_pitch_deg` with a step within the footprint's circumscribed radius (a cell whose
-  /// roughness reads a step of `planner.steps.low_height` or more: StepCrossing::Weight), it
-  /// drives straight at `climb_speed_m_s` (or the tracker's limit if lower) whatever the tracker
-  /// asks, until its nose is down again or it has driven the footprint's length; then no new
-  /// climb until the nose has been down. A turn while the wheels climb stalls them at the face
-  /// (docs/navigation.md, "Climbing a step"). 0 turns the hold off.
+  /// Climbing a step: when the robot, meant to drive on (the tracker asks for 0.3 m/s or more),
+  /// has its nose up by at least `climb_pitch_deg` with a step of `climb_step_m` or more within
+  /// the footprint's circumscribed radius (a cell whose roughness reads one:
+  /// StepHeightOfRoughness), it drives straight at `climb_speed_m_s` (or the tracker's limit if
+  /// lower) whatever the tracker asks, until it has driven the footprint's length or the tracker
+  /// stops or reverses; then no new climb until the nose has been down. A turn while the wheels
+  /// climb stalls them at the face (docs/navigation.md, "Climbing a step"). 0 turns the hold off.
   double climb_speed_m_s{1.1};
-  double climb_pitch_deg{5.0};  ///< (0, 90)
+  double climb_pitch_deg{10.0};  ///< (0, 90)
+  double climb_step_m{0.08};     ///< [m], >= 0
 
   /// The keys of scenario section `navigation` that configure the loop (common/archive.h).
   template <typename Archive>
@@ -69,6 +70,7 @@ struct NavigationSettings {
     a->Field("near_miss_clearance", &near_miss_clearance_m, {0, 10});
     a->Field("climb_speed", &climb_speed_m_s, {0, 30});
     a->Field("climb_pitch", &climb_pitch_deg, {0, 90});
+    a->Field("climb_step", &climb_step_m, {0, 10});
   }
 };
 
@@ -135,7 +137,7 @@ struct NavigatorTick {
 /// chooses again from where it is, or stops. A robot that stalls (the plan asks it to move, it
 /// stays in place: a curb it cannot climb at that speed) backs off straight for a run-up, if that
 /// keeps clear of the map, and replans after it. A robot climbing a step drives straight at the
-/// climb speed until its nose is down again (docs/navigation.md). Time is simulation time;
+/// climb speed for its length (docs/navigation.md). Time is simulation time;
 /// planning is synchronous (the world waits for it).
 class Navigator {
  public:
@@ -208,7 +210,7 @@ class Navigator {
   // `command` (NavigationSettings::climb_speed_m_s); advances the climb's state.
   bool HoldsClimb(const common::RobotState& state, const common::GridLayers* map,
                   const common::Twist2& command);
-  // True if a cell of `map` within reach_m of p_W reads a step (StepCrossing::Weight > 0).
+  // True if a cell of `map` within reach_m of p_W reads a step of settings_.climb_step_m or more.
   bool StepWithinReach(const common::GridLayers& map, const Eigen::Vector2d& p_W,
                        double reach_m) const;
   // A straight drive backward along the heading of the stalled robot, the longest of
@@ -236,9 +238,10 @@ class Navigator {
   FreeDriveSpeeds free_drive_speeds_;
   double climb_speed_m_s_{0.0};  // settings_.climb_speed_m_s within the tracker's limit
   // a climb's state: none (armed), holding the climb command since climb_start_W_, or spent
-  // (driven the footprint's length with the nose still up: no new climb until it is down)
+  // (held for the footprint's length with the nose still up: no new climb until it is down)
   enum class Climb { kNone, kHolding, kSpent };
   Climb climb_{Climb::kNone};
+  bool climb_ended_{false};  // a climb's hold ended since the last plan
   Eigen::Vector2d climb_start_W_{Eigen::Vector2d::Zero()};
   Eigen::Vector2d goal_W_;
   common::Trajectory trajectory_;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -438,107 +439,133 @@ TEST(NavigatorTest, AStalledRobotWithNoRoomBehindReplansWhereItIs) {
             2);
 }
 
-// OpenMap with 0.14 m stairs up along the way from x = 1 m, a step every 0.4 m, in the roughness
-// layer as the mappers read it: steps reach the base (within the footprint's circumscribed
-// radius, 0.42 m) from x = 0.5 m on.
-common::GridLayers StairsMap() {
+// OpenMap with stairs up along the way from x = 1 m, a step of `step_height_m` every 0.4 m, in
+// the roughness layer as the mappers read it: 0.14 m steps reach the base (within the
+// footprint's circumscribed radius, 0.42 m) from x = 0.5 m on.
+common::GridLayers StairsMap(double step_height_m) {
   common::GridLayers map = OpenMap();
-  test_util::PaintRoughness(&map, [](const Eigen::Vector2d& p) {
-    return p.x() > 1.0 ? 0.14 * std::ceil((p.x() - 1.0) / 0.4) : 0.0;
+  test_util::PaintRoughness(&map, [step_height_m](const Eigen::Vector2d& p) {
+    return p.x() > 1.0 ? step_height_m * std::ceil((p.x() - 1.0) / 0.4) : 0.0;
   });
   return map;
 }
 
-// `state` at yaw `yaw_rad` with its nose up by `nose_up_deg` (negative: down).
-common::RobotState Tilted(common::RobotState state, double yaw_rad, double nose_up_deg) {
-  state.X_WB.linear() = (Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()) *
-                         Eigen::AngleAxisd(-nose_up_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()))
-                            .toRotationMatrix();
+// A tracker that commands what the test sets, whatever its reference.
+class ScriptedTracker : public controller::TrajectoryTracker {
+ public:
+  explicit ScriptedTracker(const common::Twist2* command) : command_(command) {}
+  void SetReference(common::Trajectory reference) override { reference_ = std::move(reference); }
+  common::Twist2 Command(const common::RobotState&) override { return *command_; }
+  bool SolveDue(double) const override { return true; }
+  controller::TrackingMetrics Metrics() const override { return {}; }
+  const common::Trajectory& reference() const override { return reference_; }
+  int solves() const override { return 0; }
+  const Eigen::Matrix3Xd& predicted_states_W() const override { return predicted_W_; }
+
+ private:
+  const common::Twist2* command_;
+  common::Trajectory reference_;
+  Eigen::Matrix3Xd predicted_W_;
+};
+
+// A navigator toward (8, 0) whose tracker commands *command, tracking with `mpc`'s limits.
+planner::Navigator ScriptedNavigator(const common::Twist2* command,
+                                     const planner::NavigationSettings& settings = {},
+                                     const controller::MpcConfig& mpc = {}) {
+  return planner::Navigator(settings, planner::NavigationPlannerConfig{}, mpc,
+                            Eigen::Vector2d(8, 0), planner::AStarSearch,
+                            std::make_unique<ScriptedTracker>(command));
+}
+
+// The robot at (x_m, 0) at t_s heading +x with its nose up by `nose_up_deg` (negative: down).
+common::RobotState NoseUp(double t_s, double x_m, double nose_up_deg) {
+  common::RobotState state = At(t_s, x_m);
+  state.X_WB.linear() =
+      Eigen::AngleAxisd(-nose_up_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
   return state;
 }
 
-// Ticks `dut` every 0.02 s after *t_s on its own plan, level, until the plan reaches x_m; none of
-// those ticks holds a climb.
-void DriveLevelTo(planner::Navigator* dut, const common::GridLayers& map, double x_m, double* t_s) {
-  while (dut->trajectory().Sample(*t_s).position_W.x() < x_m) {
-    *t_s += 0.02;
-    ASSERT_FALSE(dut->Update(OnDriveAt(dut->trajectory(), *t_s), &map, false, {}).climbing);
-  }
-}
-
 TEST(NavigatorTest, ClimbsAStepStraightAtTheClimbSpeedWhileItsNoseIsUpOverIt) {
-  const common::GridLayers map = StairsMap();
-  planner::Navigator dut = MakeNavigator();
-  dut.Update(At(0.0, 0.0), &map, true, {});
+  const common::GridLayers map = StairsMap(0.14);
+  common::Twist2 command{0.8, 0.4};  // the tracker's: on and turning
+  planner::Navigator dut = ScriptedNavigator(&command);
   double t = 0.0;
-  auto tick = [&](double yaw_rad, double nose_up_deg) {
+  auto tick = [&](double x_m, double nose_up_deg) {
+    const planner::NavigatorTick done = dut.Update(NoseUp(t, x_m, nose_up_deg), &map, t == 0.0, {});
     t += 0.02;
-    return dut.Update(Tilted(OnDriveAt(dut.trajectory(), t), yaw_rad, nose_up_deg), &map, false,
-                      {});
+    return done;
   };
-  DriveLevelTo(&dut, map, 0.25, &t);
-  // nose up short of the stairs (on a slope): the tracker's command
-  EXPECT_FALSE(tick(0.0, 15.0).climbing);
-  DriveLevelTo(&dut, map, 0.95, &t);
-  // over the first step, level, 0.3 rad off the plan's heading: the tracker turns back
-  const planner::NavigatorTick level = tick(0.3, 0.0);
-  EXPECT_FALSE(level.climbing);
-  EXPECT_LT(level.command.omega, -0.05);
-  EXPECT_EQ(dut.statistics().step_climbs, 0);
-  // nose up by 15 deg, then 6 deg: one climb, straight at the climb speed
-  for (const double nose_up_deg : {15.0, 6.0}) {
-    const planner::NavigatorTick climbing = tick(0.3, nose_up_deg);
-    EXPECT_TRUE(climbing.climbing) << nose_up_deg;
-    EXPECT_EQ(climbing.command.v, 1.1);
-    EXPECT_EQ(climbing.command.omega, 0.0);
+  auto holds = [](const planner::NavigatorTick& done) {
+    return done.climbing && done.command.v == 1.1 && done.command.omega == 0.0;
+  };
+  // level, or nose up short of the stairs (a slope): the tracker's command
+  for (const auto& [x_m, nose_up_deg] :
+       std::vector<std::pair<double, double>>{{0.0, 0.0}, {0.2, 15.0}, {1.0, 0.0}}) {
+    const planner::NavigatorTick other = tick(x_m, nose_up_deg);
+    EXPECT_FALSE(other.climbing) << x_m << " " << nose_up_deg;
+    EXPECT_EQ(other.command.v, 0.8);
+    EXPECT_EQ(other.command.omega, 0.4);
   }
+  // nose up by 15 deg over the first step: a climb, straight at the climb speed, held whatever
+  // the pitch (it falls as the rear wheels climb) and while the tracker slows (to 0.1 m/s),
+  // ended when the tracker reverses (a stall's back-off)
+  EXPECT_TRUE(holds(tick(1.0, 15.0)));
+  EXPECT_TRUE(holds(tick(1.0, 0.0)));
+  command = {0.1, 0.4};
+  EXPECT_TRUE(holds(tick(1.0, -5.0)));
+  command = {-0.2, 0.0};
+  EXPECT_FALSE(tick(1.0, 15.0).climbing);
   EXPECT_EQ(dut.statistics().step_climbs, 1);
-  // below the climb pitch (5 deg) or nose down (driving off a step): the tracker's command,
-  // which means to drive on; each ends the climb
-  for (const double nose_up_deg : {4.0, -15.0}) {
-    const planner::NavigatorTick other = tick(0.3, nose_up_deg);
-    EXPECT_FALSE(other.climbing) << nose_up_deg;
-    EXPECT_GE(other.command.v, 0.3) << nose_up_deg;
-  }
-  // nose up again: a second climb, held until the robot has driven the footprint's length
-  // (0.626 m), then not again while the nose stays up
-  const double start_x = dut.trajectory().Sample(t + 0.02).position_W.x();
-  ASSERT_TRUE(tick(0.3, 15.0).climbing);
+  // a climb starts only when the tracker means to drive on (0.3 m/s or more) and the nose is up
+  // by the climb pitch (10 deg)
+  command = {0.2, 0.4};
+  EXPECT_FALSE(tick(1.0, 15.0).climbing);
+  command = {0.8, 0.4};
+  EXPECT_FALSE(tick(1.0, 9.0).climbing);
+  EXPECT_TRUE(holds(tick(1.05, 15.0)));
   EXPECT_EQ(dut.statistics().step_climbs, 2);
-  double released_x = 0.0;
-  while (released_x == 0.0 && t < 10.0) {
-    if (!tick(0.3, 15.0).climbing) released_x = dut.trajectory().Sample(t).position_W.x();
-  }
-  EXPECT_NEAR(released_x - start_x, 0.626, 0.05);
-  EXPECT_LT(released_x, 3.0);  // still on the stairs
-  EXPECT_FALSE(tick(0.3, 15.0).climbing);
+  // held until the robot has driven the footprint's length (0.626 m) from where the climb began,
+  // then not again while the nose stays up, though it is still on the stairs
+  for (double x = 1.1; x < 1.05 + 0.62; x += 0.05) EXPECT_TRUE(holds(tick(x, 2.0))) << x;
+  EXPECT_FALSE(tick(1.7, 15.0).climbing);
+  EXPECT_FALSE(tick(2.5, 15.0).climbing);
   EXPECT_EQ(dut.statistics().step_climbs, 2);
   // the nose down, then up: a new climb
-  EXPECT_FALSE(tick(0.3, 0.0).climbing);
-  EXPECT_TRUE(tick(0.3, 15.0).climbing);
+  EXPECT_FALSE(tick(2.5, 0.0).climbing);
+  EXPECT_TRUE(holds(tick(2.5, 15.0)));
   EXPECT_EQ(dut.statistics().step_climbs, 3);
 }
 
+TEST(NavigatorTest, ClimbsOnlyOverAStepOfTheClimbStep) {
+  // 0.06 m stairs (their edges read 0.03 m of roughness) are below `climb_step` (0.08 m): no
+  // climb on them, unless the climb step is lower
+  const common::GridLayers map = StairsMap(0.06);
+  const common::Twist2 command{0.8, 0.4};
+  planner::NavigationSettings low;
+  low.climb_step_m = 0.05;
+  for (const bool lower : {false, true}) {
+    planner::Navigator dut =
+        ScriptedNavigator(&command, lower ? low : planner::NavigationSettings{});
+    dut.Update(NoseUp(0.0, 0.0, 0.0), &map, true, {});
+    EXPECT_EQ(dut.Update(NoseUp(0.02, 1.0, 15.0), &map, false, {}).climbing, lower);
+  }
+}
+
 TEST(NavigatorTest, ClimbsNoFasterThanTheTrackerMayDriveAndNotAtAllWithTheClimbSpeedZero) {
-  const common::GridLayers map = StairsMap();
+  const common::GridLayers map = StairsMap(0.14);
+  const common::Twist2 command{0.8, 0.4};
   controller::MpcConfig slow;
-  slow.max_speed_m_s = 0.8;
+  slow.max_speed_m_s = 0.7;
   planner::NavigationSettings off;
   off.climb_speed_m_s = 0.0;
   for (const bool hold : {true, false}) {
-    planner::Navigator dut(hold ? planner::NavigationSettings{} : off,
-                           planner::NavigationPlannerConfig{}, slow, Eigen::Vector2d(8, 0));
-    dut.Update(At(0.0, 0.0), &map, true, {});
-    double t = 0.0;
-    DriveLevelTo(&dut, map, 0.95, &t);
-    const planner::NavigatorTick tick =
-        dut.Update(Tilted(OnDriveAt(dut.trajectory(), t + 0.02), 0.3, 15.0), &map, false, {});
-    EXPECT_EQ(tick.climbing, hold);
-    if (hold) {
-      EXPECT_EQ(tick.command.v, 0.8);
-    } else {
-      EXPECT_NE(tick.command.omega, 0.0);  // the tracker's: it turns back to the plan
-    }
+    planner::Navigator dut =
+        ScriptedNavigator(&command, hold ? planner::NavigationSettings{} : off, slow);
+    dut.Update(NoseUp(0.0, 0.0, 0.0), &map, true, {});
+    const planner::NavigatorTick climbing = dut.Update(NoseUp(0.02, 1.0, 15.0), &map, false, {});
+    EXPECT_EQ(climbing.climbing, hold);
+    EXPECT_EQ(climbing.command.v, hold ? 0.7 : 0.8);
+    EXPECT_EQ(climbing.command.omega, hold ? 0.0 : 0.4);
   }
 }
 

@@ -190,15 +190,18 @@ TEST(ScenarioTest, StepCrossingKeysTakeEffectAndAreChecked) {
 }
 
 TEST(ScenarioTest, StepClimbKeysTakeEffectAndAreChecked) {
-  const Scenario dut = Load("navigation: {climb_speed: 0.9, climb_pitch: 8}");
+  const Scenario dut = Load("navigation: {climb_speed: 0.9, climb_pitch: 8, climb_step: 0.1}");
   EXPECT_EQ(dut.navigation.climb_speed_m_s, 0.9);
   EXPECT_EQ(dut.navigation.climb_pitch_deg, 8.0);
+  EXPECT_EQ(dut.navigation.climb_step_m, 0.1);
   EXPECT_EQ(Load("navigation: {climb_speed: 0}").navigation.climb_speed_m_s, 0.0);  // off
   EXPECT_THAT([] { Load("navigation: {climb_pitch: 0}"); },
               ThrowsMessage<common::InputError>(
                   HasSubstr("navigation.climb_pitch: value 0.000000 must be in (0, 90) deg")));
   EXPECT_THAT([] { Load("navigation: {climb_speed: -1}"); },
               ThrowsMessage<common::InputError>(HasSubstr("navigation.climb_speed")));
+  EXPECT_THAT([] { Load("navigation: {climb_step: -0.1}"); },
+              ThrowsMessage<common::InputError>(HasSubstr("navigation.climb_step")));
 }
 
 // M, the inducing points, is one key for every GP mapper: SGP takes it as well as FSGP-BGK.
