@@ -230,7 +230,8 @@ bool Navigator::HoldsClimb(const common::RobotState& state, const common::GridLa
       return false;
     case Climb::kNone:
       if (!nose_up || command.v < kStallSpeed_m_s ||
-          !StepWithinReach(*map, p_W, footprint.CircumscribedRadius())) {
+          !StepWithinReach(*map, p_W, footprint.CircumscribedRadius()) ||
+          !StraightKeepsClear(state, *map, 2.0 * footprint.half_length_m)) {
         return false;
       }
       climb_ = Climb::kHolding;
@@ -239,6 +240,17 @@ bool Navigator::HoldsClimb(const common::RobotState& state, const common::GridLa
       return true;
   }
   return false;
+}
+
+bool Navigator::StraightKeepsClear(const common::RobotState& state, const common::GridLayers& map,
+                                   double length_m) {
+  const common::TrajectoryPoint start = FreeDriveStart(state);
+  const Eigen::Vector2d forward_W(std::cos(start.yaw), std::sin(start.yaw));
+  const CostMap& costs = CostMapOf(map);
+  return KeepsClear(costs.field(),
+                    CreepAlong(start, {start.position_W, start.position_W + length_m * forward_W},
+                               false, FreeDriveConfig(climb_speed_m_s_)),
+                    BodyPointsOn(costs), planner_.config().optimizer.clearance_m);
 }
 
 bool Navigator::StepWithinReach(const common::GridLayers& map, const Eigen::Vector2d& p_W,

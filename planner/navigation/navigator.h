@@ -45,9 +45,10 @@ struct NavigationSettings {
   /// has its nose up by at least `climb_pitch_deg` with a step of `climb_step_m` or more within
   /// the footprint's circumscribed radius (a cell whose roughness reads one:
   /// StepHeightOfRoughness), it drives straight at `climb_speed_m_s` (or the tracker's limit if
-  /// lower) whatever the tracker asks, until it has driven the footprint's length or the tracker
-  /// stops or reverses; then no new climb until the nose has been down. A turn while the wheels
-  /// climb stalls them at the face (docs/navigation.md, "Climbing a step"). 0 turns the hold off.
+  /// lower) whatever the tracker asks, if that straight drive keeps the footprint clear of the
+  /// map, until it has driven the footprint's length or the tracker stops or reverses; then no new
+  /// climb until the nose has been down. A turn while the wheels climb stalls them at the face
+  /// (docs/navigation.md, "Climbing a step"). 0 turns the hold off.
   double climb_speed_m_s{1.1};
   double climb_pitch_deg{10.0};  ///< (0, 90)
   double climb_step_m{0.08};     ///< [m], >= 0
@@ -210,6 +211,10 @@ class Navigator {
   // `command` (NavigationSettings::climb_speed_m_s); advances the climb's state.
   bool HoldsClimb(const common::RobotState& state, const common::GridLayers* map,
                   const common::Twist2& command);
+  // True if the footprint keeps clear of `map` (KeepsClear) driving straight ahead for length_m
+  // from the state's pose.
+  bool StraightKeepsClear(const common::RobotState& state, const common::GridLayers& map,
+                          double length_m);
   // True if a cell of `map` within reach_m of p_W reads a step of settings_.climb_step_m or more.
   bool StepWithinReach(const common::GridLayers& map, const Eigen::Vector2d& p_W,
                        double reach_m) const;

@@ -551,6 +551,21 @@ TEST(NavigatorTest, ClimbsOnlyOverAStepOfTheClimbStep) {
   }
 }
 
+TEST(NavigatorTest, HoldsNoClimbTowardAnObstacle) {
+  // a block on the stairs 0.5 m ahead of the base at x = 1 m: driving straight for the
+  // footprint's length would put the robot's front into it (the plan goes round it)
+  common::GridLayers map = StairsMap(0.14);
+  PaintLethal(&map, [](const Eigen::Vector2d& p) {
+    return p.x() > 1.5 && p.x() < 1.9 && std::abs(p.y()) < 0.6;
+  });
+  const common::Twist2 command{0.8, 0.4};
+  planner::Navigator dut = ScriptedNavigator(&command);
+  dut.Update(NoseUp(0.0, 0.0, 0.0), &map, true, {});
+  const planner::NavigatorTick tick = dut.Update(NoseUp(0.02, 1.0, 15.0), &map, false, {});
+  EXPECT_FALSE(tick.climbing);
+  EXPECT_EQ(dut.statistics().step_climbs, 0);
+}
+
 TEST(NavigatorTest, ClimbsNoFasterThanTheTrackerMayDriveAndNotAtAllWithTheClimbSpeedZero) {
   const common::GridLayers map = StairsMap(0.14);
   const common::Twist2 command{0.8, 0.4};

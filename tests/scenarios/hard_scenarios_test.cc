@@ -106,11 +106,12 @@ INSTANTIATE_TEST_SUITE_P(
                      testing::Range(1, 4)),
     TestName);
 #else
-// On `hard/curb` at LiDAR seed 10 the robot meets the curb at 1.07 m/s, its front wheels climb, and
-// its rear wheels stall against the face; it rocks there at a few centimetres per second. It backs
-// off for a run-up and climbs the curb at its next attempt (docs/navigation.md); before, it pushed
-// at the curb until the run ended as stuck. (Which seeds stall moves with any change to the
-// trajectory: 2 of the 24 seeds 1 to 24 do, 10 and 22.)
+// On `hard/curb` at LiDAR seed 10 the map shows the curb smooth as the robot comes (the terrain's
+// speed limit does not slow it) and no step while it climbs: it meets the curb at 1.5 m/s, rears to
+// 52 deg, and its rear wheels stall against the face (no climb is held); it rocks there at a few
+// centimetres per second. It backs off for a run-up and climbs the curb at its next attempt
+// (docs/navigation.md); before, it pushed at the curb until the run ended as stuck. (Seed 22,
+// which stalled the same way, climbs at its first attempt since the climb is held straight.)
 TEST(StallTest, ARobotStalledAtACurbBacksOffAndClimbsItAtTheNextAttempt) {
   Scenario scenario = LoadScenario(
       common::YamlDocument::Load(std::string(TRAV_SOURCE_DIR) + "/scenarios/hard/curb.yaml"));
