@@ -485,6 +485,14 @@ common::RobotState NoseUp(double t_s, double x_m, double nose_up_deg) {
   return state;
 }
 
+// The tick of `dut` on `map` with the robot's nose up by 15 deg at x = 1 m (over the first of
+// StairsMap's steps), after a first tick level at the origin.
+planner::NavigatorTick NoseUpOverTheFirstStep(planner::Navigator* dut,
+                                              const common::GridLayers& map) {
+  dut->Update(NoseUp(0.0, 0.0, 0.0), &map, true, {});
+  return dut->Update(NoseUp(0.02, 1.0, 15.0), &map, false, {});
+}
+
 TEST(NavigatorTest, ClimbsAStepStraightAtTheClimbSpeedWhileItsNoseIsUpOverIt) {
   const common::GridLayers map = StairsMap(0.14);
   common::Twist2 command{0.8, 0.4};  // the tracker's: on and turning
@@ -546,8 +554,7 @@ TEST(NavigatorTest, ClimbsOnlyOverAStepOfTheClimbStep) {
   for (const bool lower : {false, true}) {
     planner::Navigator dut =
         ScriptedNavigator(&command, lower ? low : planner::NavigationSettings{});
-    dut.Update(NoseUp(0.0, 0.0, 0.0), &map, true, {});
-    EXPECT_EQ(dut.Update(NoseUp(0.02, 1.0, 15.0), &map, false, {}).climbing, lower);
+    EXPECT_EQ(NoseUpOverTheFirstStep(&dut, map).climbing, lower);
   }
 }
 
@@ -560,9 +567,7 @@ TEST(NavigatorTest, HoldsNoClimbTowardAnObstacle) {
   });
   const common::Twist2 command{0.8, 0.4};
   planner::Navigator dut = ScriptedNavigator(&command);
-  dut.Update(NoseUp(0.0, 0.0, 0.0), &map, true, {});
-  const planner::NavigatorTick tick = dut.Update(NoseUp(0.02, 1.0, 15.0), &map, false, {});
-  EXPECT_FALSE(tick.climbing);
+  EXPECT_FALSE(NoseUpOverTheFirstStep(&dut, map).climbing);
   EXPECT_EQ(dut.statistics().step_climbs, 0);
 }
 
@@ -576,8 +581,7 @@ TEST(NavigatorTest, ClimbsNoFasterThanTheTrackerMayDriveAndNotAtAllWithTheClimbS
   for (const bool hold : {true, false}) {
     planner::Navigator dut =
         ScriptedNavigator(&command, hold ? planner::NavigationSettings{} : off, slow);
-    dut.Update(NoseUp(0.0, 0.0, 0.0), &map, true, {});
-    const planner::NavigatorTick climbing = dut.Update(NoseUp(0.02, 1.0, 15.0), &map, false, {});
+    const planner::NavigatorTick climbing = NoseUpOverTheFirstStep(&dut, map);
     EXPECT_EQ(climbing.climbing, hold);
     EXPECT_EQ(climbing.command.v, hold ? 0.7 : 0.8);
     EXPECT_EQ(climbing.command.omega, hold ? 0.0 : 0.4);
