@@ -136,7 +136,7 @@ TEST(FlattenSummaryTest, ASummaryWithEverySectionHasEveryMetric) {
     metrics.insert(key);
   }
   EXPECT_EQ(metrics, expected);
-  EXPECT_EQ(metrics.size(), 100u);
+  EXPECT_EQ(metrics.size(), 101u);
 }
 
 }  // namespace
