@@ -1,7 +1,6 @@
 #include "planner/navigation/navigator.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
