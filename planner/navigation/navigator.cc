@@ -230,7 +230,7 @@ bool Navigator::HoldsClimb(const common::RobotState& state, const common::GridLa
     case Climb::kNone:
       if (!nose_up || command.v < kStallSpeed_m_s ||
           !StepWithinReach(*map, p_W, footprint.CircumscribedRadius()) ||
-          !StraightKeepsClear(state, *map, 2.0 * footprint.half_length_m)) {
+          !StraightDrive(state, *map, 2.0 * footprint.half_length_m, climb_speed_m_s_)) {
         return false;
       }
       climb_ = Climb::kHolding;
@@ -239,17 +239,6 @@ bool Navigator::HoldsClimb(const common::RobotState& state, const common::GridLa
       return true;
   }
   return false;
-}
-
-bool Navigator::StraightKeepsClear(const common::RobotState& state, const common::GridLayers& map,
-                                   double length_m) {
-  const common::TrajectoryPoint start = FreeDriveStart(state);
-  const Eigen::Vector2d forward_W(std::cos(start.yaw), std::sin(start.yaw));
-  const CostMap& costs = CostMapOf(map);
-  return KeepsClear(costs.field(),
-                    CreepAlong(start, {start.position_W, start.position_W + length_m * forward_W},
-                               false, FreeDriveConfig(climb_speed_m_s_)),
-                    BodyPointsOn(costs), planner_.config().optimizer.clearance_m);
 }
 
 bool Navigator::StepWithinReach(const common::GridLayers& map, const Eigen::Vector2d& p_W,
@@ -291,20 +280,29 @@ FallbackConfig Navigator::FreeDriveConfig(double speed_m_s) const {
 std::optional<common::Trajectory> Navigator::BackOff(const common::RobotState& state,
                                                      const common::GridLayers& map) {
   if (free_drive_speeds_.back_off_m_s <= 0.0) return std::nullopt;  // the tracker may not reverse
-  const common::TrajectoryPoint start = FreeDriveStart(state);
-  const Eigen::Vector2d forward_W(std::cos(start.yaw), std::sin(start.yaw));
-  const FallbackConfig drive = FreeDriveConfig(free_drive_speeds_.back_off_m_s);
-  const CostMap& costs = CostMapOf(map);
-  const NavigationPlannerConfig& config = planner_.config();
-  const std::vector<Eigen::Vector2d> body_B = BodyPointsOn(costs);
   for (const double length : kBackOffDistances_m) {
-    common::Trajectory candidate =
-        CreepAlong(start, {start.position_W, start.position_W - length * forward_W}, true, drive);
-    if (KeepsClear(costs.field(), candidate, body_B, config.optimizer.clearance_m)) {
-      return candidate;
+    if (std::optional<common::Trajectory> drive =
+            StraightDrive(state, map, -length, free_drive_speeds_.back_off_m_s)) {
+      return drive;
     }
   }
   return std::nullopt;
+}
+
+std::optional<common::Trajectory> Navigator::StraightDrive(const common::RobotState& state,
+                                                           const common::GridLayers& map,
+                                                           double length_m, double speed_m_s) {
+  const common::TrajectoryPoint start = FreeDriveStart(state);
+  const Eigen::Vector2d forward_W(std::cos(start.yaw), std::sin(start.yaw));
+  const CostMap& costs = CostMapOf(map);
+  common::Trajectory drive =
+      CreepAlong(start, {start.position_W, start.position_W + length_m * forward_W}, length_m < 0.0,
+                 FreeDriveConfig(speed_m_s));
+  if (!KeepsClear(costs.field(), drive, BodyPointsOn(costs),
+                  planner_.config().optimizer.clearance_m)) {
+    return std::nullopt;
+  }
+  return drive;
 }
 
 std::optional<common::Trajectory> Navigator::GiveWay(const common::RobotState& state,

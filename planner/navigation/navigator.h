@@ -211,10 +211,11 @@ class Navigator {
   // `command` (NavigationSettings::climb_speed_m_s); advances the climb's state.
   bool HoldsClimb(const common::RobotState& state, const common::GridLayers* map,
                   const common::Twist2& command);
-  // True if the footprint keeps clear of `map` (KeepsClear) driving straight ahead for length_m
-  // from the state's pose.
-  bool StraightKeepsClear(const common::RobotState& state, const common::GridLayers& map,
-                          double length_m);
+  // The straight drive from the state's pose along its heading by length_m (backward if negative)
+  // at speed_m_s, if the footprint keeps clear of `map` on it (KeepsClear).
+  std::optional<common::Trajectory> StraightDrive(const common::RobotState& state,
+                                                  const common::GridLayers& map, double length_m,
+                                                  double speed_m_s);
   // True if a cell of `map` within reach_m of p_W reads a step of settings_.climb_step_m or more.
   bool StepWithinReach(const common::GridLayers& map, const Eigen::Vector2d& p_W,
                        double reach_m) const;
